@@ -1,0 +1,10 @@
+use criterion::Criterion;
+use nalgebra::Matrix3;
+use std::hint::black_box;
+
+pub(crate) fn condition_number(c: &mut Criterion) {
+    let j = Matrix3::new(1.58, -0.23, 2.09, 1.38, -1.80, 1.35, 1.48, 1.48, 1.69);
+    c.bench_function("indices/inverse_condition_number_3x3", |b| {
+        b.iter(|| pkm::workspace_indices::inverse_condition_number(black_box(&j)))
+    });
+}

@@ -1,0 +1,9 @@
+//! The criterion benches of pkm (one target, one module per area). Numbers go to
+//! `docs/performance.md`.
+
+use criterion::{criterion_group, criterion_main};
+
+mod indices;
+
+criterion_group!(benches, indices::condition_number);
+criterion_main!(benches);

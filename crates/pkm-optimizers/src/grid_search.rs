@@ -1,0 +1,333 @@
+//! Exhaustive grid search over a box, with optional coarse-to-fine refinement.
+//!
+//! Every node is evaluated in parallel (rayon) and the values are collected in node order, so the
+//! optimum, ties included (the first node in row-major order wins), does not depend on the thread
+//! count.
+
+use crate::error::OptimizeError;
+use pkm_traits::{Objective, ObjectiveError, Progress};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Evenly spaced nodes `lower, lower + step, …, upper` of one design variable.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct GridAxis {
+    /// First node.
+    pub lower: f64,
+    /// Last node.
+    pub upper: f64,
+    /// Number of nodes (1 gives the single node `lower`).
+    pub n: usize,
+}
+
+impl GridAxis {
+    /// `n` nodes from `lower` to `upper`.
+    ///
+    /// # Errors
+    /// [`OptimizeError::InvalidSetting`] when `n = 0`, a bound is not finite or `lower > upper`.
+    pub fn new(lower: f64, upper: f64, n: usize) -> Result<Self, OptimizeError> {
+        if n == 0 {
+            return Err(invalid("n", 0.0, "a grid axis needs at least one node"));
+        }
+        if !(lower.is_finite() && upper.is_finite() && lower <= upper) {
+            return Err(invalid(
+                "lower",
+                lower,
+                "bounds must be finite with lower <= upper",
+            ));
+        }
+        Ok(Self { lower, upper, n })
+    }
+
+    /// Nodes from `lower` to `upper` spaced by `step` (the count is rounded to the nearest whole
+    /// number of steps, so `upper` is a node up to round-off).
+    ///
+    /// # Errors
+    /// As [`GridAxis::new`], and when `step` is not finite and positive.
+    pub fn with_step(lower: f64, upper: f64, step: f64) -> Result<Self, OptimizeError> {
+        if !(step.is_finite() && step > 0.0) {
+            return Err(invalid("step", step, "must be finite and > 0"));
+        }
+        let intervals = ((upper - lower) / step).round();
+        if !(intervals >= 0.0) {
+            return Err(invalid(
+                "lower",
+                lower,
+                "bounds must be finite with lower <= upper",
+            ));
+        }
+        Self::new(lower, upper, intervals as usize + 1)
+    }
+
+    /// Spacing of the nodes (0 for a single node).
+    pub fn step(&self) -> f64 {
+        if self.n > 1 {
+            (self.upper - self.lower) / (self.n - 1) as f64
+        } else {
+            0.0
+        }
+    }
+
+    /// Node `i`.
+    pub fn node(&self, i: usize) -> f64 {
+        if i + 1 == self.n {
+            self.upper
+        } else {
+            self.lower + i as f64 * self.step()
+        }
+    }
+
+    /// All nodes.
+    pub fn nodes(&self) -> Vec<f64> {
+        (0..self.n).map(|i| self.node(i)).collect()
+    }
+}
+
+fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
+    OptimizeError::InvalidSetting {
+        setting,
+        value,
+        requirement,
+    }
+}
+
+/// Objective values on every node of a grid (`None` where the design is infeasible), row-major:
+/// the last axis varies fastest.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Landscape {
+    /// The axes of the grid.
+    pub axes: Vec<GridAxis>,
+    /// One value per node, row-major.
+    pub values: Vec<Option<f64>>,
+}
+
+impl Landscape {
+    /// The design at flat node index `flat`.
+    pub fn design(&self, flat: usize) -> Vec<f64> {
+        node_design(&self.axes, flat)
+    }
+}
+
+/// Outcome of a grid search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GridResult {
+    /// The best design found.
+    pub best: Vec<f64>,
+    /// Its objective value (minimised).
+    pub best_value: f64,
+    /// Designs evaluated, over all refinement levels.
+    pub evaluations: usize,
+    /// Designs found infeasible, over all refinement levels.
+    pub infeasible: usize,
+    /// The landscape of the first (coarse) grid, when it was asked for.
+    pub landscape: Option<Landscape>,
+}
+
+fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
+    let mut design = vec![0.0; axes.len()];
+    for (k, axis) in axes.iter().enumerate().rev() {
+        design[k] = axis.node(flat % axis.n);
+        flat /= axis.n;
+    }
+    design
+}
+
+/// Evaluates `objective` on every node of the grid spanned by `axes` and returns the minimum.
+///
+/// With `keep_landscape`, the result also carries every node's value (for plots).
+///
+/// # Errors
+/// [`OptimizeError::InvalidSetting`] when `axes` does not match the objective's dimension or the
+/// grid is too large to index; [`OptimizeError::NoFeasibleDesign`] when every node is infeasible;
+/// [`OptimizeError::Objective`] for an objective failure other than infeasibility;
+/// [`OptimizeError::Cancelled`].
+///
+/// # Example
+/// ```
+/// use pkm_optimizers::{GridAxis, grid_search};
+/// use pkm_traits::{Bounds, Objective, ObjectiveError, Silent};
+/// struct Bowl([Bounds; 2]);
+/// impl Objective for Bowl {
+///     fn dimension(&self) -> usize { 2 }
+///     fn bounds(&self) -> &[Bounds] { &self.0 }
+///     fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+///         Ok((p[0] - 0.3).powi(2) + (p[1] + 0.2).powi(2))
+///     }
+/// }
+/// let b = Bounds::new(-1.0, 1.0).unwrap();
+/// let axes = [GridAxis::new(-1.0, 1.0, 21).unwrap(); 2];
+/// let result = grid_search(&Bowl([b, b]), &axes, false, &Silent).unwrap();
+/// assert!((result.best[0] - 0.3).abs() < 1e-12 && (result.best[1] + 0.2).abs() < 1e-12);
+/// ```
+pub fn grid_search<O: Objective + ?Sized>(
+    objective: &O,
+    axes: &[GridAxis],
+    keep_landscape: bool,
+    progress: &dyn Progress,
+) -> Result<GridResult, OptimizeError> {
+    if axes.len() != objective.dimension() {
+        return Err(invalid(
+            "axes",
+            axes.len() as f64,
+            "one axis per design variable",
+        ));
+    }
+    let n_nodes = axes
+        .iter()
+        .try_fold(1usize, |acc, a| acc.checked_mul(a.n))
+        .ok_or_else(|| invalid("nodes", f64::INFINITY, "grid too large to index"))?;
+    progress.start("grid search", n_nodes as u64);
+    let values = (0..n_nodes)
+        .into_par_iter()
+        .with_min_len(64)
+        .map(|flat| {
+            progress.check()?;
+            let value = objective.value(&node_design(axes, flat));
+            progress.advance(1);
+            Ok(value)
+        })
+        .collect::<Result<Vec<_>, OptimizeError>>();
+    progress.finish();
+    let values = values?;
+    let mut best: Option<(usize, f64)> = None;
+    let mut infeasible = 0;
+    let mut last_reason = String::new();
+    let mut landscape_values = Vec::with_capacity(if keep_landscape { n_nodes } else { 0 });
+    for (flat, value) in values.into_iter().enumerate() {
+        let value = match value {
+            Ok(v) if v.is_finite() => Some(v),
+            Ok(v) => return Err(ObjectiveError::NonFinite { value: v }.into()),
+            Err(ObjectiveError::Infeasible { reason }) => {
+                infeasible += 1;
+                last_reason = reason;
+                None
+            }
+            Err(e) => return Err(e.into()),
+        };
+        if let Some(v) = value
+            && best.is_none_or(|(_, b)| v < b)
+        {
+            best = Some((flat, v));
+        }
+        if keep_landscape {
+            landscape_values.push(value);
+        }
+    }
+    let (flat, best_value) = best.ok_or(OptimizeError::NoFeasibleDesign {
+        evaluations: n_nodes,
+        last_reason,
+    })?;
+    Ok(GridResult {
+        best: node_design(axes, flat),
+        best_value,
+        evaluations: n_nodes,
+        infeasible,
+        landscape: keep_landscape.then(|| Landscape {
+            axes: axes.to_vec(),
+            values: landscape_values,
+        }),
+    })
+}
+
+/// Settings of [`refined_grid_search`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RefinementSettings {
+    /// Nodes per axis of every refined grid. Default 5: a ±2-step window around the incumbent.
+    pub nodes_per_axis: usize,
+    /// At most this many refinement levels. Default 20: with the default 5 nodes the spacing
+    /// halves per level, so 20 levels refine any coarse grid by a factor of about 10⁶.
+    pub max_levels: usize,
+}
+
+impl Default for RefinementSettings {
+    fn default() -> Self {
+        Self {
+            nodes_per_axis: 5,
+            max_levels: 20,
+        }
+    }
+}
+
+/// Grid search on `coarse`, then repeated searches on finer grids centred on the incumbent until
+/// every axis's spacing is at most `resolution[k]`.
+///
+/// Each refined grid spans one coarse spacing either side of the incumbent (clipped to the
+/// objective's bounds) with [`RefinementSettings::nodes_per_axis`] nodes, so the spacing halves
+/// at each level with the default of 5 nodes. The landscape, if asked for, is the coarse one.
+///
+/// # Errors
+/// As [`grid_search`], and [`OptimizeError::InvalidSetting`] for a resolution that is not
+/// positive or fewer than 3 refinement nodes.
+pub fn refined_grid_search<O: Objective + ?Sized>(
+    objective: &O,
+    coarse: &[GridAxis],
+    resolution: &[f64],
+    settings: &RefinementSettings,
+    keep_landscape: bool,
+    progress: &dyn Progress,
+) -> Result<GridResult, OptimizeError> {
+    if resolution.len() != coarse.len() || resolution.iter().any(|r| !(*r > 0.0)) {
+        return Err(invalid(
+            "resolution",
+            f64::NAN,
+            "one positive resolution per axis",
+        ));
+    }
+    if settings.nodes_per_axis < 3 {
+        let n = settings.nodes_per_axis as f64;
+        return Err(invalid("nodes_per_axis", n, "at least 3"));
+    }
+    let mut result = grid_search(objective, coarse, keep_landscape, progress)?;
+    let mut axes = coarse.to_vec();
+    for _ in 0..settings.max_levels {
+        if axes.iter().zip(resolution).all(|(a, r)| a.step() <= *r) {
+            break;
+        }
+        axes = refined_axes(
+            objective,
+            &axes,
+            &result.best,
+            resolution,
+            settings.nodes_per_axis,
+        );
+        let level = grid_search(objective, &axes, false, progress)?;
+        result.evaluations += level.evaluations;
+        result.infeasible += level.infeasible;
+        if level.best_value <= result.best_value {
+            result.best = level.best;
+            result.best_value = level.best_value;
+        }
+    }
+    Ok(result)
+}
+
+fn refined_axes<O: Objective + ?Sized>(
+    objective: &O,
+    axes: &[GridAxis],
+    centre: &[f64],
+    resolution: &[f64],
+    nodes: usize,
+) -> Vec<GridAxis> {
+    axes.iter()
+        .zip(centre)
+        .zip(resolution)
+        .zip(objective.bounds())
+        .map(|(((axis, &c), &r), bounds)| {
+            let step = axis.step();
+            if step <= r {
+                return GridAxis {
+                    lower: c,
+                    upper: c,
+                    n: 1,
+                };
+            }
+            let lower = bounds.clamp(c - step);
+            let upper = bounds.clamp(c + step);
+            GridAxis {
+                lower,
+                upper,
+                n: nodes,
+            }
+        })
+        .collect()
+}

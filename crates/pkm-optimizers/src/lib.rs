@@ -1,0 +1,15 @@
+//! Design optimisers. They see only the [`pkm_traits::Objective`] family of traits, never a
+//! mechanism, and every objective is minimised (maximisation negates).
+//!
+//! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel
+//!   and deterministic, with the whole landscape on request and coarse-to-fine refinement
+//!   (Miller 2004 §2.2's 4-D search).
+#![warn(missing_docs)]
+
+mod error;
+mod grid_search;
+
+pub use error::OptimizeError;
+pub use grid_search::{
+    GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
+};

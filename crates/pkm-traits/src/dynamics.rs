@@ -1,0 +1,121 @@
+//! Vector fields, integrator steps and extended-space inertia models.
+//!
+//! A state $z \in \mathbb{R}^M$ evolves by $\dot z = f(t, z)$ ([`VectorField`]); an
+//! [`Integrator`] advances it by one step. Mechanisms that take part in dynamics describe their
+//! inertia in the *extended space* $s = (x, q) \in \mathbb{R}^N$ of task and joint coordinates
+//! ([`ExtendedInertia`], Miller 2004 §3.2), with kinetic energy
+//! $T = \tfrac12 \dot s^\top M(s) \dot s$ and potential $V(s)$.
+
+use nalgebra::{SMatrix, SVector};
+use thiserror::Error;
+
+/// Right-hand side $\dot z = f(t, z)$ of an ordinary differential equation.
+pub trait VectorField<const M: usize> {
+    /// Writes $f(t, z)$ into `dz` (no allocation).
+    ///
+    /// # Errors
+    /// [`RhsError`] when $f$ cannot be evaluated at $(t, z)$ (a singular constraint Jacobian, a
+    /// non-finite value).
+    fn rhs(&self, t: f64, z: &SVector<f64, M>, dz: &mut SVector<f64, M>) -> Result<(), RhsError>;
+}
+
+/// One-step method for $\dot z = f(t, z)$.
+pub trait Integrator<const M: usize> {
+    /// Advances `z` from `t` to `t + h` in place.
+    ///
+    /// Adaptive methods may take a smaller step than `h`: the report says which step was taken
+    /// and proposes the next one.
+    ///
+    /// # Errors
+    /// [`IntegrationError`] when the vector field fails, the state becomes non-finite, or an
+    /// adaptive step size underflows.
+    fn step<F: VectorField<M> + ?Sized>(
+        &mut self,
+        field: &F,
+        t: f64,
+        z: &mut SVector<f64, M>,
+        h: f64,
+    ) -> Result<StepReport, IntegrationError>;
+}
+
+/// What one call of [`Integrator::step`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepReport {
+    /// Step actually taken.
+    pub h_taken: f64,
+    /// Step proposed for the next call (equal to `h_taken` for fixed-step methods).
+    pub h_next: f64,
+    /// Weighted local error estimate of the accepted step (0 for methods without one).
+    pub error_estimate: f64,
+    /// Right-hand-side evaluations spent, rejected attempts included.
+    pub evaluations: usize,
+    /// Attempts rejected by error control before the accepted one.
+    pub rejections: usize,
+}
+
+/// Inertia model in the extended space $s = (x, q)$: kinetic energy
+/// $T = \tfrac12 \dot s^\top M(s) \dot s$ and potential energy $V(s)$ (Miller 2004, eq. 8–10).
+pub trait ExtendedInertia<const N: usize> {
+    /// The symmetric positive definite mass matrix $M(s)$.
+    fn mass_matrix(&self, s: &SVector<f64, N>) -> SMatrix<f64, N, N>;
+    /// The potential energy $V(s)$.
+    fn potential(&self, s: &SVector<f64, N>) -> f64;
+    /// $\partial V / \partial s$.
+    fn potential_gradient(&self, s: &SVector<f64, N>) -> SVector<f64, N>;
+}
+
+/// A vector field could not be evaluated.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("right-hand side failed at t = {t}: {reason}")]
+pub struct RhsError {
+    /// Time of the failed evaluation.
+    pub t: f64,
+    /// What went wrong, with numbers.
+    pub reason: String,
+}
+
+/// Failures of time integration.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum IntegrationError {
+    /// The vector field failed.
+    #[error(transparent)]
+    Rhs(#[from] RhsError),
+    /// The state or its derivative became NaN or infinite.
+    #[error("state is not finite at t = {t}")]
+    NonFinite {
+        /// Time at which it happened.
+        t: f64,
+    },
+    /// Error control asked for a step below the smallest admissible one.
+    #[error("step size {h:.3e} underflows at t = {t} (minimum {h_min:.3e})")]
+    StepSizeUnderflow {
+        /// Time at which it happened.
+        t: f64,
+        /// The step that was asked for.
+        h: f64,
+        /// The smallest admissible step.
+        h_min: f64,
+    },
+    /// The run hit its step budget before the end of the interval.
+    #[error("gave up after {steps} steps at t = {t}")]
+    TooManySteps {
+        /// Steps taken.
+        steps: usize,
+        /// Time reached.
+        t: f64,
+    },
+    /// Settings that cannot work (a non-positive tolerance or step).
+    #[error("invalid integrator setting: {setting} = {value} ({requirement})")]
+    InvalidSetting {
+        /// Name of the setting.
+        setting: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must satisfy.
+        requirement: &'static str,
+    },
+    /// The computation was cancelled through [`crate::Progress`].
+    #[error("cancelled")]
+    Cancelled,
+}

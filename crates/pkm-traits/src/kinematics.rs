@@ -1,0 +1,155 @@
+//! Closed-chain kinematics: loop closure, its Jacobians, inverse and forward kinematics.
+//!
+//! A parallel mechanism with task coordinates $x \in \mathbb{R}^{NX}$ and actuated joint
+//! coordinates $q \in \mathbb{R}^{NQ}$ is described by its loop-closure equations, one row per leg,
+//!
+//! $$ \Phi(x, q) = 0, \qquad J_x = \frac{\partial \Phi}{\partial x}, \qquad
+//!    J_q = \frac{\partial \Phi}{\partial q}. $$
+//!
+//! Differentiating along a motion gives $J_x \dot x + J_q \dot q = 0$, hence the velocity relation
+//! $\dot q = J \dot x$ with $J = -J_q^{-1} J_x$ (the convention of every `jacobian` in pkm; each
+//! paper's own sign convention is mapped onto it in `docs/conventions.md`).
+
+use crate::error::KinematicsError;
+use nalgebra::{SMatrix, SVector};
+use std::fmt::Debug;
+
+/// Task coordinates $x$ (platform position, or pose), length `NX`.
+pub type Task<const NX: usize> = SVector<f64, NX>;
+/// Actuated joint coordinates $q$, length `NQ`.
+pub type Joints<const NQ: usize> = SVector<f64, NQ>;
+
+/// Loop-closure model $\Phi(x, q) = 0$ of a closed-chain mechanism, one row per leg.
+pub trait ClosedChain<const NX: usize, const NQ: usize> {
+    /// The residual $\Phi(x, q)$; zero exactly on assembled configurations.
+    fn closure(&self, x: &Task<NX>, q: &Joints<NQ>) -> Joints<NQ>;
+
+    /// $J_x = \partial \Phi / \partial x$, `NQ × NX`.
+    fn jacobian_x(&self, x: &Task<NX>, q: &Joints<NQ>) -> SMatrix<f64, NQ, NX>;
+
+    /// $J_q = \partial \Phi / \partial q$, `NQ × NQ`.
+    fn jacobian_q(&self, x: &Task<NX>, q: &Joints<NQ>) -> SMatrix<f64, NQ, NQ>;
+
+    /// The velocity Jacobian $J = -J_q^{-1} J_x$, so that $\dot q = J \dot x$.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Singular`] when $J_q$ cannot be inverted (an inverse-kinematic
+    /// singularity: a leg is stretched out or folded).
+    fn jacobian(
+        &self,
+        x: &Task<NX>,
+        q: &Joints<NQ>,
+    ) -> Result<SMatrix<f64, NQ, NX>, KinematicsError> {
+        let j_q_inv = self
+            .jacobian_q(x, q)
+            .try_inverse()
+            .ok_or(KinematicsError::Singular {
+                matrix: "J_q",
+                sigma_min: 0.0,
+            })?;
+        Ok(-(j_q_inv * self.jacobian_x(x, q)))
+    }
+}
+
+/// Closed-form inverse kinematics $q = \mathrm{IK}(x)$ for one working mode.
+pub trait InverseKinematics<const NX: usize, const NQ: usize>: ClosedChain<NX, NQ> {
+    /// Which branch each leg takes (elbow out/in, ...); documented per mechanism in
+    /// `docs/conventions.md`.
+    type WorkingMode: Copy + Debug + Send + Sync;
+
+    /// The joint coordinates that assemble the mechanism at `x` in `mode`.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Unreachable`] when a leg cannot reach `x`;
+    /// [`KinematicsError::NonFinite`] for NaN or infinite input.
+    fn inverse_kinematics(
+        &self,
+        x: &Task<NX>,
+        mode: Self::WorkingMode,
+    ) -> Result<Joints<NQ>, KinematicsError>;
+}
+
+/// Forward kinematics of a non-redundant mechanism ($NX = NQ$): the task coordinates that close
+/// the loops for given joints. The assembly mode is selected by the starting guess.
+pub trait ForwardKinematics<const N: usize>: ClosedChain<N, N> {
+    /// Solves $\Phi(x, q) = 0$ for $x$ from `guess`. The default is Newton's method
+    /// ([`newton_forward_kinematics`]); a mechanism may override it with a closed form.
+    ///
+    /// # Errors
+    /// [`KinematicsError::NotConverged`] or [`KinematicsError::Singular`] (a direct-kinematic
+    /// singularity, $J_x$ singular).
+    fn forward_kinematics(
+        &self,
+        q: &Joints<N>,
+        guess: &Task<N>,
+        settings: &NewtonSettings,
+    ) -> Result<Task<N>, KinematicsError> {
+        newton_forward_kinematics(self, q, guess, settings)
+    }
+}
+
+/// Settings of Newton's method for forward kinematics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Stop when $\|\Phi\|_\infty$ falls below this. Default 1e-12: well below the 1e-9 pose
+    /// tolerance that the conformance tests use, and above the round-off of $\Phi$ for
+    /// metre-sized machines.
+    pub tolerance: f64,
+    /// Give up after this many iterations. Default 50: Newton converges quadratically in under
+    /// 10 from any guess inside the basin of the assembly mode.
+    pub max_iterations: usize,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-12,
+            max_iterations: 50,
+        }
+    }
+}
+
+/// Newton's method on $\Phi(\cdot, q) = 0$: $x_{k+1} = x_k - J_x^{-1} \Phi(x_k, q)$.
+///
+/// # Errors
+/// [`KinematicsError::NonFinite`] for a non-finite input, [`KinematicsError::Singular`] when
+/// $J_x$ cannot be inverted at an iterate, [`KinematicsError::NotConverged`] when the residual
+/// stays above the tolerance.
+pub fn newton_forward_kinematics<M, const N: usize>(
+    mechanism: &M,
+    q: &Joints<N>,
+    guess: &Task<N>,
+    settings: &NewtonSettings,
+) -> Result<Task<N>, KinematicsError>
+where
+    M: ClosedChain<N, N> + ?Sized,
+{
+    if let Some(value) = q.iter().copied().find(|v| !v.is_finite()) {
+        return Err(KinematicsError::NonFinite { what: "q", value });
+    }
+    let mut x = *guess;
+    let mut residual = f64::INFINITY;
+    for _ in 0..settings.max_iterations {
+        let phi = mechanism.closure(&x, q);
+        residual = phi.amax();
+        if !residual.is_finite() {
+            break;
+        }
+        if residual < settings.tolerance {
+            return Ok(x);
+        }
+        let j_x_inv =
+            mechanism
+                .jacobian_x(&x, q)
+                .try_inverse()
+                .ok_or(KinematicsError::Singular {
+                    matrix: "J_x",
+                    sigma_min: 0.0,
+                })?;
+        x -= j_x_inv * phi;
+    }
+    Err(KinematicsError::NotConverged {
+        iterations: settings.max_iterations,
+        residual,
+    })
+}

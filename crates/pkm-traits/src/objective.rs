@@ -1,0 +1,105 @@
+//! Objectives for optimisers: value, residuals, inequality constraints and bounds.
+//!
+//! Optimisers never see a mechanism; they see these traits over a design vector `&[f64]`.
+//! By convention every objective is *minimised*; a maximisation problem negates its value.
+//! A design for which the model cannot be evaluated returns
+//! [`ObjectiveError::Infeasible`], which searches record and skip.
+
+use crate::error::ObjectiveError;
+
+/// Closed interval $[\text{lower}, \text{upper}]$ of one design variable.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    /// Smallest admissible value.
+    pub lower: f64,
+    /// Largest admissible value.
+    pub upper: f64,
+}
+
+impl Bounds {
+    /// The interval `[lower, upper]`.
+    ///
+    /// # Errors
+    /// [`ObjectiveError::Infeasible`] when a bound is not finite or `lower > upper`.
+    pub fn new(lower: f64, upper: f64) -> Result<Self, ObjectiveError> {
+        if lower.is_finite() && upper.is_finite() && lower <= upper {
+            Ok(Self { lower, upper })
+        } else {
+            Err(ObjectiveError::Infeasible {
+                reason: format!("bounds [{lower}, {upper}] are empty or not finite"),
+            })
+        }
+    }
+
+    /// Width `upper − lower`.
+    pub fn width(&self) -> f64 {
+        self.upper - self.lower
+    }
+
+    /// `value` moved into the interval.
+    pub fn clamp(&self, value: f64) -> f64 {
+        value.clamp(self.lower, self.upper)
+    }
+
+    /// Whether `value` lies in the interval.
+    pub fn contains(&self, value: f64) -> bool {
+        (self.lower..=self.upper).contains(&value)
+    }
+}
+
+/// A scalar objective $f(p)$ to minimise over a box.
+pub trait Objective: Sync {
+    /// Number of design variables.
+    fn dimension(&self) -> usize;
+
+    /// The box of admissible designs, one [`Bounds`] per variable.
+    fn bounds(&self) -> &[Bounds];
+
+    /// $f(p)$, to be minimised.
+    ///
+    /// # Errors
+    /// [`ObjectiveError::Infeasible`] for designs outside the feasible set (recorded by searches,
+    /// not fatal); [`ObjectiveError::Dimension`] for a design of the wrong length.
+    fn value(&self, design: &[f64]) -> Result<f64, ObjectiveError>;
+
+    /// Checks the length of `design`.
+    ///
+    /// # Errors
+    /// [`ObjectiveError::Dimension`] when it differs from [`Objective::dimension`].
+    fn check_dimension(&self, design: &[f64]) -> Result<(), ObjectiveError> {
+        if design.len() == self.dimension() {
+            Ok(())
+        } else {
+            Err(ObjectiveError::Dimension {
+                expected: self.dimension(),
+                got: design.len(),
+            })
+        }
+    }
+}
+
+/// A least-squares objective $f(p) = \sum_i r_i(p)^2$, for Gauss–Newton and
+/// Levenberg–Marquardt.
+pub trait Residuals: Objective {
+    /// Number of residuals $r_i$.
+    fn n_residuals(&self) -> usize;
+
+    /// Writes $r(p)$ into `r` (length [`Residuals::n_residuals`]).
+    ///
+    /// # Errors
+    /// As [`Objective::value`].
+    fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError>;
+}
+
+/// Inequality constraints $g(p) \le 0$ (in addition to the bounds).
+pub trait Constraints: Objective {
+    /// Number of inequality constraints.
+    fn n_constraints(&self) -> usize;
+
+    /// Writes $g(p)$ into `g` (length [`Constraints::n_constraints`]); the design is feasible
+    /// when every entry is $\le 0$.
+    ///
+    /// # Errors
+    /// As [`Objective::value`].
+    fn inequalities(&self, design: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError>;
+}

@@ -1,0 +1,76 @@
+//! Condition number of a Jacobian, $\kappa = \|J\|_2 \|J^{-1}\|_2 = \sigma_{\max} / \sigma_{\min}$.
+
+use nalgebra::{SMatrix, SVector};
+
+/// Marker type that carries a matrix size for [`FixedSvd`].
+#[derive(Debug, Clone, Copy)]
+pub struct Dim<const N: usize>;
+
+/// Singular values of a fixed-size square matrix.
+///
+/// nalgebra's `singular_values` needs type-level bounds that do not compile in code generic over
+/// `const N`; this helper trait, implemented for the sizes pkm uses, keeps one readable bound in
+/// generic code (see `docs/ARCHITECTURE.md`).
+pub trait FixedSvd<const N: usize> {
+    /// The singular values of `m`, in no particular order.
+    fn singular_values(m: &SMatrix<f64, N, N>) -> SVector<f64, N>;
+}
+
+macro_rules! impl_fixed_svd {
+    ($($n:literal),*) => {$(
+        impl FixedSvd<$n> for Dim<$n> {
+            fn singular_values(m: &SMatrix<f64, $n, $n>) -> SVector<f64, $n> {
+                m.singular_values()
+            }
+        }
+    )*};
+}
+impl_fixed_svd!(1, 2, 3, 4, 5, 6);
+
+/// $1/\kappa = \sigma_{\min} / \sigma_{\max} \in [0, 1]$ of a square Jacobian.
+///
+/// Returns 0 for a singular matrix, the zero matrix, or a matrix with non-finite entries, so
+/// that integrals of $1/\kappa$ over a workspace stay finite at its boundary (Stamper, Tsai &
+/// Walsh 1997, eq. 4; Miller 2004, eq. 1).
+///
+/// # Example
+/// ```
+/// use nalgebra::Matrix2;
+/// let j = Matrix2::new(2.0, 0.0, 0.0, 0.5);
+/// assert!((pkm_workspace_indices::inverse_condition_number(&j) - 0.25).abs() < 1e-15);
+/// ```
+pub fn inverse_condition_number<const N: usize>(j: &SMatrix<f64, N, N>) -> f64
+where
+    Dim<N>: FixedSvd<N>,
+{
+    if !j.iter().all(|v| v.is_finite()) {
+        return 0.0;
+    }
+    let sigma = <Dim<N> as FixedSvd<N>>::singular_values(j);
+    let (sigma_min, sigma_max) = (sigma.min(), sigma.max());
+    if sigma_max > 0.0 {
+        (sigma_min / sigma_max).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// $\kappa = \sigma_{\max} / \sigma_{\min} \ge 1$; infinite for a singular matrix.
+///
+/// # Example
+/// ```
+/// use nalgebra::Matrix2;
+/// let j = Matrix2::new(2.0, 0.0, 0.0, 0.5);
+/// assert!((pkm_workspace_indices::condition_number(&j) - 4.0).abs() < 1e-14);
+/// ```
+pub fn condition_number<const N: usize>(j: &SMatrix<f64, N, N>) -> f64
+where
+    Dim<N>: FixedSvd<N>,
+{
+    let inverse = inverse_condition_number(j);
+    if inverse > 0.0 {
+        1.0 / inverse
+    } else {
+        f64::INFINITY
+    }
+}

@@ -1,0 +1,36 @@
+use pkm_traits::{Cancelled, DesignError};
+use thiserror::Error;
+
+/// Failures of index computations.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum IndexError {
+    /// A sample of zero points was asked for.
+    #[error("sample size must be at least 1 (got {n_samples})")]
+    EmptySample {
+        /// The sample size given.
+        n_samples: u64,
+    },
+    /// A region or setting that cannot be used (empty box, non-finite bound).
+    #[error("invalid {what}: {value} ({requirement})")]
+    Invalid {
+        /// Which input.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must satisfy.
+        requirement: &'static str,
+    },
+    /// The design itself is invalid.
+    #[error(transparent)]
+    Design(#[from] DesignError),
+    /// The computation was cancelled through [`pkm_traits::Progress`].
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<Cancelled> for IndexError {
+    fn from(_: Cancelled) -> Self {
+        Self::Cancelled
+    }
+}

@@ -1,0 +1,5 @@
+//! Cross-crate integration tests: quick reproductions, determinism, tidy checks.
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
+
+mod reproduce_quick;
+mod tidy;
