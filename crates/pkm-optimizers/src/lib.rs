@@ -4,12 +4,16 @@
 //! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel
 //!   and deterministic, with the whole landscape on request and coarse-to-fine refinement
 //!   (Miller 2004 §2.2's 4-D search).
+//! - [`uniform_start_points`] and [`run_multistart`]: seeded starts for local optimisers, run in
+//!   parallel with outcomes in start order.
 #![warn(missing_docs)]
 
 mod error;
 mod grid_search;
+mod multistart;
 
 pub use error::OptimizeError;
 pub use grid_search::{
     GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
 };
+pub use multistart::{run_multistart, uniform_start_points};
