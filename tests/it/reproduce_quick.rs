@@ -1,7 +1,25 @@
 //! Every registered experiment, run in quick mode: no comparison may fail.
 
-use pkm::papers::{self, Context, Mode, Verdict};
+use pkm::papers::{self, Comparison, Context, Mode, Verdict};
 use pkm_traits::Silent;
+use std::path::Path;
+
+/// An `erratum` row must point at a heading of `docs/conventions.md` that exists.
+#[track_caller]
+fn assert_erratum_is_documented(row: &Comparison, conventions: &str) {
+    let anchor = row
+        .note
+        .split("docs/conventions.md#")
+        .nth(1)
+        .and_then(|rest| rest.split([';', ' ', ')']).next())
+        .unwrap_or_else(|| panic!("{} {}: erratum without an anchor", row.id, row.quantity));
+    assert!(
+        conventions.contains(anchor),
+        "{} {}: docs/conventions.md has no heading `{anchor}`",
+        row.id,
+        row.quantity
+    );
+}
 
 /// Runs the experiments whose id starts with `prefix` in quick mode and checks every verdict.
 #[track_caller]
@@ -44,6 +62,9 @@ fn run_quick(prefix: &str) {
                 row.tolerance,
                 row.note
             );
+            if row.verdict == Verdict::Erratum {
+                assert_erratum_is_documented(row, &conventions);
+            }
         }
     }
 }

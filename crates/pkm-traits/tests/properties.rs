@@ -35,7 +35,10 @@ impl InverseKinematics<2, 2> for TwoRpr {
     type WorkingMode = ();
     fn inverse_kinematics(&self, x: &Task<2>, _: ()) -> Result<Joints<2>, KinematicsError> {
         if x.y.abs() < 1e-3 {
-            return Err(KinematicsError::Singular { matrix: "J_x", sigma_min: x.y.abs() });
+            return Err(KinematicsError::Singular {
+                matrix: "J_x",
+                sigma_min: x.y.abs(),
+            });
         }
         Ok(Vector2::from_fn(|i, _| (x - BASE[i]).norm()))
     }
@@ -110,7 +113,10 @@ fn checks_refuse_to_pass_on_an_empty_or_unreachable_sample() {
     let on_singular_line = vec![Vector2::new(0.0, 0.0); 5];
     for sample in [&empty, &on_singular_line] {
         let result = testkit::check_closure(&GOOD, (), sample, 1e-12);
-        assert!(matches!(result, Err(ConformanceFailure::Vacuous { checked: 0, .. })));
+        assert!(matches!(
+            result,
+            Err(ConformanceFailure::Vacuous { checked: 0, .. })
+        ));
     }
 }
 
