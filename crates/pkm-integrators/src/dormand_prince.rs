@@ -89,7 +89,11 @@ impl<const M: usize> DormandPrince54<M> {
         field.rhs(t + C[5] * h, &(z + combine(&A6, &k) * h), &mut k[5])?;
         let z1 = z + combine(&B, &k) * h;
         field.rhs(t + h, &z1, &mut k[6])?;
-        let error = self.weighted_norm(&(combine(&E, &k) * h), z, &z1);
+        let error = if z1.iter().all(|v| v.is_finite()) {
+            self.weighted_norm(&(combine(&E, &k) * h), z, &z1)
+        } else {
+            f64::NAN // an infinite z1 would make the weights infinite and the norm 0
+        };
         Ok(Attempt { z1, k, error })
     }
 
@@ -173,7 +177,8 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
     ///
     /// # Errors
     /// [`IntegrationError::Rhs`] when the field fails; [`IntegrationError::NonFinite`] when the
-    /// state, a stage or the error estimate is not finite;
+    /// state is not finite, or when attempts stay non-finite down to the smallest step (a
+    /// non-finite attempt is otherwise rejected and the step shrunk by 5);
     /// [`IntegrationError::StepSizeUnderflow`] when a rejected step would have to shrink below
     /// `max(h_min, 16 ε |t|)`.
     fn step<F: VectorField<M> + ?Sized>(
@@ -194,9 +199,6 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
         loop {
             let attempt = self.attempt(field, t, z, &k1, direction * h_abs)?;
             evaluations += 6;
-            if !attempt.error.is_finite() {
-                return Err(IntegrationError::NonFinite { t });
-            }
             if attempt.error <= 1.0 {
                 let h_taken = direction * h_abs;
                 self.accept(t, h_taken, z, &attempt);
@@ -212,12 +214,22 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
                 });
             }
             rejections += 1;
-            h_abs *= Self::ratio(attempt.error, true);
+            // A non-finite attempt (a stage left the field's domain) is rejected like a huge error.
+            let finite = attempt.error.is_finite();
+            h_abs *= if finite {
+                Self::ratio(attempt.error, true)
+            } else {
+                SHRINK_MIN
+            };
             if h_abs < h_floor {
-                return Err(IntegrationError::StepSizeUnderflow {
-                    t,
-                    h: h_abs,
-                    h_min: h_floor,
+                return Err(if finite {
+                    IntegrationError::StepSizeUnderflow {
+                        t,
+                        h: h_abs,
+                        h_min: h_floor,
+                    }
+                } else {
+                    IntegrationError::NonFinite { t }
                 });
             }
         }

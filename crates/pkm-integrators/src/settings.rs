@@ -194,3 +194,50 @@ fn require_non_negative(
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[track_caller]
+    fn assert_invalid(result: Result<AdaptiveSettings, IntegrationError>, name: &str) {
+        match result {
+            Err(IntegrationError::InvalidSetting { setting, .. }) => assert_eq!(setting, name),
+            other => panic!("expected InvalidSetting({name}), got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn invalid_settings_are_rejected_with_their_name() {
+        let d = AdaptiveSettings::default();
+        assert_invalid(d.with_rtol(0.0), "rtol");
+        assert_invalid(d.with_rtol(f64::NAN), "rtol");
+        assert_invalid(d.with_atol(-1e-6), "atol");
+        assert_invalid(d.with_h_initial(-1.0), "h_initial");
+        assert_invalid(d.with_h_min(f64::INFINITY), "h_min");
+        assert_invalid(d.with_h_max(1.0).and_then(|s| s.with_h_min(2.0)), "h_min");
+        assert_invalid(d.with_h_min(1.0).and_then(|s| s.with_h_max(0.5)), "h_max");
+        assert_invalid(d.with_h_max(f64::NAN), "h_max");
+        assert_invalid(d.with_max_steps(0), "max_steps");
+        assert_invalid(
+            AdaptiveSettings::new(1e-3, 1e-6, 0.0, 0.1, 0.01, 10),
+            "h_min",
+        );
+    }
+
+    #[test]
+    fn new_round_trips_the_fields() {
+        let s = AdaptiveSettings::new(1e-9, 1e-12, 1e-4, 1e-10, 0.1, 500).unwrap();
+        assert_eq!(
+            (
+                s.rtol(),
+                s.atol(),
+                s.h_initial(),
+                s.h_min(),
+                s.h_max(),
+                s.max_steps()
+            ),
+            (1e-9, 1e-12, 1e-4, 1e-10, 0.1, 500)
+        );
+    }
+}
