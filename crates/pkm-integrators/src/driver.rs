@@ -61,7 +61,7 @@ where
                 t,
             });
         }
-        if stats.steps % CHECK_EVERY == 0 {
+        if stats.steps.is_multiple_of(CHECK_EVERY) {
             progress.check()?;
         }
         let stop = if dense {

@@ -1,5 +1,6 @@
 //! Accuracy and conservation of the integrators against closed forms: observed orders of
 //! convergence, tolerance proportionality of Dormand–Prince, dense output, long-run energy.
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
 use nalgebra::{SVector, Vector1};
 use pkm_integrators::test_problems::{ExponentialDecay, HarmonicOscillator, Pendulum};

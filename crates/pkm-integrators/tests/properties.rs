@@ -1,5 +1,6 @@
 //! Property tests: linear systems with random coefficients against their closed form, time
 //! reversal of the symmetric implicit midpoint rule, the order of RK4 on random decay rates.
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
 use nalgebra::{Vector1, Vector2};
 use pkm_integrators::test_problems::{ExponentialDecay, Pendulum, RotatingDecay};
