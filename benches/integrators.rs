@@ -20,13 +20,27 @@ pub(crate) fn harmonic_oscillator(c: &mut Criterion) {
     group.bench_function("dormand_prince54_rtol_1e-9", |b| {
         b.iter(|| {
             let mut dopri = DormandPrince54::new(settings);
-            integrate(&oscillator, &mut dopri, span, black_box(&z0), &output, &Silent)
+            integrate(
+                &oscillator,
+                &mut dopri,
+                span,
+                black_box(&z0),
+                &output,
+                &Silent,
+            )
         })
     });
     group.bench_function("rk4_h_period_over_1000", |b| {
         b.iter(|| {
             let mut rk4 = Rk4::new(TAU / 1000.0).unwrap_or_else(|e| unreachable!("{e}"));
-            integrate(&oscillator, &mut rk4, span, black_box(&z0), &output, &Silent)
+            integrate(
+                &oscillator,
+                &mut rk4,
+                span,
+                black_box(&z0),
+                &output,
+                &Silent,
+            )
         })
     });
     group.finish();

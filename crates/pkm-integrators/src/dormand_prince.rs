@@ -176,6 +176,7 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
     /// until the weighted local error is at most 1.
     ///
     /// # Errors
+    /// [`IntegrationError::InvalidSetting`] for a zero or non-finite `h`;
     /// [`IntegrationError::Rhs`] when the field fails; [`IntegrationError::NonFinite`] when the
     /// state is not finite, or when attempts stay non-finite down to the smallest step (a
     /// non-finite attempt is otherwise rejected and the step shrunk by 5);
@@ -189,6 +190,13 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
         h: f64,
     ) -> Result<StepReport, IntegrationError> {
         require_finite_state(t, z)?;
+        if !(h.is_finite() && h != 0.0) {
+            return Err(IntegrationError::InvalidSetting {
+                setting: "h",
+                value: h,
+                requirement: "the trial step must be finite and non-zero",
+            });
+        }
         let mut evaluations = 0;
         let k1 = self.first_stage(field, t, z, &mut evaluations)?;
         require_finite_state(t, &k1)?;

@@ -283,3 +283,57 @@ fn implicit_midpoint_keeps_pendulum_energy_bounded_where_rk4_drifts() {
         "rk4: early {rk4_early:.3e}, late {rk4_late:.3e}"
     );
 }
+
+/// Six uncoupled oscillators in Miller's state layout $z = (p, x)$, 6 momenta then 6 coordinates.
+struct SixOscillators;
+
+impl SixOscillators {
+    fn omega(i: usize) -> f64 {
+        5.0 + 7.0 * i as f64
+    }
+}
+
+impl VectorField<12> for SixOscillators {
+    fn rhs(
+        &self,
+        _t: f64,
+        z: &SVector<f64, 12>,
+        dz: &mut SVector<f64, 12>,
+    ) -> Result<(), pkm_traits::RhsError> {
+        for i in 0..6 {
+            dz[i] = -Self::omega(i).powi(2) * z[6 + i];
+            dz[6 + i] = z[i];
+        }
+        Ok(())
+    }
+}
+
+#[test]
+fn twelve_state_cycle_is_sampled_every_millisecond() {
+    let mut z0 = SVector::<f64, 12>::zeros();
+    z0.fixed_rows_mut::<6>(6).fill(1.0);
+    let settings = AdaptiveSettings::default()
+        .with_rtol(1e-8)
+        .unwrap()
+        .with_atol(1e-10)
+        .unwrap();
+    let mut dopri = DormandPrince54::<12>::new(settings);
+    let run = integrate(
+        &SixOscillators,
+        &mut dopri,
+        (0.0, 0.5),
+        &z0,
+        &OutputTimes::Uniform(1e-3),
+        &Silent,
+    )
+    .unwrap();
+    assert_eq!(run.times.len(), 501);
+    assert!((run.times[500] - 0.5).abs() < 1e-15);
+    for (&t, z) in run.times.iter().zip(&run.states) {
+        for i in 0..6 {
+            let w = SixOscillators::omega(i);
+            assert!((z[6 + i] - (w * t).cos()).abs() < 1e-6, "x_{i}({t})");
+            assert!((z[i] + w * (w * t).sin()).abs() < 1e-6 * w, "p_{i}({t})");
+        }
+    }
+}
