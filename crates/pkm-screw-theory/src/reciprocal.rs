@@ -7,9 +7,11 @@ use crate::screw_axis::ScrewAxis;
 use crate::screws::{Twist, Wrench};
 
 /// The reciprocal product of two ray-order 6-vectors, $a \wedge b = a_{top} \cdot b_{bottom} +
-/// a_{bottom} \cdot b_{top} = a^\top \Delta b$, where $\Delta$ swaps the halves. Symmetric.
+/// a_{bottom} \cdot b_{top} = a^\top \Delta b$, where $\Delta$ swaps the halves. Symmetric,
+/// bit for bit.
 pub fn reciprocal_product_vectors(a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
-    a.dot(&ray::swap_halves(b))
+    let ((a_top, a_bottom), (b_top, b_bottom)) = (ray::halves(a), ray::halves(b));
+    a_top.dot(&b_bottom) + a_bottom.dot(&b_top)
 }
 
 /// The reciprocal product (virtual power) of a wrench $L = [j; \bar j]$ and a twist
