@@ -5,10 +5,12 @@ use criterion::{criterion_group, criterion_main};
 
 mod indices;
 mod integrators;
+mod screw;
 
 criterion_group!(
     benches,
     indices::condition_number,
-    integrators::harmonic_oscillator
+    integrators::harmonic_oscillator,
+    screw::screw,
 );
 criterion_main!(benches);

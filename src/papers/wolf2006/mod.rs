@@ -3,7 +3,9 @@
 
 use super::Experiment;
 
+pub mod screw_checks;
+
 /// The experiments of this paper.
 pub fn experiments() -> Vec<Experiment> {
-    Vec::new()
+    vec![screw_checks::experiment()]
 }
