@@ -2,8 +2,8 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use pkm_traits::Progress;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::time::Duration;
 
 /// Set by the first Ctrl-C; experiments see it through [`Progress::is_cancelled`].
@@ -11,19 +11,32 @@ use std::time::Duration;
 pub(crate) struct CancelFlag(Arc<AtomicBool>);
 
 impl CancelFlag {
-    /// A flag that the first Ctrl-C sets; a second Ctrl-C exits at once (status 130).
+    /// The process-wide flag that the first Ctrl-C sets; a second Ctrl-C exits at once (status
+    /// 130). The handler is installed on the first call.
+    ///
+    /// # Errors
+    /// When the signal handler cannot be installed.
     pub(crate) fn on_ctrl_c() -> anyhow::Result<Self> {
-        let flag = Self::default();
-        let handler_flag = flag.clone();
-        ctrlc::set_handler(move || {
-            if handler_flag.0.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-            eprintln!(
-                "\ncancelling: waiting for the running experiment to stop (Ctrl-C again to abort)"
-            );
-        })?;
-        Ok(flag)
+        static FLAG: OnceLock<Result<CancelFlag, String>> = OnceLock::new();
+        let installed = FLAG.get_or_init(|| {
+            let flag = Self::default();
+            let handler_flag = flag.clone();
+            ctrlc::set_handler(move || {
+                if handler_flag.0.swap(true, Ordering::SeqCst) {
+                    std::process::exit(130);
+                }
+                eprintln!("\ncancelling: waiting for the running experiment to stop (Ctrl-C again to abort)");
+            })
+            .map(|()| flag)
+            .map_err(|e| e.to_string())
+        });
+        installed.clone().map_err(anyhow::Error::msg)
+    }
+
+    /// Sets the flag, as Ctrl-C does.
+    #[cfg(test)]
+    pub(crate) fn set(&self) {
+        self.0.store(true, Ordering::SeqCst);
     }
 
     /// Whether Ctrl-C was pressed.

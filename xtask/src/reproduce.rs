@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 /// Options of `cargo xtask reproduce`.
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Default, clap::Args)]
 pub(crate) struct ReproduceArgs {
     /// Run the reduced sizes that `cargo test` runs.
     #[arg(long)]
@@ -60,7 +60,12 @@ pub(crate) fn workspace_root() -> PathBuf {
 /// When `--only` selects nothing, the options contradict each other, or a report file cannot be
 /// written.
 pub(crate) fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
-    let experiments = select(papers::all(), &args.only)?;
+    run_registry(args, papers::all())
+}
+
+/// [`run`] over the experiments `registry`.
+fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Result<ExitCode> {
+    let experiments = select(registry, &args.only)?;
     if args.list {
         for e in &experiments {
             println!("{}\t{}\t{}", e.id, e.paper.file(), e.title);
@@ -184,6 +189,27 @@ pub(crate) mod tests {
         Ok(Outcome::default())
     }
 
+    fn failing(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
+        let source = Source::new("test.failing", Paper::Miller2004, "Table 2");
+        let value = context.mode.pick(2.0, 3.0);
+        Ok(Outcome {
+            comparisons: vec![source.check("x", "", 1.0, value, 0.1)],
+            ..Outcome::default()
+        })
+    }
+
+    fn experiment(
+        id: &'static str,
+        run: fn(&Context<'_>) -> Result<Outcome, ExperimentError>,
+    ) -> Experiment {
+        Experiment {
+            id,
+            paper: Paper::Miller2004,
+            title: "synthetic",
+            run,
+        }
+    }
+
     /// A run of a synthetic experiment `id` with `outcome`.
     pub(crate) fn synthetic_run(
         id: &'static str,
@@ -253,5 +279,55 @@ pub(crate) mod tests {
                 .to_string()
                 .contains("no experiment matches --only miller")
         );
+    }
+
+    #[test]
+    fn the_command_writes_the_report_and_fails_on_a_failed_comparison() {
+        let dir = tempfile::tempdir().unwrap();
+        let args = |only: &[&str]| ReproduceArgs {
+            quick: true,
+            only: only.iter().map(|s| (*s).to_owned()).collect(),
+            out: Some(dir.path().to_path_buf()),
+            ..ReproduceArgs::default()
+        };
+        let registry = || {
+            vec![
+                experiment("test.passing", passing),
+                experiment("test.failing", failing),
+            ]
+        };
+        let read_json = || -> serde_json::Value {
+            serde_json::from_str(&std::fs::read_to_string(dir.path().join("results.json")).unwrap())
+                .unwrap()
+        };
+        assert_eq!(
+            run_registry(&args(&[]), registry()).unwrap(),
+            ExitCode::FAILURE
+        );
+        let json = read_json();
+        assert_eq!(json["mode"], "quick");
+        assert_eq!(json["results"][0]["value"], 2.0);
+        assert_eq!(
+            run_registry(&args(&["test.passing"]), registry()).unwrap(),
+            ExitCode::SUCCESS
+        );
+        assert_eq!(read_json()["results"].as_array().unwrap().len(), 0);
+        assert!(run_registry(&args(&["nothing"]), registry()).is_err());
+        assert_eq!(
+            run_registry(&args(&[]), Vec::new()).unwrap(),
+            ExitCode::SUCCESS
+        );
+    }
+
+    #[test]
+    fn a_cancelled_run_stops_before_the_next_experiment() {
+        let experiments = [
+            experiment("test.passing", passing),
+            experiment("test.failing", failing),
+        ];
+        let cancel = CancelFlag::default();
+        assert_eq!(run_all(&experiments, Mode::Quick, &cancel).len(), 2);
+        cancel.set();
+        assert!(run_all(&experiments, Mode::Quick, &cancel).is_empty());
     }
 }
