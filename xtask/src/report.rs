@@ -5,6 +5,7 @@ use crate::reproduce::ExperimentRun;
 use crate::{plot, table};
 use anyhow::{Context as _, bail};
 use pkm::papers::{Comparison, Mode, Table, Verdict};
+use serde::Serialize;
 use std::fmt;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -120,12 +121,18 @@ impl<'a> Report<'a> {
 
     /// `results.json`: `{"mode", "git_commit", "results": [Comparison…]}`.
     fn json(&self) -> serde_json::Result<String> {
-        let value = serde_json::json!({
-            "mode": self.mode,
-            "git_commit": self.git_commit,
-            "results": self.rows(),
-        });
-        serde_json::to_string_pretty(&value)
+        /// The schema of `results.json`, fields in this order.
+        #[derive(Serialize)]
+        struct Results<'a> {
+            mode: Mode,
+            git_commit: &'a str,
+            results: Vec<Comparison>,
+        }
+        serde_json::to_string_pretty(&Results {
+            mode: self.mode,
+            git_commit: &self.git_commit,
+            results: self.rows(),
+        })
     }
 
     /// `report.md`: summary, table, and a section per experiment.
@@ -206,13 +213,20 @@ fn csv(t: &Table) -> String {
 const BEGIN: &str = "<!-- reproduce:begin -->";
 const END: &str = "<!-- reproduce:end -->";
 
-/// Replaces what lies between the reproduce markers of `readme` with the markdown table of `rows`.
+/// Replaces what lies between the reproduce markers of `readme` with the markdown table of the
+/// run and its summary.
 ///
 /// # Errors
 /// When the file cannot be read or written, or lacks the markers.
-pub(crate) fn update_readme(readme: &Path, rows: &[Comparison]) -> anyhow::Result<()> {
+pub(crate) fn update_readme(readme: &Path, report: &Report<'_>) -> anyhow::Result<()> {
     let text = std::fs::read_to_string(readme).with_context(|| readme.display().to_string())?;
-    let updated = replace_between_markers(&text, &table::markdown(rows))?;
+    let block = format!(
+        "{}\nCommit `{}`: {}.\n",
+        table::markdown(&report.rows()),
+        report.git_commit,
+        Summary::of(report.runs)
+    );
+    let updated = replace_between_markers(&text, &block)?;
     std::fs::write(readme, updated).with_context(|| readme.display().to_string())
 }
 

@@ -88,7 +88,11 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
     let cancelled = cancel.is_set();
     let rows: Vec<Comparison> = runs.iter().flat_map(|r| r.comparisons().to_vec()).collect();
     println!();
-    print!("{}", table::plain(&rows, console::colors_enabled()));
+    if rows.is_empty() {
+        println!("no comparisons");
+    } else {
+        print!("{}", table::plain(&rows, console::colors_enabled()));
+    }
     let out = args
         .out
         .clone()
@@ -99,7 +103,7 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
         .with_context(|| format!("writing {}", out.display()))?;
     if args.update_readme && !cancelled {
         let readme = workspace_root().join("README.md");
-        report::update_readme(&readme, &rows)?;
+        report::update_readme(&readme, &report)?;
         println!("updated {}", readme.display());
     }
     let summary = report::Summary::of(&runs);
