@@ -4,6 +4,11 @@
 use criterion::{criterion_group, criterion_main};
 
 mod indices;
+mod integrators;
 
-criterion_group!(benches, indices::condition_number);
+criterion_group!(
+    benches,
+    indices::condition_number,
+    integrators::harmonic_oscillator
+);
 criterion_main!(benches);

@@ -32,6 +32,9 @@ fn run_quick(prefix: &str) {
         !experiments.is_empty(),
         "vacuous: no experiment registered under {prefix}"
     );
+    let conventions =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/conventions.md"))
+            .expect("docs/conventions.md");
     let context = Context {
         mode: Mode::Quick,
         progress: &Silent,
