@@ -1,8 +1,42 @@
 //! `cargo xtask reproduce`: recomputes every result of the papers.
+//!
+//! The science lives in `pkm::papers`; this binary only runs the experiments, shows progress,
+//! prints the comparison table and writes the report (`results.json`, `report.md`, CSV, SVG).
 #![allow(clippy::print_stdout)]
 
-fn main() {
-    for e in pkm::papers::all() {
-        println!("{}", e.id);
+mod plot;
+mod progress;
+mod report;
+mod reproduce;
+mod table;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Project automation for pkm.
+#[derive(Debug, Parser)]
+#[command(name = "cargo xtask", bin_name = "cargo xtask")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run the registered experiments, compare with the papers and write the report.
+    Reproduce(reproduce::ReproduceArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Reproduce(args) => reproduce::run(&args),
+    };
+    match result {
+        Ok(status) => status,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
     }
 }
