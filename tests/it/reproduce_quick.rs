@@ -47,3 +47,8 @@ fn run_quick(prefix: &str) {
         }
     }
 }
+
+#[test]
+fn miller2004_linear_delta_reproduces_in_quick_mode() {
+    run_quick("miller2004.linear_delta")
+}
