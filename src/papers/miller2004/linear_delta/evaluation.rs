@@ -137,13 +137,11 @@ impl Utility<'_> {
     /// [`ObjectiveError::Infeasible`] for an invalid design or an empty workspace.
     pub fn indices(&self, design: &[f64; 4]) -> Result<[f64; 3], ObjectiveError> {
         let eta2 = eta2(design)?;
-        let eta1 = if self.w1 == 0.0 {
-            f64::NAN
-        } else {
-            self.memo.eta1(design, self.rule)?
-        };
-        let weighted1 = if self.w1 == 0.0 { 0.0 } else { self.w1 * eta1 };
-        Ok([eta1, eta2, weighted1 + self.w2 * eta2])
+        if self.w1.abs() < f64::MIN_POSITIVE {
+            return Ok([f64::NAN, eta2, self.w2 * eta2]);
+        }
+        let eta1 = self.memo.eta1(design, self.rule)?;
+        Ok([eta1, eta2, self.w1 * eta1 + self.w2 * eta2])
     }
 }
 

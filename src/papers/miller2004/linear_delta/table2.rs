@@ -64,6 +64,7 @@ pub fn row1(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
     rows[0] = rows[0].clone().erratum("linear-delta-row1-l1").with_note(
         "the model's optimum in the limit L2/L1 -> 0; the paper's point has eta1 1.7% lower",
     );
+    rows[2] = rows[2].clone().erratum("linear-delta-row1-l1");
     rows[3] = source
         .check("L2/L1", "", 0.0, approach.design[3], 0.01)
         .with_note("optimum of the 4-D search with L2/L1 >= 0.01: the lowest value searched");
