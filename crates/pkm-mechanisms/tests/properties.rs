@@ -1,6 +1,7 @@
 //! Property tests of pkm-mechanisms: conformance of the Linear Delta (closure, Jacobians vs
 //! central differences, IK → FK round trip) and its exact cross-section (area vs a fine slice
 //! sum, corners and extents).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nalgebra::Vector3;
 use pkm_mechanisms::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
@@ -46,7 +47,11 @@ fn slice_sum(region: &impl SlicedRegion, n: usize) -> f64 {
 #[test]
 fn linear_delta_passes_the_conformance_kit() {
     testkit::check_traits::<LinearDelta>();
-    for d in [delta(2.0, 0.0, 0.0, 0.63), delta(1.6, 0.3, -0.4, 0.9), delta(1.5, 0.1, 0.3, 1.2)] {
+    for d in [
+        delta(2.0, 0.0, 0.0, 0.63),
+        delta(1.6, 0.3, -0.4, 0.9),
+        delta(1.5, 0.1, 0.3, 1.2),
+    ] {
         let poses = poses(&d);
         let mode = LinearDeltaMode::PAPER;
         testkit::check_closure(&d, mode, &poses, 1e-12).unwrap();
@@ -62,7 +67,9 @@ fn velocity_jacobian_is_minus_jq_inverse_jx() {
     for x in poses(&d) {
         let q = d.inverse_kinematics(&x, LinearDeltaMode::PAPER).unwrap();
         let j = d.jacobian(&x, &q).unwrap();
-        let j_yz = d.velocity_jacobian(x[1], x[2], LinearDeltaMode::PAPER).unwrap();
+        let j_yz = d
+            .velocity_jacobian(x[1], x[2], LinearDeltaMode::PAPER)
+            .unwrap();
         assert!((j - j_yz).amax() < 1e-12);
     }
 }
@@ -102,7 +109,11 @@ fn half_lens_area_is_the_closed_form() {
     let region = delta(l1, 0.0, 0.0, 1.8).cross_section();
     let (l, d) = (l1 * yr, yr);
     let exact = l * l * (d / l).acos() - d * (l * l - d * d).sqrt();
-    assert!((region.area() - exact).abs() < 1e-14, "{} vs {exact}", region.area());
+    assert!(
+        (region.area() - exact).abs() < 1e-14,
+        "{} vs {exact}",
+        region.area()
+    );
     assert_eq!(region.corners().len(), 3);
 }
 

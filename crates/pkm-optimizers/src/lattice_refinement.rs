@@ -71,20 +71,24 @@ pub fn lattice_window(
     centre: &[f64],
     level: &LatticeLevel,
 ) -> Vec<GridAxis> {
-    axes
-        .iter()
+    axes.iter()
         .zip(bounds)
         .zip(centre)
         .map(|((axis, b), &c)| {
             if axis.n == 1 {
                 return *axis;
             }
-            let room = |d: f64| ((d / level.step + 1e-9).floor().max(0.0) as usize).min(level.half_width);
+            let room =
+                |d: f64| ((d / level.step + 1e-9).floor().max(0.0) as usize).min(level.half_width);
             let below = room(c - b.lower);
             let above = room(b.upper - c);
             let lower = c - below as f64 * level.step;
             let upper = c + above as f64 * level.step;
-            GridAxis { lower, upper, n: below + above + 1 }
+            GridAxis {
+                lower,
+                upper,
+                n: below + above + 1,
+            }
         })
         .collect()
 }

@@ -1,7 +1,10 @@
 //! Property tests of pkm-optimizers: grid searches recover a known minimum to their resolution
 //! and give the same bits for 1, 2 and 8 rayon threads.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use pkm_optimizers::{GridAxis, LatticeLevel, lattice_refined_search, refined_grid_search, RefinementSettings};
+use pkm_optimizers::{
+    GridAxis, LatticeLevel, RefinementSettings, lattice_refined_search, refined_grid_search,
+};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Silent};
 use proptest::prelude::*;
 
@@ -19,17 +22,29 @@ impl Objective for Bowl {
         &self.bounds
     }
     fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
-        Ok(p.iter().zip(&self.centre).map(|(x, c)| (x - c).powi(2)).sum())
+        Ok(p.iter()
+            .zip(&self.centre)
+            .map(|(x, c)| (x - c).powi(2))
+            .sum())
     }
 }
 
 fn bowl(centre: [f64; 3]) -> Bowl {
-    Bowl { centre, bounds: [Bounds::new(-1.0, 1.0).unwrap(); 3] }
+    Bowl {
+        centre,
+        bounds: [Bounds::new(-1.0, 1.0).unwrap(); 3],
+    }
 }
 
 const LEVELS: [LatticeLevel; 2] = [
-    LatticeLevel { step: 0.05, half_width: 2 },
-    LatticeLevel { step: 0.01, half_width: 3 },
+    LatticeLevel {
+        step: 0.05,
+        half_width: 2,
+    },
+    LatticeLevel {
+        step: 0.01,
+        half_width: 3,
+    },
 ];
 
 proptest! {
@@ -60,15 +75,21 @@ fn grid_searches_give_the_same_bits_for_1_2_and_8_threads() {
     let objective = bowl([0.123, -0.456, 0.789]);
     let coarse = [GridAxis::with_step(-1.0, 1.0, 0.1).unwrap(); 3];
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| lattice_refined_search(&objective, &coarse, &LEVELS, true, &Silent).unwrap())
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            lattice_refined_search(&objective, &coarse, &LEVELS, true, &Silent).unwrap()
+        })
     };
     let reference = run(1);
     for threads in [2, 8] {
         let other = run(threads);
         assert_eq!(other.evaluations, reference.evaluations);
         assert_eq!(other.best_value.to_bits(), reference.best_value.to_bits());
-        let bits = |r: &pkm_optimizers::GridResult| r.best.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let bits =
+            |r: &pkm_optimizers::GridResult| r.best.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&other), bits(&reference));
         assert_eq!(other.landscape, reference.landscape);
     }

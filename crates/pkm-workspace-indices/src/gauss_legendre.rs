@@ -81,7 +81,10 @@ mod tests {
             let mut sum = 0.0;
             rule.for_each_on(0.0, 2.0, |x, w| sum += w * x.powi(degree as i32));
             let exact = 2f64.powi(degree as i32 + 1) / (degree as f64 + 1.0);
-            assert!((sum / exact - 1.0).abs() < 1e-12, "n = {n}: {sum} vs {exact}");
+            assert!(
+                (sum / exact - 1.0).abs() < 1e-12,
+                "n = {n}: {sum} vs {exact}"
+            );
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Property tests of pkm-workspace-indices: the closed-form 3×3 inverse condition number against
 //! the SVD, and the cross-section means against closed forms.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nalgebra::Matrix3;
 use pkm_traits::{Extents, SlicedRegion};
@@ -21,7 +22,12 @@ impl SlicedRegion for UnitDisc {
         &[-1.0, 0.0, 1.0]
     }
     fn extents(&self) -> Extents {
-        Extents { y_min: -1.0, y_max: 1.0, z_min: -1.0, z_max: 1.0 }
+        Extents {
+            y_min: -1.0,
+            y_max: 1.0,
+            z_min: -1.0,
+            z_max: 1.0,
+        }
     }
     fn area(&self) -> f64 {
         std::f64::consts::PI
@@ -38,7 +44,11 @@ fn quadrature_mean_of_r_squared_over_the_disc_is_one_half() {
 fn paper_grid_rule_uses_more_than_5000_points_and_estimates_the_area() {
     let grid = mean_by_grid(&UnitDisc, |y, z| y * y + z * z, &GridRule::default()).unwrap();
     assert!(grid.n_points > 5000);
-    assert!((grid.area / std::f64::consts::PI - 1.0).abs() < 2e-3, "{}", grid.area);
+    assert!(
+        (grid.area / std::f64::consts::PI - 1.0).abs() < 2e-3,
+        "{}",
+        grid.area
+    );
     assert!((grid.mean - 0.5).abs() < 2e-3, "{}", grid.mean);
 }
 

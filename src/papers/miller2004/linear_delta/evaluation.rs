@@ -4,8 +4,8 @@
 use pkm_mechanisms::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 use pkm_traits::{Bounds, Objective, ObjectiveError, SlicedRegion};
 use pkm_workspace_indices::{
-    GridMean, GridRule, IndexError, inverse_condition_number_3x3, mean_by_grid,
-    mean_by_quadrature, space_utilization,
+    GridMean, GridRule, IndexError, inverse_condition_number_3x3, mean_by_grid, mean_by_quadrature,
+    space_utilization,
 };
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -15,7 +15,10 @@ use std::sync::Mutex;
 /// # Errors
 /// [`ObjectiveError::Infeasible`] for an invalid design.
 pub fn linear_delta(design: &[f64; 4]) -> Result<LinearDelta, ObjectiveError> {
-    Ok(LinearDelta::new(LinearDeltaRatios::from_slice(design), 1.0)?)
+    Ok(LinearDelta::new(
+        LinearDeltaRatios::from_slice(design),
+        1.0,
+    )?)
 }
 
 /// $1/\kappa(J)$ at $(y, z)$, 0 outside the discs and on their boundaries (serial singularities).
@@ -91,10 +94,13 @@ impl Eta1Rule {
     }
 }
 
+/// Memo key: the design in millionths and the rule.
+type MemoKey = ([i64; 4], Eta1Rule);
+
 /// Memo of $\eta_1$ values shared by every search of a study (it does not depend on the weights).
 #[derive(Debug, Default)]
 pub struct Eta1Memo {
-    values: Mutex<HashMap<([i64; 4], Eta1Rule), Result<f64, ObjectiveError>>>,
+    values: Mutex<HashMap<MemoKey, Result<f64, ObjectiveError>>>,
 }
 
 impl Eta1Memo {

@@ -19,7 +19,11 @@ fn axis(lo: f64, hi: f64, step: f64) -> Vec<f64> {
 ///
 /// # Errors
 /// [`ExperimentError::Objective`] for a bound that cannot be built.
-pub fn figure6(optimum: &Optimum, mode: Mode, memo: &Eta1Memo) -> Result<Vec<Figure>, ExperimentError> {
+pub fn figure6(
+    optimum: &Optimum,
+    mode: Mode,
+    memo: &Eta1Memo,
+) -> Result<Vec<Figure>, ExperimentError> {
     let utility = Utility {
         w1: 1.0,
         w2: 1.0,
@@ -73,7 +77,9 @@ pub fn cross_section_map(design: &[f64; 4], mode: Mode) -> Result<Figure, Experi
     let e = region.extents();
     let cells = mode.pick(40, 160);
     let hy = (e.y_max - e.y_min) / cells as f64;
-    let ys: Vec<f64> = (0..cells).map(|i| e.y_min + (i as f64 + 0.5) * hy).collect();
+    let ys: Vec<f64> = (0..cells)
+        .map(|i| e.y_min + (i as f64 + 0.5) * hy)
+        .collect();
     let nz = ((e.z_max - e.z_min) / hy).ceil().max(1.0) as usize;
     let zs: Vec<f64> = (0..nz).map(|k| e.z_min + (k as f64 + 0.5) * hy).collect();
     let values = (0..ys.len() * zs.len())

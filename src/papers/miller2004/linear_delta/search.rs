@@ -57,6 +57,9 @@ pub struct Optimum {
 }
 
 /// The box `[L1/YR, YA/YR, ZR/YR, L2/L1]` of a search; equal bounds fix a variable.
+///
+/// # Errors
+/// [`ExperimentError::Objective`] for a range that is empty or not finite.
 pub fn search_box(ranges: [(f64, f64); 4]) -> Result<[Bounds; 4], ExperimentError> {
     let [a, b, c, d] = ranges;
     Ok([
@@ -90,7 +93,8 @@ pub fn optimise(
         .map(|b| GridAxis::with_step(b.lower, b.upper, COARSE_STEP))
         .collect::<Result<Vec<_>, _>>()?;
     let coarse_utility = utility(rules.coarse);
-    let middle = lattice_refined_search(&coarse_utility, &coarse, &[MIDDLE], false, context.progress)?;
+    let middle =
+        lattice_refined_search(&coarse_utility, &coarse, &[MIDDLE], false, context.progress)?;
     let fine_utility = utility(rules.fine);
     let window = lattice_window(&bounds, &coarse, &middle.best, &FINE);
     let fine = lattice_refined_search(&fine_utility, &window, &[FINE], false, context.progress)?;

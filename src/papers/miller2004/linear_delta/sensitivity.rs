@@ -16,8 +16,18 @@ fn geometry_change(a: &Optimum, b: &Optimum) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn at_weights(w: (f64, f64), memo: &Eta1Memo, context: &Context<'_>) -> Result<Optimum, ExperimentError> {
-    optimise(w, search_box(STATED_LIMITS)?, Rules::for_mode(context.mode), memo, context)
+fn at_weights(
+    w: (f64, f64),
+    memo: &Eta1Memo,
+    context: &Context<'_>,
+) -> Result<Optimum, ExperimentError> {
+    optimise(
+        w,
+        search_box(STATED_LIMITS)?,
+        Rules::for_mode(context.mode),
+        memo,
+        context,
+    )
 }
 
 /// Sweep of w1 at w2 = 1: L2/L1 at each weight, the largest geometry change for w1 ≤ 3 and the
@@ -25,15 +35,19 @@ fn at_weights(w: (f64, f64), memo: &Eta1Memo, context: &Context<'_>) -> Result<O
 ///
 /// # Errors
 /// As [`optimise`].
-pub fn w1_sweep(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, ExperimentError> {
+pub fn w1_sweep(
+    context: &Context<'_>,
+    memo: &Eta1Memo,
+) -> Result<Vec<Comparison>, ExperimentError> {
     let source = Source::new(
         "miller2004.linear_delta.sensitivity.w1",
         Paper::Miller2004,
         "§2.2.4, increasing w1",
     );
-    let weights = context
-        .mode
-        .pick(&[1.0, 2.0, 3.0, 4.0, 5.0][..], &[1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 10.0]);
+    let weights = context.mode.pick(
+        &[1.0, 2.0, 3.0, 4.0, 5.0][..],
+        &[1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 10.0],
+    );
     let base = at_weights((1.0, 1.0), memo, context)?;
     let mut rows = Vec::new();
     let mut change_up_to_3: f64 = 0.0;
@@ -52,7 +66,13 @@ pub fn w1_sweep(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison
     }
     rows.push(
         source
-            .check("max change of (L1/YR, YA/YR, ZR/YR) for w1 <= 3", "", 0.0, change_up_to_3, SAME_NODE)
+            .check(
+                "max change of (L1/YR, YA/YR, ZR/YR) for w1 <= 3",
+                "",
+                0.0,
+                change_up_to_3,
+                SAME_NODE,
+            )
             .with_note("'w1 > 3 necessary before a considerable change in geometry'"),
     );
     if let Some((below, above)) = jump {
@@ -91,7 +111,10 @@ fn bisect_jump(
 ///
 /// # Errors
 /// As [`optimise`].
-pub fn w2_sweep(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, ExperimentError> {
+pub fn w2_sweep(
+    context: &Context<'_>,
+    memo: &Eta1Memo,
+) -> Result<Vec<Comparison>, ExperimentError> {
     let source = Source::new(
         "miller2004.linear_delta.sensitivity.w2",
         Paper::Miller2004,
@@ -113,7 +136,13 @@ pub fn w2_sweep(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison
         decrease = decrease.max(base.design[3] - optimum.design[3]);
     }
     rows.push(source.info("L2/L1 (w2 -> infinity)", "", limit.design[3]));
-    rows.push(source.check("max change of (L1/YR, YA/YR, ZR/YR)", "", 0.0, change, SAME_NODE));
+    rows.push(source.check(
+        "max change of (L1/YR, YA/YR, ZR/YR)",
+        "",
+        0.0,
+        change,
+        SAME_NODE,
+    ));
     rows.push(
         source
             .check("max decrease of L2/L1", "", 0.03, decrease, SAME_NODE)

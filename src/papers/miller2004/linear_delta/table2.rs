@@ -90,7 +90,14 @@ pub fn row2(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
     let tolerances = [SAME_NODE, SAME_NODE, SAME_NODE, ONE_STEP];
     let paper = [1.48, 0.0, 0.0, 0.56];
     let mut rows = report(2, &optimum, paper, tolerances, fine_n(context.mode))?;
-    rows.extend(paper_grid_rows(2, (1.0, 0.0), bounds, paper, memo, context)?);
+    rows.extend(paper_grid_rows(
+        2,
+        (1.0, 0.0),
+        bounds,
+        paper,
+        memo,
+        context,
+    )?);
     Ok(rows)
 }
 
@@ -100,7 +107,13 @@ pub fn row2(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
 /// As [`optimise`].
 pub fn row3(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, ExperimentError> {
     let bounds = search_box(STATED_LIMITS)?;
-    let optimum = optimise((0.0, 1.0), bounds, Rules::for_mode(context.mode), memo, context)?;
+    let optimum = optimise(
+        (0.0, 1.0),
+        bounds,
+        Rules::for_mode(context.mode),
+        memo,
+        context,
+    )?;
     let paper = [2.0, 0.0, 0.0, 0.6];
     let mut rows = report(3, &optimum, paper, [SAME_NODE; 4], fine_n(context.mode))?;
     rows.push(source(3).info("eta1", "", eta1(&optimum.design, fine_n(context.mode))?));
@@ -112,9 +125,18 @@ pub fn row3(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
 ///
 /// # Errors
 /// As [`optimise`].
-pub fn row4(context: &Context<'_>, memo: &Eta1Memo) -> Result<(Vec<Comparison>, Optimum), ExperimentError> {
+pub fn row4(
+    context: &Context<'_>,
+    memo: &Eta1Memo,
+) -> Result<(Vec<Comparison>, Optimum), ExperimentError> {
     let bounds = search_box(STATED_LIMITS)?;
-    let optimum = optimise((1.0, 1.0), bounds, Rules::for_mode(context.mode), memo, context)?;
+    let optimum = optimise(
+        (1.0, 1.0),
+        bounds,
+        Rules::for_mode(context.mode),
+        memo,
+        context,
+    )?;
     let tolerances = [SAME_NODE, SAME_NODE, SAME_NODE, ONE_STEP];
     let paper = [2.0, 0.0, 0.0, 0.63];
     let mut rows = report(4, &optimum, paper, tolerances, fine_n(context.mode))?;
@@ -128,7 +150,14 @@ pub fn row4(context: &Context<'_>, memo: &Eta1Memo) -> Result<(Vec<Comparison>, 
             .with_note(format!("N_a = {}", grid.n_points)),
     );
     rows.push(source.info("eta1 (paper grid rule)", "", grid.mean));
-    rows.extend(paper_grid_rows(4, (1.0, 1.0), bounds, paper, memo, context)?);
+    rows.extend(paper_grid_rows(
+        4,
+        (1.0, 1.0),
+        bounds,
+        paper,
+        memo,
+        context,
+    )?);
     Ok((rows, optimum))
 }
 
@@ -151,7 +180,9 @@ fn paper_grid_rows(
     Ok((0..4)
         .map(|k| {
             let quantity = format!("{} (paper grid rule)", VARIABLES[k]);
-            source.info(&quantity, "", optimum.design[k]).with_note(format!("eta1 by eq. 4 with N_a > 5000; paper {}", paper[k]))
+            source
+                .info(&quantity, "", optimum.design[k])
+                .with_note(format!("eta1 by eq. 4 with N_a > 5000; paper {}", paper[k]))
         })
         .collect())
 }
