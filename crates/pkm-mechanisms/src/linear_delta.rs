@@ -70,7 +70,7 @@ impl LinearDeltaMode {
 /// let ratios = LinearDeltaRatios { l1_over_yr: 2.0, ya_over_yr: 0.0, zr_over_yr: 0.0, l2_over_l1: 0.63 };
 /// let delta = LinearDelta::new(ratios, 1.0).unwrap();
 /// let q = delta.inverse_kinematics(&[0.0, 0.0, -1.0].into(), LinearDeltaMode::PAPER).unwrap();
-/// assert!((q[0] + 3.0_f64.sqrt()).abs() < 1e-12);
+/// assert!((q[0] + 2.0_f64.sqrt()).abs() < 1e-12);
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LinearDelta {

@@ -154,6 +154,8 @@ proptest! {
             }
         }
         prop_assert!(lo_min >= e.z_min - tol && hi_max <= e.z_max + tol);
-        prop_assert!(lo_min - e.z_min < 1e-3 && e.z_max - hi_max < 1e-3);
+        // Sampling misses at most (largest slope) × (half a sample spacing) near a corner.
+        let slack = 0.02 * (e.y_max - e.y_min + e.z_max - e.z_min);
+        prop_assert!(lo_min - e.z_min < slack && e.z_max - hi_max < slack);
     }
 }
