@@ -5,12 +5,14 @@ use criterion::{criterion_group, criterion_main};
 
 mod indices;
 mod integrators;
+mod linear_delta;
 mod screw;
 
 criterion_group!(
     benches,
     indices::condition_number,
     integrators::harmonic_oscillator,
+    linear_delta::eta_of_one_design,
     screw::screw,
 );
 criterion_main!(benches);

@@ -76,3 +76,8 @@ fn run_quick(prefix: &str) {
 fn wolf2006_s2_reproduces_in_quick_mode() {
     run_quick("wolf2006.s2")
 }
+
+#[test]
+fn miller2004_linear_delta_reproduces_in_quick_mode() {
+    run_quick("miller2004.linear_delta")
+}

@@ -5,3 +5,9 @@
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
+
+mod linear_delta;
+mod linear_delta_cross_section;
+
+pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+pub use linear_delta_cross_section::CrossSection;

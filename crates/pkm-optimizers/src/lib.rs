@@ -10,10 +10,12 @@
 
 mod error;
 mod grid_search;
+mod lattice_refinement;
 mod multistart;
 
 pub use error::OptimizeError;
 pub use grid_search::{
     GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
 };
+pub use lattice_refinement::{LatticeLevel, lattice_refined_search, lattice_window};
 pub use multistart::{run_multistart, uniform_start_points};

