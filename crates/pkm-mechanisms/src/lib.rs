@@ -5,3 +5,7 @@
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
+
+pub mod rotary_delta;
+
+pub use rotary_delta::{ElbowMode, Leg, Placement, RotaryDelta};
