@@ -1,0 +1,1 @@
+//! Forward dynamics (placeholder, filled below).
