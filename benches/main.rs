@@ -3,7 +3,12 @@
 
 use criterion::{criterion_group, criterion_main};
 
+mod dynamics;
 mod indices;
 
-criterion_group!(benches, indices::condition_number);
+criterion_group!(
+    benches,
+    indices::condition_number,
+    dynamics::inverse_dynamics
+);
 criterion_main!(benches);

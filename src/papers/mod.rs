@@ -141,6 +141,9 @@ pub enum ExperimentError {
     /// A time integration failed.
     #[error(transparent)]
     Integration(#[from] pkm_traits::IntegrationError),
+    /// A dynamics computation failed.
+    #[error(transparent)]
+    Dynamics(#[from] pkm_dynamics_hamilton::DynamicsError),
     /// The run was cancelled.
     #[error("cancelled")]
     Cancelled,

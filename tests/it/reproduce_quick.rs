@@ -47,3 +47,13 @@ fn run_quick(prefix: &str) {
         }
     }
 }
+
+#[test]
+fn miller2004_dynamics_reproduces_in_quick_mode() {
+    run_quick("miller2004.dynamics")
+}
+
+#[test]
+fn miller2004_nuwar_reproduces_in_quick_mode() {
+    run_quick("miller2004.nuwar")
+}
