@@ -40,3 +40,31 @@ pub(crate) fn inverse_dynamics(c: &mut Criterion) {
     });
     group.finish();
 }
+
+/// The forward simulation of the full cycle (Hamilton form, exact torques sampled at 1 ms,
+/// DP54 at rtol 1e-9).
+pub(crate) fn forward_cycle(c: &mut Criterion) {
+    use pkm::dynamics_hamilton::forward::{ForwardForm, HamiltonForm, SampledTorques};
+    use pkm::integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, integrate};
+    let model = nuwar();
+    let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
+    let dt = 1e-3;
+    let samples = inverse::sample(&model, &trajectory, dt).expect("reachable");
+    let tau = inverse::hamilton(&model, &samples, dt, inverse::Differencing::Central).expect("torques");
+    let tau = SampledTorques::new(dt, tau).expect("grid");
+    let form = HamiltonForm { model: &model, torque: |t| tau.at(t), kappa: 20.0 };
+    let z0 = form.initial_state(&samples[0].1.q, &samples[0].1.qd);
+    let settings = AdaptiveSettings::default()
+        .with_rtol(1e-9)
+        .and_then(|s| s.with_atol(1e-12))
+        .expect("settings");
+    let mut group = c.benchmark_group("miller2004_forward");
+    group.sample_size(10);
+    group.bench_function("hamilton_cycle_rtol_1e-9", |b| {
+        b.iter(|| {
+            let mut dopri = DormandPrince54::new(settings);
+            integrate(&form, &mut dopri, (0.0, 0.5), &z0, &OutputTimes::Uniform(dt), &pkm::traits::Silent)
+        })
+    });
+    group.finish();
+}

@@ -5,10 +5,13 @@ use criterion::{criterion_group, criterion_main};
 
 mod dynamics;
 mod indices;
+mod integrators;
 
 criterion_group!(
     benches,
     indices::condition_number,
-    dynamics::inverse_dynamics
+    dynamics::inverse_dynamics,
+    dynamics::forward_cycle,
+    integrators::harmonic_oscillator
 );
 criterion_main!(benches);

@@ -118,4 +118,22 @@ pub enum IntegrationError {
     /// The computation was cancelled through [`crate::Progress`].
     #[error("cancelled")]
     Cancelled,
+    /// The nonlinear stage equation of an implicit method did not converge.
+    #[error(
+        "implicit stage did not converge at t = {t} after {iterations} iterations (residual {residual:.3e})"
+    )]
+    NotConverged {
+        /// Time at the start of the step.
+        t: f64,
+        /// Iterations spent.
+        iterations: usize,
+        /// Size of the last update, in the method's norm.
+        residual: f64,
+    },
+}
+
+impl From<crate::Cancelled> for IntegrationError {
+    fn from(_: crate::Cancelled) -> Self {
+        Self::Cancelled
+    }
 }
