@@ -36,7 +36,14 @@ pub(crate) fn inverse_dynamics(c: &mut Criterion) {
         b.iter(|| lagrange_torques(&model, black_box(&now.q), black_box(&now.qd), &now.qdd))
     });
     group.bench_function("hamilton_full_cycle_1ms", |b| {
-        b.iter(|| inverse::hamilton(&model, black_box(&samples), dt, inverse::Differencing::Central))
+        b.iter(|| {
+            inverse::hamilton(
+                &model,
+                black_box(&samples),
+                dt,
+                inverse::Differencing::Central,
+            )
+        })
     });
     group.finish();
 }
@@ -50,9 +57,14 @@ pub(crate) fn forward_cycle(c: &mut Criterion) {
     let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
     let dt = 1e-3;
     let samples = inverse::sample(&model, &trajectory, dt).expect("reachable");
-    let tau = inverse::hamilton(&model, &samples, dt, inverse::Differencing::Central).expect("torques");
+    let tau =
+        inverse::hamilton(&model, &samples, dt, inverse::Differencing::Central).expect("torques");
     let tau = SampledTorques::new(dt, tau).expect("grid");
-    let form = HamiltonForm { model: &model, torque: |t| tau.at(t), kappa: 20.0 };
+    let form = HamiltonForm {
+        model: &model,
+        torque: |t| tau.at(t),
+        kappa: 20.0,
+    };
     let z0 = form.initial_state(&samples[0].1.q, &samples[0].1.qd);
     let settings = AdaptiveSettings::default()
         .with_rtol(1e-9)
@@ -63,7 +75,14 @@ pub(crate) fn forward_cycle(c: &mut Criterion) {
     group.bench_function("hamilton_cycle_rtol_1e-9", |b| {
         b.iter(|| {
             let mut dopri = DormandPrince54::new(settings);
-            integrate(&form, &mut dopri, (0.0, 0.5), &z0, &OutputTimes::Uniform(dt), &pkm::traits::Silent)
+            integrate(
+                &form,
+                &mut dopri,
+                (0.0, 0.5),
+                &z0,
+                &OutputTimes::Uniform(dt),
+                &pkm::traits::Silent,
+            )
         })
     });
     group.finish();

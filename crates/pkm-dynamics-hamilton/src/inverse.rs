@@ -155,9 +155,7 @@ pub fn lagrange(
         }
     };
     (samples.iter().zip(&qdd))
-        .map(|((t, s), a)| {
-            lagrange_torques(model, &s.q, &s.qd, a).map_err(|e| at(e, *t))
-        })
+        .map(|((t, s), a)| lagrange_torques(model, &s.q, &s.qd, a).map_err(|e| at(e, *t)))
         .collect()
 }
 

@@ -181,7 +181,10 @@ impl ExtendedModel {
         v: &Vector3<f64>,
         a: &Vector3<f64>,
     ) -> Result<ExtendedState, DynamicsError> {
-        let unreachable = |source| DynamicsError::Unreachable { t: f64::NAN, source };
+        let unreachable = |source| DynamicsError::Unreachable {
+            t: f64::NAN,
+            source,
+        };
         let th = self
             .mechanism
             .inverse_kinematics(p, ElbowMode::Out)

@@ -92,7 +92,13 @@ impl<F: Fn(f64) -> Vector3<f64>> HamiltonForm<'_, F> {
     fn solve(&self, t: f64, z: &State) -> Result<(Vector6<f64>, Vector3<f64>), RhsError> {
         let q = self.positions(z);
         let p: Vector6<f64> = z.fixed_rows::<6>(6).into();
-        let (qd, minus_sigma) = saddle(self.model, t, &q, &p, &(-self.model.constraints(&q) * self.kappa))?;
+        let (qd, minus_sigma) = saddle(
+            self.model,
+            t,
+            &q,
+            &p,
+            &(-self.model.constraints(&q) * self.kappa),
+        )?;
         Ok((qd, -minus_sigma))
     }
 }

@@ -41,7 +41,11 @@ pub struct Segment {
 impl Segment {
     fn sample(&self, t: f64) -> TaskMotion {
         let (s, s1, s2) = self.law.eval(t / self.duration);
-        let (u, sign) = if self.reverse { (1.0 - s, -1.0) } else { (s, 1.0) };
+        let (u, sign) = if self.reverse {
+            (1.0 - s, -1.0)
+        } else {
+            (s, 1.0)
+        };
         let [p, p1, p2] = self.path.eval(u);
         let (ud, udd) = (sign * s1 / self.duration, sign * s2 / self.duration.powi(2));
         TaskMotion {
@@ -80,7 +84,10 @@ impl Trajectory {
                 requirement: "at least one segment",
             });
         }
-        if let Some(s) = segments.iter().find(|s| !(s.duration > 0.0 && s.duration.is_finite())) {
+        if let Some(s) = segments
+            .iter()
+            .find(|s| !(s.duration > 0.0 && s.duration.is_finite()))
+        {
             return Err(DynamicsError::InvalidSetting {
                 setting: "duration",
                 value: s.duration,
@@ -122,7 +129,13 @@ impl Trajectory {
             duration: leg,
             reverse: false,
         };
-        Self::new(vec![go, Segment { reverse: true, ..go }])
+        Self::new(vec![
+            go,
+            Segment {
+                reverse: true,
+                ..go
+            },
+        ])
     }
 
     /// Total duration.

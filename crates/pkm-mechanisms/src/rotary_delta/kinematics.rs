@@ -96,7 +96,10 @@ mod tests {
 
     fn designs() -> [RotaryDelta; 2] {
         let p = Placement::canonical();
-        [RotaryDelta::nuwar(p).unwrap(), RotaryDelta::delta(p).unwrap()]
+        [
+            RotaryDelta::nuwar(p).unwrap(),
+            RotaryDelta::delta(p).unwrap(),
+        ]
     }
 
     #[test]

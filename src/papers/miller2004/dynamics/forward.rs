@@ -43,24 +43,41 @@ fn simulate<F: ForwardForm>(
     let s = form.model().joint_motion(&m.p, &m.v, &m.a)?;
     let z0 = form.initial_state(&s.q, &s.qd);
     let out = OutputTimes::Uniform(DT);
-    Ok(integrate(form, &mut dopri(rtol)?, (0.0, t_end), &z0, &out, context.progress)?)
+    Ok(integrate(
+        form,
+        &mut dopri(rtol)?,
+        (0.0, t_end),
+        &z0,
+        &out,
+        context.progress,
+    )?)
 }
 
 /// Max drift and max |E − E(0) − W| along a run.
-fn diagnostics<F: ForwardForm>(form: &F, run: &Solution<13>) -> Result<(f64, f64), ExperimentError> {
-    let e0 = form.energy_minus_work(0.0, &run.states[0]).map_err(pkm_traits::IntegrationError::from)?;
+fn diagnostics<F: ForwardForm>(
+    form: &F,
+    run: &Solution<13>,
+) -> Result<(f64, f64), ExperimentError> {
+    let e0 = form
+        .energy_minus_work(0.0, &run.states[0])
+        .map_err(pkm_traits::IntegrationError::from)?;
     let mut drift: f64 = 0.0;
     let mut energy: f64 = 0.0;
     for (t, z) in run.times.iter().zip(&run.states) {
         drift = drift.max(form.drift(z));
-        let e = form.energy_minus_work(*t, z).map_err(pkm_traits::IntegrationError::from)?;
+        let e = form
+            .energy_minus_work(*t, z)
+            .map_err(pkm_traits::IntegrationError::from)?;
         energy = energy.max((e - e0).abs());
     }
     Ok((drift, energy))
 }
 
 /// The exact (Lagrange, analytic accelerations) torque of the periodic cycle at `t`.
-fn exact_torque<'a>(m: &'a ExtendedModel, trajectory: &'a Trajectory) -> impl Fn(f64) -> Vector3<f64> + 'a {
+fn exact_torque<'a>(
+    m: &'a ExtendedModel,
+    trajectory: &'a Trajectory,
+) -> impl Fn(f64) -> Vector3<f64> + 'a {
     move |t| {
         let c = trajectory.sample(t.rem_euclid(trajectory.duration()));
         let torque = m
@@ -103,8 +120,15 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let trajectory = canonical_trajectory()?;
     let duration = trajectory.duration();
     let samples = inverse::sample(&m, &trajectory, DT)?;
-    let tau = SampledTorques::new(DT, inverse::hamilton(&m, &samples, DT, Differencing::Central)?)?;
-    let retrace = HamiltonForm { model: &m, torque: |t| tau.at(t), kappa: GAIN };
+    let tau = SampledTorques::new(
+        DT,
+        inverse::hamilton(&m, &samples, DT, Differencing::Central)?,
+    )?;
+    let retrace = HamiltonForm {
+        model: &m,
+        torque: |t| tau.at(t),
+        kappa: GAIN,
+    };
     let rtol = context.mode.pick(1e-8, 1e-10);
     let run = simulate(&retrace, &trajectory, duration, rtol, context)?;
     let errors = position_errors(&trajectory, &run);
@@ -118,21 +142,62 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let torque = exact_torque(&m, &trajectory);
     for (gain, label) in [(0.0, ""), (GAIN, "_baumgarte")] {
         context.progress.check()?;
-        let h = HamiltonForm { model: &m, torque: &torque, kappa: gain };
+        let h = HamiltonForm {
+            model: &m,
+            torque: &torque,
+            kappa: gain,
+        };
         let run_h = simulate(&h, &trajectory, cycles * duration, drift_rtol, context)?;
         let (drift_h, energy_h) = diagnostics(&h, &run_h)?;
-        let a = AccelerationForm { model: &m, torque: &torque, omega: gain };
+        let a = AccelerationForm {
+            model: &m,
+            torque: &torque,
+            omega: gain,
+        };
         let run_a = simulate(&a, &trajectory, cycles * duration, drift_rtol, context)?;
         let (drift_a, energy_a) = diagnostics(&a, &run_a)?;
-        let note = format!("{cycles} cycle(s), exact torques, DP54 rtol {drift_rtol:e}, gain {gain} /s");
+        let note =
+            format!("{cycles} cycle(s), exact torques, DP54 rtol {drift_rtol:e}, gain {gain} /s");
         comparisons.extend([
-            source.info(&format!("max_constraint_drift_hamilton{label}"), "m", drift_h).with_note(note.clone()),
-            source.info(&format!("max_constraint_drift_lagrange{label}"), "m", drift_a).with_note(note.clone()),
-            source.info(&format!("rhs_evaluations_hamilton{label}"), "1", run_h.stats.evaluations as f64),
-            source.info(&format!("rhs_evaluations_lagrange{label}"), "1", run_a.stats.evaluations as f64),
-            source.info(&format!("max_energy_balance_error_hamilton{label}"), "J", energy_h),
-            source.info(&format!("max_energy_balance_error_lagrange{label}"), "J", energy_a),
+            source
+                .info(
+                    &format!("max_constraint_drift_hamilton{label}"),
+                    "m",
+                    drift_h,
+                )
+                .with_note(note.clone()),
+            source
+                .info(
+                    &format!("max_constraint_drift_lagrange{label}"),
+                    "m",
+                    drift_a,
+                )
+                .with_note(note.clone()),
+            source.info(
+                &format!("rhs_evaluations_hamilton{label}"),
+                "1",
+                run_h.stats.evaluations as f64,
+            ),
+            source.info(
+                &format!("rhs_evaluations_lagrange{label}"),
+                "1",
+                run_a.stats.evaluations as f64,
+            ),
+            source.info(
+                &format!("max_energy_balance_error_hamilton{label}"),
+                "J",
+                energy_h,
+            ),
+            source.info(
+                &format!("max_energy_balance_error_lagrange{label}"),
+                "J",
+                energy_a,
+            ),
         ]);
     }
-    Ok(Outcome { comparisons, tables: Vec::new(), figures: vec![fig9(&errors)] })
+    Ok(Outcome {
+        comparisons,
+        tables: Vec::new(),
+        figures: vec![fig9(&errors)],
+    })
 }

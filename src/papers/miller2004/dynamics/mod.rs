@@ -43,11 +43,17 @@ fn model(robot: Robot, placement: Placement) -> Result<ExtendedModel, Experiment
         Robot::Nuwar => RotaryDelta::nuwar(placement)?,
         Robot::Delta => RotaryDelta::delta(placement)?,
     };
-    Ok(ExtendedModel::new(mechanism, &MassParameters::miller2004())?)
+    Ok(ExtendedModel::new(
+        mechanism,
+        &MassParameters::miller2004(),
+    )?)
 }
 
 fn canonical_trajectory() -> Result<Trajectory, ExperimentError> {
-    Ok(Trajectory::pick_and_place(CYCLE_TIME, CycleReading::RoundTrip)?)
+    Ok(Trajectory::pick_and_place(
+        CYCLE_TIME,
+        CycleReading::RoundTrip,
+    )?)
 }
 
 /// The canonical placement with motor 1 at `azimuth_deg`.

@@ -39,7 +39,9 @@ fn best_height(azimuth_deg: f64) -> (f64, f64) {
         })
     };
     let coarse = (0..=250).map(|k| -0.40 + 1e-3 * f64::from(k));
-    let z = coarse.min_by(|a, b| at(*a).total_cmp(&at(*b))).unwrap_or(-0.29);
+    let z = coarse
+        .min_by(|a, b| at(*a).total_cmp(&at(*b)))
+        .unwrap_or(-0.29);
     let (mut lo, mut hi) = (z - 1e-3, z + 1e-3);
     let ratio = (5f64.sqrt() - 1.0) / 2.0;
     for _ in 0..60 {
@@ -56,7 +58,13 @@ fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let mut comparisons: Vec<_> = (0..3)
         .map(|i| {
             source
-                .check(&format!("theta_{}", i + 1), "deg", PAPER_DEG[i], canonical[i], 0.01)
+                .check(
+                    &format!("theta_{}", i + 1),
+                    "deg",
+                    PAPER_DEG[i],
+                    canonical[i],
+                    0.01,
+                )
                 .erratum("miller2004-start-angles")
                 .with_note("canonical convention: z0 = -0.2928 m, motor 1 at 300°")
         })
@@ -73,5 +81,8 @@ fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
             .erratum("miller2004-start-angles")
             .with_note("least squares over z0, motor 1 azimuth in 30° steps"),
     );
-    Ok(Outcome { comparisons, ..Outcome::default() })
+    Ok(Outcome {
+        comparisons,
+        ..Outcome::default()
+    })
 }

@@ -44,7 +44,10 @@ fn max_acceleration(trajectory: &Trajectory) -> f64 {
 fn run_trajectory(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let source = Source::new(TRAJECTORY.id, Paper::Miller2004, "§3.5, trajectory");
     let canonical = max_acceleration(&canonical_trajectory()?);
-    let each_leg = max_acceleration(&Trajectory::pick_and_place(CYCLE_TIME, CycleReading::EachLeg)?);
+    let each_leg = max_acceleration(&Trajectory::pick_and_place(
+        CYCLE_TIME,
+        CycleReading::EachLeg,
+    )?);
     // |p̈| scales as 1/T²: the leg time at which the canonical law reaches the printed value.
     let leg_time = CYCLE_TIME / 2.0 * (canonical / 294.82).sqrt();
     Ok(Outcome {
@@ -86,13 +89,21 @@ fn peak(tau: &[Vector3<f64>]) -> f64 {
 }
 
 fn max_diff(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).amax()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).amax())
+        .fold(0.0, f64::max)
 }
 
 fn figure(name: &str, robot: &str, t: &Torques) -> Figure {
     let series = (0..3)
         .map(|i| {
-            let points = t.times.iter().zip(&t.hamilton).map(|(s, v)| (*s, v[i])).collect();
+            let points = t
+                .times
+                .iter()
+                .zip(&t.hamilton)
+                .map(|(s, v)| (*s, v[i]))
+                .collect();
             (format!("tau_{}", i + 1), points)
         })
         .collect();
@@ -108,7 +119,10 @@ fn sensitivity_table() -> Result<Table, ExperimentError> {
     let mut rows = Vec::new();
     for azimuth in [300.0, 90.0] {
         for z0 in [-0.27, -0.28, -0.29, -0.2928, -0.30, -0.31] {
-            let placement = Placement { motor_plane_z: z0, ..placement_at(azimuth) };
+            let placement = Placement {
+                motor_plane_z: z0,
+                ..placement_at(azimuth)
+            };
             let n = peak(&torques(Robot::Nuwar, placement)?.lagrange_exact);
             let d = peak(&torques(Robot::Delta, placement)?.lagrange_exact);
             rows.push(vec![azimuth, z0, n, d]);
@@ -116,9 +130,14 @@ fn sensitivity_table() -> Result<Table, ExperimentError> {
     }
     Ok(Table {
         name: "miller2004_max_torque_vs_placement".to_owned(),
-        columns: ["azimuth_motor_1_deg", "motor_plane_z_m", "nuwar_nm", "delta_nm"]
-            .map(str::to_owned)
-            .to_vec(),
+        columns: [
+            "azimuth_motor_1_deg",
+            "motor_plane_z_m",
+            "nuwar_nm",
+            "delta_nm",
+        ]
+        .map(str::to_owned)
+        .to_vec(),
         rows,
     })
 }
@@ -141,7 +160,11 @@ fn robot_outcome(
             .erratum("miller2004-max-torque")
             .with_note("canonical convention, exact accelerations"),
         source.info("max_torque_hamilton", "N m", peak(&t.hamilton)),
-        source.info("max_torque_motor_1_at_90_deg", "N m", peak(&turned.lagrange_exact)),
+        source.info(
+            "max_torque_motor_1_at_90_deg",
+            "N m",
+            peak(&turned.lagrange_exact),
+        ),
         source
             .check(
                 "hamilton_vs_lagrange_max_diff",
@@ -152,12 +175,20 @@ fn robot_outcome(
             )
             .with_note("both central differences at 1 ms (paper: within 0.01)"),
         source
-            .info("hamilton_vs_exact_lagrange_max_diff", "N m", max_diff(&t.hamilton, &t.lagrange_exact))
+            .info(
+                "hamilton_vs_exact_lagrange_max_diff",
+                "N m",
+                max_diff(&t.hamilton, &t.lagrange_exact),
+            )
             .with_note("Lagrange with analytic accelerations"),
     ];
     let name = format!("miller2004_fig8_{}", label.to_lowercase());
     Ok((
-        Outcome { comparisons, tables: Vec::new(), figures: vec![figure(&name, label, &t)] },
+        Outcome {
+            comparisons,
+            tables: Vec::new(),
+            figures: vec![figure(&name, label, &t)],
+        },
         source,
     ))
 }
@@ -169,7 +200,10 @@ fn run_nuwar(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
 fn run_delta(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let (mut outcome, source) = robot_outcome(&DELTA, Robot::Delta, PAPER_MAX_TORQUE_DELTA)?;
     let paper_ratio = PAPER_MAX_TORQUE_DELTA / PAPER_MAX_TORQUE_NUWAR;
-    for (azimuth, note) in [(300.0, "motor 1 at 300° (canonical)"), (90.0, "motor 1 at 90°")] {
+    for (azimuth, note) in [
+        (300.0, "motor 1 at 300° (canonical)"),
+        (90.0, "motor 1 at 90°"),
+    ] {
         let placement = placement_at(azimuth);
         let delta = peak(&torques(Robot::Delta, placement)?.lagrange_exact);
         let nuwar = peak(&torques(Robot::Nuwar, placement)?.lagrange_exact);
