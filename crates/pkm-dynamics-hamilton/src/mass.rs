@@ -1,8 +1,7 @@
 //! The mass model of the rotary Delta family (Miller 2004 §3.5; `miller-dynamics.md` §3).
 //!
 //! The kinetic energy in the extended coordinates reduces to three coefficients,
-//! $$ T = \tfrac12 m_t |\dot p|^2 + \sum_i \big[\tfrac12 J \dot\theta_i^2
-//!   + k\, \dot\theta_i\, d_i'(\theta_i)\cdot\dot p\big], $$
+//! $$ T = \tfrac12 m_t |\dot p|^2 + \sum_i \big[\tfrac12 J \dot\theta_i^2 + k\, \dot\theta_i\, d_i'(\theta_i)\cdot\dot p\big], $$
 //! and the potential to two, $V = g\,[m_g z + \sum_i c_g\, d_i(\theta_i)_z]$.
 
 use pkm_traits::DesignError;
