@@ -63,6 +63,7 @@ fn errors_on_canonical<I1: Integrator<1>, I2: Integrator<2>>(
 fn assert_order(errors: &[(Vec<f64>, Vec<f64>); 2], expected: f64, tolerance: f64) {
     for (name, (hs, e)) in ["decay", "oscillator"].iter().zip(errors) {
         let p = observed_order(hs, e);
+        eprintln!("{name}: observed order {p:.3} (expected {expected})");
         assert!(
             (p - expected).abs() <= tolerance,
             "{name}: order {p:.3}, errors {e:?}"
