@@ -3,6 +3,7 @@
 
 use criterion::{criterion_group, criterion_main};
 
+mod dynamics;
 mod indices;
 mod integrators;
 mod linear_delta;
@@ -14,5 +15,7 @@ criterion_group!(
     integrators::harmonic_oscillator,
     linear_delta::eta_of_one_design,
     screw::screw,
+    dynamics::inverse_dynamics,
+    dynamics::forward_cycle,
 );
 criterion_main!(benches);

@@ -144,6 +144,9 @@ pub enum ExperimentError {
     /// A screw-theory computation failed.
     #[error(transparent)]
     Screw(#[from] pkm_screw_theory::ScrewError),
+    /// A dynamics computation failed.
+    #[error(transparent)]
+    Dynamics(#[from] pkm_dynamics_hamilton::DynamicsError),
     /// The run was cancelled.
     #[error("cancelled")]
     Cancelled,

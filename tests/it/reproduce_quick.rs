@@ -81,3 +81,13 @@ fn wolf2006_s2_reproduces_in_quick_mode() {
 fn miller2004_linear_delta_reproduces_in_quick_mode() {
     run_quick("miller2004.linear_delta")
 }
+
+#[test]
+fn miller2004_dynamics_reproduces_in_quick_mode() {
+    run_quick("miller2004.dynamics")
+}
+
+#[test]
+fn miller2004_nuwar_reproduces_in_quick_mode() {
+    run_quick("miller2004.nuwar")
+}

@@ -1,4 +1,23 @@
 //! Hamilton's canonical equations in the extended space $s = (x, q)$ of task and joint
 //! coordinates (Miller 2004, §3), with Baumgarte stabilisation, and the acceleration-based
 //! Lagrange formulation in the same coordinates for comparison.
+//!
+//! | module | what |
+//! |---|---|
+//! | [`trajectory`] | motion laws × path shapes, the paper's elliptical pick-and-place cycle (§3.5) |
+//! | [`mass`] | the mass model of the rotary Delta family (rod or lumped forearms) |
+//! | [`model`] | $M(q)$, $L_q$, $\Phi$, $\Phi_q$, $\dot\Phi_q$ in $q = (x, y, z, \theta_1, \theta_2, \theta_3)$ |
+//! | [`inverse`] | inverse dynamics: Hamilton's three steps (§3.3) and Lagrange |
+//! | [`forward`] | forward dynamics: eqs. 16–19 with Baumgarte, and the acceleration form |
 #![warn(missing_docs)]
+
+mod error;
+pub mod forward;
+pub mod inverse;
+pub mod mass;
+pub mod model;
+pub mod trajectory;
+
+pub use error::DynamicsError;
+pub use mass::{ForearmModel, MassParameters};
+pub use model::{ExtendedModel, ExtendedState};

@@ -8,6 +8,8 @@
 
 mod linear_delta;
 mod linear_delta_cross_section;
+pub mod rotary_delta;
 
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
+pub use rotary_delta::{ElbowMode, Leg, Placement, RotaryDelta};

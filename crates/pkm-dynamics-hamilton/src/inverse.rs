@@ -1,0 +1,174 @@
+//! Inverse dynamics along a sampled trajectory, by Hamilton's three steps (Miller 2004 §3.3) and
+//! by the acceleration-based Lagrange equations in the same coordinates.
+//!
+//! Both end in the same two linear solves. With $\dot p = \frac{d}{dt}\partial L/\partial\dot q$
+//! the task rows give the multipliers and the joint rows the torques:
+//! $$ \Phi_x^\top \lambda = L_{q,x} - \dot p_x, \qquad
+//!    \tau = \dot p_\theta - L_{q,\theta} + \Phi_\theta^\top \lambda. $$
+//! Hamilton obtains $\dot p$ by differencing the momenta $p = M\dot q$ (no accelerations);
+//! Lagrange forms $\dot p = M\ddot q + \dot M\dot q$ from accelerations.
+
+use crate::trajectory::Trajectory;
+use crate::{DynamicsError, ExtendedModel, ExtendedState};
+use nalgebra::{Matrix3, Vector3, Vector6};
+
+/// Two-point differencing of a sampled signal on a uniform grid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Differencing {
+    /// $(f_k - f_{k-1})/\Delta t$ (forward at the first sample).
+    Backward,
+    /// $(f_{k+1} - f_{k-1})/(2\Delta t)$, second-order one-sided at the ends.
+    Central,
+}
+
+impl Differencing {
+    /// The derivative of `f` sampled every `dt` (needs at least 3 samples).
+    pub fn apply(self, f: &[Vector6<f64>], dt: f64) -> Vec<Vector6<f64>> {
+        let n = f.len();
+        (0..n)
+            .map(|k| match self {
+                _ if n < 3 => Vector6::zeros(),
+                Self::Backward if k == 0 => (f[1] - f[0]) / dt,
+                Self::Backward => (f[k] - f[k - 1]) / dt,
+                Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) / (2.0 * dt),
+                Self::Central if k + 1 == n => {
+                    (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) / (2.0 * dt)
+                }
+                Self::Central => (f[k + 1] - f[k - 1]) / (2.0 * dt),
+            })
+            .collect()
+    }
+}
+
+/// Where the Lagrange formulation takes $\ddot q$ from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Accelerations {
+    /// The analytic $\ddot q$ (acceleration-level inverse kinematics).
+    Exact,
+    /// $\ddot q$ by differencing the sampled $\dot q$.
+    Differenced(Differencing),
+}
+
+/// The extended states of `trajectory` on the grid $t_k = k\,\Delta t$ up to its end.
+///
+/// # Errors
+/// [`DynamicsError::InvalidSetting`] for a step that is not positive or leaves fewer than 3
+/// samples; [`DynamicsError::Unreachable`] with the time and leg of the first unreachable point.
+pub fn sample(
+    model: &ExtendedModel,
+    trajectory: &Trajectory,
+    dt: f64,
+) -> Result<Vec<(f64, ExtendedState)>, DynamicsError> {
+    let steps = (trajectory.duration() / dt).round();
+    if !(dt > 0.0 && (2.0..1e8).contains(&steps)) {
+        return Err(DynamicsError::InvalidSetting {
+            setting: "dt",
+            value: dt,
+            requirement: "must be > 0 and leave 3 to 1e8 samples",
+        });
+    }
+    (0..=steps as usize)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let m = trajectory.sample(t);
+            let s = model.joint_motion(&m.p, &m.v, &m.a).map_err(|e| at(e, t))?;
+            Ok((t, s))
+        })
+        .collect()
+}
+
+fn at(e: DynamicsError, t: f64) -> DynamicsError {
+    match e {
+        DynamicsError::Unreachable { source, .. } => DynamicsError::Unreachable { t, source },
+        DynamicsError::Singular { matrix, .. } => DynamicsError::Singular { matrix, t },
+        DynamicsError::NonFinite { what, .. } => DynamicsError::NonFinite { what, t },
+        other => other,
+    }
+}
+
+/// The motor torques for a given momentum rate $\dot p$ (steps 2 and 3 of §3.3).
+///
+/// # Errors
+/// [`DynamicsError::Singular`] when $\Phi_x$ (a direct-kinematic singularity) is singular,
+/// [`DynamicsError::NonFinite`] for a non-finite torque (times are NaN; callers set them).
+pub fn torques(
+    model: &ExtendedModel,
+    q: &Vector6<f64>,
+    qd: &Vector6<f64>,
+    p_rate: &Vector6<f64>,
+) -> Result<Vector3<f64>, DynamicsError> {
+    let l_q = model.lagrangian_gradient(q, qd);
+    let phi_q = model.constraint_jacobian(q);
+    let phi_x_t: Matrix3<f64> = phi_q.fixed_view::<3, 3>(0, 0).transpose();
+    let rhs = l_q.fixed_rows::<3>(0) - p_rate.fixed_rows::<3>(0);
+    let lambda = phi_x_t.lu().solve(&rhs).ok_or(DynamicsError::Singular {
+        matrix: "Phi_x^T",
+        t: f64::NAN,
+    })?;
+    let tau = Vector3::from_fn(|i, _| p_rate[3 + i] - l_q[3 + i] + phi_q[(i, 3 + i)] * lambda[i]);
+    if tau.iter().all(|v| v.is_finite()) {
+        Ok(tau)
+    } else {
+        Err(DynamicsError::NonFinite {
+            what: "torque",
+            t: f64::NAN,
+        })
+    }
+}
+
+/// Hamilton's inverse dynamics (§3.3): $p_k = M(q_k)\dot q_k$, $\dot p$ by `differencing`, then
+/// [`torques`]. Uses only positions and velocities.
+///
+/// # Errors
+/// As [`torques`], with the time of the failing sample.
+pub fn hamilton(
+    model: &ExtendedModel,
+    samples: &[(f64, ExtendedState)],
+    dt: f64,
+    differencing: Differencing,
+) -> Result<Vec<Vector3<f64>>, DynamicsError> {
+    let momenta: Vec<_> = samples
+        .iter()
+        .map(|(_, s)| model.mass_matrix(&s.q) * s.qd)
+        .collect();
+    let rates = differencing.apply(&momenta, dt);
+    (samples.iter().zip(&rates))
+        .map(|((t, s), r)| torques(model, &s.q, &s.qd, r).map_err(|e| at(e, *t)))
+        .collect()
+}
+
+/// Lagrange inverse dynamics: $\dot p = M\ddot q + \dot M\dot q$, then [`torques`].
+///
+/// # Errors
+/// As [`torques`], with the time of the failing sample.
+pub fn lagrange(
+    model: &ExtendedModel,
+    samples: &[(f64, ExtendedState)],
+    dt: f64,
+    accelerations: Accelerations,
+) -> Result<Vec<Vector3<f64>>, DynamicsError> {
+    let qdd: Vec<_> = match accelerations {
+        Accelerations::Exact => samples.iter().map(|(_, s)| s.qdd).collect(),
+        Accelerations::Differenced(d) => {
+            let qd: Vec<_> = samples.iter().map(|(_, s)| s.qd).collect();
+            d.apply(&qd, dt)
+        }
+    };
+    (samples.iter().zip(&qdd))
+        .map(|((t, s), a)| lagrange_torques(model, &s.q, &s.qd, a).map_err(|e| at(e, *t)))
+        .collect()
+}
+
+/// One Lagrange evaluation from $(q, \dot q, \ddot q)$.
+///
+/// # Errors
+/// As [`torques`].
+pub fn lagrange_torques(
+    model: &ExtendedModel,
+    q: &Vector6<f64>,
+    qd: &Vector6<f64>,
+    qdd: &Vector6<f64>,
+) -> Result<Vector3<f64>, DynamicsError> {
+    let rate = model.mass_matrix(q) * qdd + model.mass_matrix_rate_times_velocity(q, qd);
+    torques(model, q, qd, &rate)
+}

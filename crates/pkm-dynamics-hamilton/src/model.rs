@@ -1,0 +1,223 @@
+//! The rotary Delta family in the extended coordinates $q = (x, y, z, \theta_1, \theta_2, \theta_3)$
+//! (Miller 2004 §3.2, eqs. 8–12): mass matrix, Lagrangian gradient, constraints and their
+//! Jacobians.
+
+use crate::DynamicsError;
+use crate::mass::{Coefficients, MassParameters};
+use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3, Vector6};
+use pkm_mechanisms::{ElbowMode, RotaryDelta};
+use pkm_traits::{ClosedChain, DesignError, ExtendedInertia, InverseKinematics};
+
+/// Positions, velocities and accelerations in the extended space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExtendedState {
+    /// $q = (p, \theta)$.
+    pub q: Vector6<f64>,
+    /// $\dot q$.
+    pub qd: Vector6<f64>,
+    /// $\ddot q$.
+    pub qdd: Vector6<f64>,
+}
+
+/// A rotary Delta with its mass model.
+///
+/// # Example
+/// ```
+/// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
+/// use pkm_mechanisms::{Placement, RotaryDelta};
+/// use nalgebra::Vector3;
+/// let model = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+///     &MassParameters::miller2004()).unwrap();
+/// let s = model.joint_motion(&Vector3::new(0.0, -0.2, -0.9), &Vector3::zeros(), &Vector3::zeros())
+///     .unwrap();
+/// assert!(model.constraints(&s.q).amax() < 1e-12);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtendedModel {
+    mechanism: RotaryDelta,
+    c: Coefficients,
+}
+
+fn split(q: &Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    (q.fixed_rows::<3>(0).into(), q.fixed_rows::<3>(3).into())
+}
+
+impl ExtendedModel {
+    /// Couples a mechanism with a mass model.
+    ///
+    /// # Errors
+    /// [`DesignError`] for an invalid mass parameter.
+    pub fn new(mechanism: RotaryDelta, mass: &MassParameters) -> Result<Self, DesignError> {
+        let c = mass.coefficients(mechanism.arm())?;
+        Ok(Self { mechanism, c })
+    }
+
+    /// The mechanism.
+    pub fn mechanism(&self) -> &RotaryDelta {
+        &self.mechanism
+    }
+
+    /// The inertia coefficients.
+    pub fn coefficients(&self) -> &Coefficients {
+        &self.c
+    }
+
+    /// $M(q) = \begin{pmatrix} m_t I_3 & K \\ K^\top & J I_3 \end{pmatrix}$,
+    /// $K_{:,i} = k\, d_i'(\theta_i)$.
+    pub fn mass_matrix(&self, q: &Vector6<f64>) -> Matrix6<f64> {
+        let mut m = Matrix6::zeros();
+        for (i, leg) in self.mechanism.legs().iter().enumerate() {
+            m[(i, i)] = self.c.m_t;
+            m[(3 + i, 3 + i)] = self.c.j;
+            let col = leg.arm_direction_derivative(q[3 + i]) * self.c.k;
+            for r in 0..3 {
+                m[(r, 3 + i)] = col[r];
+                m[(3 + i, r)] = col[r];
+            }
+        }
+        m
+    }
+
+    /// $L_q = \partial L / \partial q$ at fixed $\dot q$: $L_z = -g m_g$,
+    /// $L_{\theta_i} = -k\dot\theta_i (d_i\cdot\dot p) - g c_g (d_i')_z$.
+    pub fn lagrangian_gradient(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> Vector6<f64> {
+        let (pd, thd) = split(qd);
+        let mut l = Vector6::zeros();
+        l[2] = -self.c.gravity * self.c.m_g;
+        for (i, leg) in self.mechanism.legs().iter().enumerate() {
+            let d = leg.arm_direction(q[3 + i]);
+            let d1 = leg.arm_direction_derivative(q[3 + i]);
+            l[3 + i] = -self.c.k * thd[i] * d.dot(&pd) - self.c.gravity * self.c.c_g * d1.z;
+        }
+        l
+    }
+
+    /// $\dot M \dot q$: task rows $-k\sum_i \dot\theta_i^2 d_i$, row $3+i$:
+    /// $-k\dot\theta_i (d_i\cdot\dot p)$.
+    pub fn mass_matrix_rate_times_velocity(
+        &self,
+        q: &Vector6<f64>,
+        qd: &Vector6<f64>,
+    ) -> Vector6<f64> {
+        let (pd, thd) = split(qd);
+        let mut out = Vector6::zeros();
+        for (i, leg) in self.mechanism.legs().iter().enumerate() {
+            let d = leg.arm_direction(q[3 + i]) * self.c.k;
+            let task = -d * thd[i] * thd[i];
+            for r in 0..3 {
+                out[r] += task[r];
+            }
+            out[3 + i] = -thd[i] * d.dot(&pd);
+        }
+        out
+    }
+
+    /// The loop closure $\Phi(q)$.
+    pub fn constraints(&self, q: &Vector6<f64>) -> Vector3<f64> {
+        let (p, th) = split(q);
+        self.mechanism.closure(&p, &th)
+    }
+
+    /// $\Phi_q = [\Phi_x \;\; \Phi_\theta]$ (3 × 6, $\Phi_\theta$ diagonal).
+    pub fn constraint_jacobian(&self, q: &Vector6<f64>) -> SMatrix<f64, 3, 6> {
+        let (p, th) = split(q);
+        let mut out = SMatrix::<f64, 3, 6>::zeros();
+        out.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&self.mechanism.jacobian_x(&p, &th));
+        out.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&self.mechanism.jacobian_q(&p, &th));
+        out
+    }
+
+    /// $\dot\Phi_q$: row $i$ is $[2\dot v_i^\top,\; -2L_a(\dot v_i\cdot d_i' - \dot\theta_i\, v_i\cdot d_i)]$
+    /// with $v_i = C_i - B_i$, $\dot v_i = \dot p - L_a\dot\theta_i d_i'$.
+    pub fn constraint_jacobian_rate(
+        &self,
+        q: &Vector6<f64>,
+        qd: &Vector6<f64>,
+    ) -> SMatrix<f64, 3, 6> {
+        let (p, th) = split(q);
+        let (pd, thd) = split(qd);
+        let la = self.mechanism.arm();
+        let mut out = SMatrix::<f64, 3, 6>::zeros();
+        for (i, leg) in self.mechanism.legs().iter().enumerate() {
+            let v = self.mechanism.forearm_vector(i, &p, th[i]);
+            let d = leg.arm_direction(th[i]);
+            let d1 = leg.arm_direction_derivative(th[i]);
+            let vd = pd - d1 * (la * thd[i]);
+            for r in 0..3 {
+                out[(i, r)] = 2.0 * vd[r];
+            }
+            out[(i, 3 + i)] = -2.0 * la * (vd.dot(&d1) - thd[i] * v.dot(&d));
+        }
+        out
+    }
+
+    /// $\gamma = \dot\Phi_q \dot q$, so that $\ddot\Phi = \Phi_q \ddot q + \gamma$.
+    pub fn gamma(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> Vector3<f64> {
+        self.constraint_jacobian_rate(q, qd) * qd
+    }
+
+    /// Kinetic energy $T = \tfrac12 \dot q^\top M \dot q$.
+    pub fn kinetic_energy(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {
+        0.5 * qd.dot(&(self.mass_matrix(q) * qd))
+    }
+
+    /// Total energy $T + V$.
+    pub fn energy(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {
+        self.kinetic_energy(q, qd) + self.potential(q)
+    }
+
+    /// Extended positions, velocities and accelerations of a task motion $(p, \dot p, \ddot p)$:
+    /// $\theta = \mathrm{IK}(p)$ (elbow out), $\dot\theta = -\Phi_\theta^{-1}\Phi_x\dot p$,
+    /// $\ddot\theta = -\Phi_\theta^{-1}(\Phi_x\ddot p + \gamma)$.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Unreachable`] (at `t = NaN`; callers set the time) or
+    /// [`DynamicsError::Singular`] when a leg is stretched or folded.
+    pub fn joint_motion(
+        &self,
+        p: &Vector3<f64>,
+        v: &Vector3<f64>,
+        a: &Vector3<f64>,
+    ) -> Result<ExtendedState, DynamicsError> {
+        let unreachable = |source| DynamicsError::Unreachable {
+            t: f64::NAN,
+            source,
+        };
+        let th = self
+            .mechanism
+            .inverse_kinematics(p, ElbowMode::Out)
+            .map_err(unreachable)?;
+        let q = Vector6::new(p.x, p.y, p.z, th.x, th.y, th.z);
+        let phi_x = self.mechanism.jacobian_x(p, &th);
+        let phi_th: Matrix3<f64> = self.mechanism.jacobian_q(p, &th);
+        let inv = phi_th.try_inverse().ok_or(DynamicsError::Singular {
+            matrix: "Phi_theta",
+            t: f64::NAN,
+        })?;
+        let thd = -(inv * phi_x * v);
+        let qd = Vector6::new(v.x, v.y, v.z, thd.x, thd.y, thd.z);
+        let thdd = -(inv * (phi_x * a + self.gamma(&q, &qd)));
+        let qdd = Vector6::new(a.x, a.y, a.z, thdd.x, thdd.y, thdd.z);
+        Ok(ExtendedState { q, qd, qdd })
+    }
+}
+
+impl ExtendedInertia<6> for ExtendedModel {
+    fn mass_matrix(&self, s: &Vector6<f64>) -> Matrix6<f64> {
+        ExtendedModel::mass_matrix(self, s)
+    }
+
+    /// $V = g\,[m_g z + \sum_i c_g\, d_i(\theta_i)_z]$.
+    fn potential(&self, s: &Vector6<f64>) -> f64 {
+        let arms: f64 = (self.mechanism.legs().iter().enumerate())
+            .map(|(i, leg)| leg.arm_direction(s[3 + i]).z)
+            .sum();
+        self.c.gravity * (self.c.m_g * s[2] + self.c.c_g * arms)
+    }
+
+    fn potential_gradient(&self, s: &Vector6<f64>) -> Vector6<f64> {
+        -self.lagrangian_gradient(s, &Vector6::zeros())
+    }
+}

@@ -1,0 +1,182 @@
+//! The rotary Delta family of Miller 2004 (§2.1, §3.5): three motors 120° apart, each with an
+//! arm of length $L_a$ and a parallelogram forearm of length $L_b$, the motor axes inclined by
+//! $\alpha$ to the horizontal and turned by $\beta$ about the vertical. The Delta is
+//! $\alpha = \beta = 0$; NUWAR is $\alpha = 35.26°$, $\beta = 60°$.
+//!
+//! Geometry (`../shared/spec/miller-dynamics.md` §1). For motor $i = 0, 1, 2$ at azimuth
+//! $\varphi_i = \varphi_1 + i \cdot 120°$ the motor frame is
+//! $F_i = R_z(\varphi_i) R_z(\beta) R_x(\alpha)$ with columns $u_i$ (arm direction at
+//! $\theta = 0$, horizontal), $e_i$ (motor axis) and $w_i$. The motor point is
+//! $A_i = (R\cos\varphi_i, R\sin\varphi_i, z_0)$, the elbow
+//! $B_i = A_i + L_a d_i(\theta_i)$ with $d_i(\theta) = \cos\theta\, u_i - \sin\theta\, w_i$
+//! ($\theta > 0$ swings the arm down), the plate joint-pair mid-point $C_i = p + c_i$,
+//! $c_i = r(\cos\varphi_i, \sin\varphi_i, 0)$, and the loop closure is
+//! $\Phi_i = |C_i - B_i|^2 - L_b^2$.
+
+mod kinematics;
+
+pub use kinematics::ElbowMode;
+
+use nalgebra::{Rotation3, Vector3};
+use pkm_traits::DesignError;
+
+/// Where the robot sits in the task frame: the open choices of the paper (its Figures 2 and 7 are
+/// missing), see `docs/conventions.md` "Miller 2004 §3: dynamics".
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// Height $z_0$ of the motor plane in the task frame (m).
+    pub motor_plane_z: f64,
+    /// Azimuth $\varphi_1$ of motor 1 about the vertical (rad).
+    pub azimuth_motor_1: f64,
+}
+
+impl Placement {
+    /// The canonical placement of the spec: $z_0 = -0.2928$ m (least-squares fit of the printed
+    /// start angles), $\varphi_1 = 300°$.
+    pub fn canonical() -> Self {
+        Self {
+            motor_plane_z: -0.2928,
+            azimuth_motor_1: 300f64.to_radians(),
+        }
+    }
+}
+
+/// One leg's fixed geometry in the task frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Leg {
+    /// Arm direction at $\theta = 0$ (horizontal).
+    pub u: Vector3<f64>,
+    /// Motor axis; $\theta$ is a right-hand rotation about it.
+    pub e: Vector3<f64>,
+    /// $w = u \times e$ completes the motor frame.
+    pub w: Vector3<f64>,
+    /// Motor point $A_i$.
+    pub motor: Vector3<f64>,
+    /// Plate offset $c_i$ of the joint-pair mid-point.
+    pub plate_offset: Vector3<f64>,
+}
+
+impl Leg {
+    /// Arm direction $d(\theta) = \cos\theta\, u - \sin\theta\, w$.
+    pub fn arm_direction(&self, theta: f64) -> Vector3<f64> {
+        self.u * theta.cos() - self.w * theta.sin()
+    }
+
+    /// $d'(\theta) = -\sin\theta\, u - \cos\theta\, w$ (and $d'' = -d$).
+    pub fn arm_direction_derivative(&self, theta: f64) -> Vector3<f64> {
+        -self.u * theta.sin() - self.w * theta.cos()
+    }
+}
+
+/// A validated rotary Delta / NUWAR design.
+///
+/// # Example
+/// ```
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+/// use pkm_traits::InverseKinematics;
+/// use nalgebra::Vector3;
+/// let nuwar = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+/// let theta = nuwar.inverse_kinematics(&Vector3::new(0.0, -0.2, -0.9), ElbowMode::Out).unwrap();
+/// assert!((theta[0].to_degrees() - 72.2).abs() < 0.1);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct RotaryDelta {
+    arm: f64,
+    forearm: f64,
+    alpha: f64,
+    beta: f64,
+    legs: [Leg; 3],
+}
+
+impl RotaryDelta {
+    /// Builds a design: motor radial distance `base_radius` $R$, plate offset `plate_offset` $r$,
+    /// arm $L_a$, forearm $L_b$, motor inclination $\alpha$ and turn $\beta$ (rad).
+    ///
+    /// # Errors
+    /// [`DesignError`] for a non-positive length or a non-finite angle or placement.
+    pub fn new(
+        base_radius: f64,
+        plate_offset: f64,
+        arm: f64,
+        forearm: f64,
+        (alpha, beta): (f64, f64),
+        placement: Placement,
+    ) -> Result<Self, DesignError> {
+        let base_radius = DesignError::require_positive("R", base_radius)?;
+        let r = DesignError::require_finite("r", plate_offset)?;
+        let arm = DesignError::require_positive("La", arm)?;
+        let forearm = DesignError::require_positive("Lb", forearm)?;
+        let alpha = DesignError::require_finite("alpha", alpha)?;
+        let beta = DesignError::require_finite("beta", beta)?;
+        let z0 = DesignError::require_finite("z0", placement.motor_plane_z)?;
+        let phi1 = DesignError::require_finite("phi1", placement.azimuth_motor_1)?;
+        let legs = [0.0, 1.0, 2.0].map(|i: f64| {
+            let phi = phi1 + i * 120f64.to_radians();
+            let frame = Rotation3::from_axis_angle(&Vector3::z_axis(), phi + beta)
+                * Rotation3::from_axis_angle(&Vector3::x_axis(), alpha);
+            let radial = Vector3::new(phi.cos(), phi.sin(), 0.0);
+            Leg {
+                u: frame * Vector3::x(),
+                e: frame * Vector3::y(),
+                w: frame * Vector3::z(),
+                motor: radial * base_radius + Vector3::new(0.0, 0.0, z0),
+                plate_offset: radial * r,
+            }
+        });
+        Ok(Self {
+            arm,
+            forearm,
+            alpha,
+            beta,
+            legs,
+        })
+    }
+
+    /// The paper's Delta (§3.5 dimensions, $\alpha = \beta = 0$).
+    ///
+    /// # Errors
+    /// [`DesignError`] for a non-finite placement.
+    pub fn delta(placement: Placement) -> Result<Self, DesignError> {
+        Self::new(0.194, 0.03, 0.26, 0.48, (0.0, 0.0), placement)
+    }
+
+    /// The paper's NUWAR (§3.5 dimensions, $\alpha = 35.26°$, $\beta = 60°$).
+    ///
+    /// # Errors
+    /// [`DesignError`] for a non-finite placement.
+    pub fn nuwar(placement: Placement) -> Result<Self, DesignError> {
+        let angles = (35.26f64.to_radians(), 60f64.to_radians());
+        Self::new(0.194, 0.03, 0.26, 0.48, angles, placement)
+    }
+
+    /// Arm length $L_a$.
+    pub fn arm(&self) -> f64 {
+        self.arm
+    }
+
+    /// Forearm length $L_b$.
+    pub fn forearm(&self) -> f64 {
+        self.forearm
+    }
+
+    /// Motor inclination $\alpha$ and turn $\beta$ (rad).
+    pub fn angles(&self) -> (f64, f64) {
+        (self.alpha, self.beta)
+    }
+
+    /// The three legs.
+    pub fn legs(&self) -> &[Leg; 3] {
+        &self.legs
+    }
+
+    /// Elbow $B_i = A_i + L_a d_i(\theta_i)$.
+    pub fn elbow(&self, leg: usize, theta: f64) -> Vector3<f64> {
+        let l = &self.legs[leg % 3];
+        l.motor + l.arm_direction(theta) * self.arm
+    }
+
+    /// Forearm vector $v_i = C_i - B_i$ at plate position `p`.
+    pub fn forearm_vector(&self, leg: usize, p: &Vector3<f64>, theta: f64) -> Vector3<f64> {
+        p + self.legs[leg % 3].plate_offset - self.elbow(leg, theta)
+    }
+}

@@ -1,0 +1,203 @@
+//! `miller2004.dynamics.forward`: forward dynamics (eqs. 16–19) fed with the Hamilton torques
+//! retraces the commanded cycle (Fig. 9); constraint drift of the Hamilton form vs the
+//! acceleration form under the same integrator and gains.
+
+use super::{DT, Robot, canonical_trajectory, lines, model};
+use crate::papers::{
+    Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source,
+};
+use nalgebra::{SVector, Vector3};
+use pkm_dynamics_hamilton::forward::{AccelerationForm, ForwardForm, HamiltonForm, SampledTorques};
+use pkm_dynamics_hamilton::inverse::{self, Differencing, lagrange_torques};
+use pkm_dynamics_hamilton::trajectory::Trajectory;
+use pkm_dynamics_hamilton::{DynamicsError, ExtendedModel};
+use pkm_integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, Solution, integrate};
+use pkm_mechanisms::Placement;
+
+pub(super) const EXPERIMENT: Experiment = Experiment {
+    id: "miller2004.dynamics.forward",
+    paper: Paper::Miller2004,
+    title: "forward dynamics fed with the computed torques (§3.5, Fig. 9) and constraint drift",
+    run,
+};
+
+/// Baumgarte gain for the stabilised runs (1/s), as in the spec's drift table.
+const GAIN: f64 = 20.0;
+
+fn dopri(rtol: f64) -> Result<DormandPrince54<13>, ExperimentError> {
+    let settings = AdaptiveSettings::default()
+        .with_rtol(rtol)?
+        .with_atol(1e-3 * rtol)?
+        .with_max_steps(1_000_000)?;
+    Ok(DormandPrince54::new(settings))
+}
+
+fn simulate<F: ForwardForm>(
+    form: &F,
+    trajectory: &Trajectory,
+    t_end: f64,
+    rtol: f64,
+    context: &Context<'_>,
+) -> Result<Solution<13>, ExperimentError> {
+    let m = trajectory.sample(0.0);
+    let s = form.model().joint_motion(&m.p, &m.v, &m.a)?;
+    let z0 = form.initial_state(&s.q, &s.qd);
+    let out = OutputTimes::Uniform(DT);
+    Ok(integrate(
+        form,
+        &mut dopri(rtol)?,
+        (0.0, t_end),
+        &z0,
+        &out,
+        context.progress,
+    )?)
+}
+
+/// Max drift and max |E − E(0) − W| along a run.
+fn diagnostics<F: ForwardForm>(
+    form: &F,
+    run: &Solution<13>,
+) -> Result<(f64, f64), ExperimentError> {
+    let e0 = form
+        .energy_minus_work(0.0, &run.states[0])
+        .map_err(pkm_traits::IntegrationError::from)?;
+    let mut drift: f64 = 0.0;
+    let mut energy: f64 = 0.0;
+    for (t, z) in run.times.iter().zip(&run.states) {
+        drift = drift.max(form.drift(z));
+        let e = form
+            .energy_minus_work(*t, z)
+            .map_err(pkm_traits::IntegrationError::from)?;
+        energy = energy.max((e - e0).abs());
+    }
+    Ok((drift, energy))
+}
+
+/// The exact (Lagrange, analytic accelerations) torque of the periodic cycle at `t`.
+fn exact_torque<'a>(
+    m: &'a ExtendedModel,
+    trajectory: &'a Trajectory,
+) -> impl Fn(f64) -> Vector3<f64> + 'a {
+    move |t| {
+        let c = trajectory.sample(t.rem_euclid(trajectory.duration()));
+        let torque = m
+            .joint_motion(&c.p, &c.v, &c.a)
+            .and_then(|s| lagrange_torques(m, &s.q, &s.qd, &s.qdd));
+        torque.unwrap_or_else(|_: DynamicsError| Vector3::repeat(f64::NAN))
+    }
+}
+
+fn position_errors(trajectory: &Trajectory, run: &Solution<13>) -> Vec<(f64, Vector3<f64>)> {
+    run.times
+        .iter()
+        .zip(&run.states)
+        .map(|(t, z): (&f64, &SVector<f64, 13>)| {
+            (*t, z.fixed_rows::<3>(0) - trajectory.sample(*t).p)
+        })
+        .collect()
+}
+
+fn fig9(errors: &[(f64, Vector3<f64>)]) -> Figure {
+    let series = ["x", "y", "z"]
+        .iter()
+        .enumerate()
+        .map(|(i, axis)| {
+            let points = errors.iter().map(|(t, e)| (*t, e[i] * 1e3)).collect();
+            (format!("{axis} - {axis}_cmd"), points)
+        })
+        .collect();
+    Figure {
+        name: "miller2004_fig9_forward_vs_commanded".to_owned(),
+        title: "NUWAR forward dynamics with the Hamilton torques minus the commanded path (Fig. 9)"
+            .to_owned(),
+        kind: FigureKind::Lines(lines("t (s)", "position difference (mm)", series)),
+    }
+}
+
+fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
+    let source = Source::new(EXPERIMENT.id, Paper::Miller2004, "§3.5, Fig. 9; §3.4");
+    let m = model(Robot::Nuwar, Placement::canonical())?;
+    let trajectory = canonical_trajectory()?;
+    let duration = trajectory.duration();
+    let samples = inverse::sample(&m, &trajectory, DT)?;
+    let tau = SampledTorques::new(
+        DT,
+        inverse::hamilton(&m, &samples, DT, Differencing::Central)?,
+    )?;
+    let retrace = HamiltonForm {
+        model: &m,
+        torque: |t| tau.at(t),
+        kappa: GAIN,
+    };
+    let rtol = context.mode.pick(1e-8, 1e-10);
+    let run = simulate(&retrace, &trajectory, duration, rtol, context)?;
+    let errors = position_errors(&trajectory, &run);
+    let max_error = errors.iter().map(|(_, e)| e.norm()).fold(0.0, f64::max);
+    let mut comparisons = vec![source
+        .check("max_position_error", "m", 0.0, max_error, 1e-3)
+        .with_note(format!("1 ms Hamilton torques, cubic interpolation, DP54 rtol {rtol:e}; paper: (almost) exactly"))];
+
+    let cycles = context.mode.pick(1.0, 4.0);
+    let drift_rtol = 1e-5;
+    let torque = exact_torque(&m, &trajectory);
+    for (gain, label) in [(0.0, ""), (GAIN, "_baumgarte")] {
+        context.progress.check()?;
+        let h = HamiltonForm {
+            model: &m,
+            torque: &torque,
+            kappa: gain,
+        };
+        let run_h = simulate(&h, &trajectory, cycles * duration, drift_rtol, context)?;
+        let (drift_h, energy_h) = diagnostics(&h, &run_h)?;
+        let a = AccelerationForm {
+            model: &m,
+            torque: &torque,
+            omega: gain,
+        };
+        let run_a = simulate(&a, &trajectory, cycles * duration, drift_rtol, context)?;
+        let (drift_a, energy_a) = diagnostics(&a, &run_a)?;
+        let note =
+            format!("{cycles} cycle(s), exact torques, DP54 rtol {drift_rtol:e}, gain {gain} /s");
+        comparisons.extend([
+            source
+                .info(
+                    &format!("max_constraint_drift_hamilton{label}"),
+                    "m",
+                    drift_h,
+                )
+                .with_note(note.clone()),
+            source
+                .info(
+                    &format!("max_constraint_drift_lagrange{label}"),
+                    "m",
+                    drift_a,
+                )
+                .with_note(note.clone()),
+            source.info(
+                &format!("rhs_evaluations_hamilton{label}"),
+                "1",
+                run_h.stats.evaluations as f64,
+            ),
+            source.info(
+                &format!("rhs_evaluations_lagrange{label}"),
+                "1",
+                run_a.stats.evaluations as f64,
+            ),
+            source.info(
+                &format!("max_energy_balance_error_hamilton{label}"),
+                "J",
+                energy_h,
+            ),
+            source.info(
+                &format!("max_energy_balance_error_lagrange{label}"),
+                "J",
+                energy_a,
+            ),
+        ]);
+    }
+    Ok(Outcome {
+        comparisons,
+        tables: Vec::new(),
+        figures: vec![fig9(&errors)],
+    })
+}
