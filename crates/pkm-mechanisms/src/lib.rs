@@ -5,3 +5,11 @@
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
+
+mod stewart_gough;
+mod stewart_layout;
+mod three_upu;
+
+pub use stewart_gough::{StewartGough, platform_pose, pose_from_task};
+pub use stewart_layout::{AngleMode, JointLayout, Pairing};
+pub use three_upu::{ThreeUpu, UJointAxes};
