@@ -1,5 +1,34 @@
 //! Screw theory for parallel robots (Wolf & Shoham, §2–3): Plücker lines, twists and wrenches,
 //! the reciprocal product, and the task-based objective $F(\chi) = \sum_i (L_i \wedge \chi)^2$.
 //!
-//! Implemented by the workspace-foundation issue; see `docs/ARCHITECTURE.md`.
+//! Conventions (`docs/conventions.md`, Wolf & Shoham):
+//! - every 6-vector is in **ray order** `[direction-like; moment-like]` with moments about the
+//!   **world origin**: a line `[d; m]` (eq. 1), a twist `[ω; v_O]` (eq. 3, 12), a wrench
+//!   `[f; m_O]` (eq. 4, 13);
+//! - the reciprocal product is $a \wedge b = a^\top \Delta b$, $\Delta$ swapping the halves
+//!   (eq. 5); its geometric form is eq. 6;
+//! - rigid motions act on all three by the same adjoint map `[R u; R v + t × R u]`.
 #![warn(missing_docs)]
+
+mod error;
+mod line;
+mod line_set;
+mod objective;
+mod ray;
+mod reciprocal;
+mod rotation;
+mod screw_axis;
+mod screws;
+
+pub use error::ScrewError;
+pub use line::PluckerLine;
+pub use line_set::{line_set_rank, reciprocal_screw_system};
+pub use objective::{
+    task_objective, task_objective_gradient_rows, task_objective_gradient_twist, task_residuals,
+};
+pub use reciprocal::{
+    CommonNormal, reciprocal_product, reciprocal_product_geometric, reciprocal_product_vectors,
+};
+pub use rotation::{rotation_from_axis_angle, skew};
+pub use screw_axis::ScrewAxis;
+pub use screws::{Twist, Wrench};
