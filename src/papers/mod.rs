@@ -141,6 +141,9 @@ pub enum ExperimentError {
     /// A time integration failed.
     #[error(transparent)]
     Integration(#[from] pkm_traits::IntegrationError),
+    /// A screw-theory computation failed.
+    #[error(transparent)]
+    Screw(#[from] pkm_screw_theory::ScrewError),
     /// The run was cancelled.
     #[error("cancelled")]
     Cancelled,

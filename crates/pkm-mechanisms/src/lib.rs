@@ -8,8 +8,10 @@
 
 mod stewart_gough;
 mod stewart_layout;
+mod stewart_task;
 mod three_upu;
 
 pub use stewart_gough::{StewartGough, platform_pose, pose_from_task};
 pub use stewart_layout::{AngleMode, JointLayout, Pairing};
+pub use stewart_task::StewartTaskProblem;
 pub use three_upu::{ThreeUpu, UJointAxes};

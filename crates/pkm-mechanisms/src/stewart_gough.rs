@@ -17,6 +17,7 @@
 
 use crate::stewart_layout::JointLayout;
 use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, Vector3, Vector6};
+use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{
     ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
 };
@@ -142,9 +143,9 @@ impl StewartGough {
     pub fn leg_rates(
         &self,
         pose: &Isometry3<f64>,
-        twist: &Vector6<f64>,
+        twist: &Twist,
     ) -> Result<Vector6<f64>, KinematicsError> {
-        Ok(reciprocal_products(&self.wrench_rows(pose)?, twist))
+        Ok(task_residuals(&self.wrench_rows(pose)?, twist))
     }
 
     /// The task objective of eq. 14, $F = \sum_i (L_i \wedge \chi)^2$.
@@ -154,32 +155,28 @@ impl StewartGough {
     pub fn task_objective(
         &self,
         pose: &Isometry3<f64>,
-        twist: &Vector6<f64>,
+        twist: &Twist,
     ) -> Result<f64, KinematicsError> {
         Ok(self.leg_rates(pose, twist)?.norm_squared())
     }
 }
 
-/// The Plücker line of a leg from base joint `b` to platform joint `a`: $[s ; a \times s]$ with
-/// the unit direction $s$, moment about the world origin.
+/// The Plücker line of a leg from base joint `b` to platform joint `a` (eq. 1), scaled to a unit
+/// direction: $[s ; a \times s]$, moment about the world origin.
 pub(crate) fn leg_line(b: &Vector3<f64>, a: &Vector3<f64>) -> Result<Vector6<f64>, KinematicsError> {
-    let leg = a - b;
-    let length = leg.norm();
+    let length = (a - b).norm();
     if !(length.is_finite() && length > 1e-12) {
         return Err(KinematicsError::Singular {
             matrix: "leg direction",
             sigma_min: length,
         });
     }
-    let s = leg / length;
-    let m = a.cross(&s);
-    Ok(Vector6::new(s.x, s.y, s.z, m.x, m.y, m.z))
-}
-
-/// $(L_i \wedge \chi)_i = \bar j_i \cdot x + j_i \cdot \bar x$ for the rows $L_i = [j_i ; \bar j_i]$.
-pub(crate) fn reciprocal_products(rows: &Matrix6<f64>, twist: &Vector6<f64>) -> Vector6<f64> {
-    let swapped = Vector6::new(twist[3], twist[4], twist[5], twist[0], twist[1], twist[2]);
-    rows * swapped
+    PluckerLine::from_points(b, a)
+        .map(|line| line.normalized().to_vector())
+        .map_err(|_| KinematicsError::Singular {
+            matrix: "leg direction",
+            sigma_min: length,
+        })
 }
 
 /// The pose ${}^wR_p$ of eq. 8–9: position `p`, rotation by `alpha` (radians) about `axis`

@@ -6,7 +6,8 @@
 //! forces $[s_i ; a_i \times s_i]$ and the three constraint couples $[0 ; u_i]$ normal to the
 //! upper universal joint, $u_i = R\,(u_{1,i} \times u_{2,i}) / |u_{1,i} \times u_{2,i}|$.
 
-use crate::stewart_gough::{leg_line, reciprocal_products};
+use crate::stewart_gough::leg_line;
+use pkm_screw_theory::{Twist, task_objective};
 use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
 use pkm_traits::{DesignError, KinematicsError};
 
@@ -107,8 +108,8 @@ impl ThreeUpu {
     pub fn task_objective(
         &self,
         pose: &Isometry3<f64>,
-        twist: &Vector6<f64>,
+        twist: &Twist,
     ) -> Result<f64, KinematicsError> {
-        Ok(reciprocal_products(&self.wrench_rows(pose)?, twist).norm_squared())
+        Ok(task_objective(&self.wrench_rows(pose)?, twist))
     }
 }
