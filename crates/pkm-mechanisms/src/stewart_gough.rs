@@ -106,7 +106,9 @@ impl StewartGough {
 
     /// Platform joints in the world frame, $a_i = p + R r_i$ (eq. 10).
     pub fn platform_joints_world(&self, pose: &Isometry3<f64>) -> [Vector3<f64>; 6] {
-        self.platform.map(|r| pose * nalgebra::Point3::from(r)).map(|a| a.coords)
+        self.platform
+            .map(|r| pose * nalgebra::Point3::from(r))
+            .map(|a| a.coords)
     }
 
     /// Leg vectors $a_i - b_i$.
@@ -163,7 +165,10 @@ impl StewartGough {
 
 /// The Plücker line of a leg from base joint `b` to platform joint `a` (eq. 1), scaled to a unit
 /// direction: $[s ; a \times s]$, moment about the world origin.
-pub(crate) fn leg_line(b: &Vector3<f64>, a: &Vector3<f64>) -> Result<Vector6<f64>, KinematicsError> {
+pub(crate) fn leg_line(
+    b: &Vector3<f64>,
+    a: &Vector3<f64>,
+) -> Result<Vector6<f64>, KinematicsError> {
     let length = (a - b).norm();
     if !(length.is_finite() && length > 1e-12) {
         return Err(KinematicsError::Singular {
@@ -191,7 +196,10 @@ pub fn platform_pose(
 ) -> Result<Isometry3<f64>, KinematicsError> {
     let norm = axis.norm();
     if !(norm.is_finite() && norm > 0.0) {
-        return Err(KinematicsError::NonFinite { what: "axis norm", value: norm });
+        return Err(KinematicsError::NonFinite {
+            what: "axis norm",
+            value: norm,
+        });
     }
     let w = axis / norm * alpha;
     pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z))
@@ -217,10 +225,16 @@ fn so3_left_jacobian(w: &Vector3<f64>) -> Matrix3<f64> {
     let theta = w.norm();
     let k = w.cross_matrix();
     let (a, b) = if theta < 1e-6 {
-        (0.5 - theta * theta / 24.0, 1.0 / 6.0 - theta * theta / 120.0)
+        (
+            0.5 - theta * theta / 24.0,
+            1.0 / 6.0 - theta * theta / 120.0,
+        )
     } else {
         let t2 = theta * theta;
-        ((1.0 - theta.cos()) / t2, (theta - theta.sin()) / (t2 * theta))
+        (
+            (1.0 - theta.cos()) / t2,
+            (theta - theta.sin()) / (t2 * theta),
+        )
     };
     Matrix3::identity() + k * a + k * k * b
 }
@@ -266,7 +280,10 @@ impl InverseKinematics<6, 6> for StewartGough {
         let lengths = self.leg_lengths(&pose);
         for (leg, l) in lengths.iter().enumerate() {
             if !(*l > 1e-12) {
-                return Err(KinematicsError::Unreachable { leg, discriminant: *l });
+                return Err(KinematicsError::Unreachable {
+                    leg,
+                    discriminant: *l,
+                });
             }
         }
         Ok(lengths)

@@ -103,7 +103,10 @@ impl StewartTaskProblem {
     /// [`DesignError`] for a `max_angle` that is not finite and positive.
     pub fn free_rotation(mut self, max_angle: f64) -> Result<Self, DesignError> {
         self.max_angle = DesignError::require_positive("max_angle", max_angle)?;
-        let unit = Bounds { lower: -1.0, upper: 1.0 };
+        let unit = Bounds {
+            lower: -1.0,
+            upper: 1.0,
+        };
         for k in 0..3 {
             self.slots.push(Slot::Rotation(k));
             self.bounds.push(unit);
@@ -144,8 +147,11 @@ impl StewartTaskProblem {
             self.rotation
         };
         let mechanism = StewartGough::with_layout(x[0], x[1], x[2], x[3], self.layout)?;
-        let pose = pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z))
-            .map_err(|e| ObjectiveError::Infeasible { reason: e.to_string() })?;
+        let pose = pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z)).map_err(|e| {
+            ObjectiveError::Infeasible {
+                reason: e.to_string(),
+            }
+        })?;
         Ok((mechanism, pose))
     }
 }
@@ -191,9 +197,12 @@ impl Residuals for StewartTaskProblem {
             });
         }
         let (mechanism, pose) = self.evaluate(v)?;
-        let rates = mechanism
-            .leg_rates(&pose, &self.twist)
-            .map_err(|e| ObjectiveError::Infeasible { reason: e.to_string() })?;
+        let rates =
+            mechanism
+                .leg_rates(&pose, &self.twist)
+                .map_err(|e| ObjectiveError::Infeasible {
+                    reason: e.to_string(),
+                })?;
         r.copy_from_slice(rates.as_slice());
         Ok(())
     }

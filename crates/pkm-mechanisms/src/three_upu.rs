@@ -7,8 +7,8 @@
 //! upper universal joint, $u_i = R\,(u_{1,i} \times u_{2,i}) / |u_{1,i} \times u_{2,i}|$.
 
 use crate::stewart_gough::leg_line;
-use pkm_screw_theory::{Twist, task_objective};
 use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
+use pkm_screw_theory::{Twist, task_objective};
 use pkm_traits::{DesignError, KinematicsError};
 
 /// The two axes of an upper universal joint, in the platform frame.
@@ -96,7 +96,10 @@ impl ThreeUpu {
             let a = (pose * Point3::from(self.platform[i])).coords;
             rows.set_row(i, &leg_line(&self.base[i], &a)?.transpose());
             let u = pose.rotation * self.normals[i];
-            rows.set_row(3 + i, &Vector6::new(0.0, 0.0, 0.0, u.x, u.y, u.z).transpose());
+            rows.set_row(
+                3 + i,
+                &Vector6::new(0.0, 0.0, 0.0, u.x, u.y, u.z).transpose(),
+            );
         }
         Ok(rows)
     }

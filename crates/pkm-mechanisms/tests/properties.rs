@@ -44,7 +44,10 @@ fn bad_designs_and_poses_are_typed_errors() {
     // Radii equal, pose at z = 0: every leg has zero length.
     let sg = StewartGough::new(8.0, 8.0, 10.0, 10.0).unwrap();
     assert!(sg.wrench_rows(&Isometry3::identity()).is_err());
-    let parallel = UJointAxes { u1: Vector3::x(), u2: Vector3::x() };
+    let parallel = UJointAxes {
+        u1: Vector3::x(),
+        u2: Vector3::x(),
+    };
     assert!(ThreeUpu::new(20.0, 10.0, [parallel; 3]).is_err());
 }
 

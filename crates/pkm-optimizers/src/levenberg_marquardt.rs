@@ -327,7 +327,9 @@ fn free_set(p: &[f64], grad: &[f64], bounds: &[Bounds], sign: f64) -> Vec<usize>
 fn normal_equations(r: &[f64], a: &Mat<f64>, free: &[usize]) -> (Mat<f64>, Mat<f64>) {
     let n = free.len();
     let ata = Mat::from_fn(n, n, |k, l| {
-        (0..r.len()).map(|i| a[(i, free[k])] * a[(i, free[l])]).sum()
+        (0..r.len())
+            .map(|i| a[(i, free[k])] * a[(i, free[l])])
+            .sum()
     });
     let atr = Mat::from_fn(n, 1, |k, _| {
         (0..r.len()).map(|i| a[(i, free[k])] * r[i]).sum()
@@ -335,14 +337,21 @@ fn normal_equations(r: &[f64], a: &Mat<f64>, free: &[usize]) -> (Mat<f64>, Mat<f
     (ata, atr)
 }
 
-fn solve_damped(ata: &Mat<f64>, atr: &Mat<f64>, mu: f64, sign: f64) -> Result<Vec<f64>, OptimizeError> {
+fn solve_damped(
+    ata: &Mat<f64>,
+    atr: &Mat<f64>,
+    mu: f64,
+    sign: f64,
+) -> Result<Vec<f64>, OptimizeError> {
     let n = ata.nrows();
     let damped = Mat::from_fn(n, n, |k, l| ata[(k, l)] + if k == l { mu } else { 0.0 });
-    let llt = damped.llt(Side::Lower).map_err(|_| OptimizeError::InvalidSetting {
-        setting: "damping",
-        value: mu,
-        requirement: "the damped normal matrix must be positive definite",
-    })?;
+    let llt = damped
+        .llt(Side::Lower)
+        .map_err(|_| OptimizeError::InvalidSetting {
+            setting: "damping",
+            value: mu,
+            requirement: "the damped normal matrix must be positive definite",
+        })?;
     let x = llt.solve(atr);
     Ok((0..n).map(|k| sign * x[(k, 0)]).collect())
 }
@@ -369,13 +378,13 @@ fn report<P: Residuals + ?Sized>(
     let reduced_hessian_eigenvalues = if free.is_empty() {
         Vec::new()
     } else {
-        hessian
-            .self_adjoint_eigenvalues(Side::Lower)
-            .map_err(|_| OptimizeError::InvalidSetting {
+        hessian.self_adjoint_eigenvalues(Side::Lower).map_err(|_| {
+            OptimizeError::InvalidSetting {
                 setting: "hessian",
                 value: f64::NAN,
                 requirement: "eigenvalues must converge",
-            })?
+            }
+        })?
     };
     Ok(LocalOptimum {
         design,
@@ -394,7 +403,10 @@ fn free_hessian<P: Residuals + ?Sized>(
     free: &[usize],
 ) -> Result<Mat<f64>, OptimizeError> {
     let bounds = problem.bounds();
-    let h: Vec<f64> = free.iter().map(|&j| 1e-4 * bounds[j].width().max(1e-8)).collect();
+    let h: Vec<f64> = free
+        .iter()
+        .map(|&j| 1e-4 * bounds[j].width().max(1e-8))
+        .collect();
     let f_at = |shifts: &[(usize, f64)]| {
         let mut q = p.to_vec();
         for &(k, s) in shifts {
@@ -409,7 +421,8 @@ fn free_hessian<P: Residuals + ?Sized>(
             let v = if k == l {
                 (f_at(&[(k, 1.0)])? - 2.0 * f_at(&[])? + f_at(&[(k, -1.0)])?) / (h[k] * h[k])
             } else {
-                (f_at(&[(k, 1.0), (l, 1.0)])? - f_at(&[(k, 1.0), (l, -1.0)])?
+                (f_at(&[(k, 1.0), (l, 1.0)])?
+                    - f_at(&[(k, 1.0), (l, -1.0)])?
                     - f_at(&[(k, -1.0), (l, 1.0)])?
                     + f_at(&[(k, -1.0), (l, -1.0)])?)
                     / (4.0 * h[k] * h[l])

@@ -18,8 +18,9 @@ pub use error::OptimizeError;
 pub use grid_search::{
     GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
 };
-pub use multistart::{run_multistart, uniform_start_points};
 pub use levenberg_marquardt::{
-    ActiveBound, LmSettings, LocalOptimum, Sense, levenberg_marquardt, multistart_levenberg_marquardt,
+    ActiveBound, LmSettings, LocalOptimum, Sense, levenberg_marquardt,
+    multistart_levenberg_marquardt,
 };
+pub use multistart::{run_multistart, uniform_start_points};
 pub use weighted_combination::{WeightedMean, weighted_combination};

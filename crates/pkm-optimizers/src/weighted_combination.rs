@@ -40,10 +40,18 @@ pub fn weighted_combination(
         .first()
         .ok_or(invalid("tasks", 0.0, "need at least one task"))?;
     if weights.len() != optima.len() {
-        return Err(invalid("weights", weights.len() as f64, "one weight per task"));
+        return Err(invalid(
+            "weights",
+            weights.len() as f64,
+            "one weight per task",
+        ));
     }
     if let Some(q) = optima.iter().find(|q| q.len() != first.len()) {
-        return Err(invalid("optimum length", q.len() as f64, "all optima the same length"));
+        return Err(invalid(
+            "optimum length",
+            q.len() as f64,
+            "all optima the same length",
+        ));
     }
     if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
         return Err(invalid("weight", *w, "must be finite and >= 0"));
@@ -56,6 +64,13 @@ pub fn weighted_combination(
         return Err(invalid("sum of weights", denominator, "must be > 0"));
     }
     Ok((0..first.len())
-        .map(|j| optima.iter().zip(weights).map(|(q, w)| w * q[j]).sum::<f64>() / denominator)
+        .map(|j| {
+            optima
+                .iter()
+                .zip(weights)
+                .map(|(q, w)| w * q[j])
+                .sum::<f64>()
+                / denominator
+        })
         .collect())
 }

@@ -78,7 +78,11 @@ pub(super) fn pose_rows(
     let w = pose.rotation.scaled_axis();
     let alpha = w.norm();
     let sign = if w.z < 0.0 { -1.0 } else { 1.0 };
-    let n = if alpha > 0.0 { w / alpha * sign } else { Vector3::z() };
+    let n = if alpha > 0.0 {
+        w / alpha * sign
+    } else {
+        Vector3::z()
+    };
     let paper_n = Vector3::from(paper.n).normalize();
     let note = format!(
         "paper prints n = {:?} (normalised {:.3},{:.3},{:.3}), alpha = {} deg; F is flat in \
@@ -89,7 +93,9 @@ pub(super) fn pose_rows(
         source.info("n_x", "1", n.x).with_note(note.clone()),
         source.info("n_y", "1", n.y).with_note(note.clone()),
         source.info("n_z", "1", n.z).with_note(note.clone()),
-        source.info("alpha", "deg", (sign * alpha).to_degrees()).with_note(note),
+        source
+            .info("alpha", "deg", (sign * alpha).to_degrees())
+            .with_note(note),
     ];
     for (k, name) in ["p_x", "p_y", "p_z"].into_iter().enumerate() {
         rows.push(source.check(name, "cm", paper.p[k], pose.translation.vector[k], 0.05));

@@ -61,8 +61,17 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         WeightedMean::NormalisedByWeights,
     )?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
-    let paper = StewartGough::new(PAPER_DESIGN[0], PAPER_DESIGN[1], PAPER_DESIGN[2], PAPER_DESIGN[3])?;
-    let rows: Vec<_> = paper.wrench_rows(&pose)?.row_iter().map(|r| r.transpose()).collect();
+    let paper = StewartGough::new(
+        PAPER_DESIGN[0],
+        PAPER_DESIGN[1],
+        PAPER_DESIGN[2],
+        PAPER_DESIGN[3],
+    )?;
+    let rows: Vec<_> = paper
+        .wrench_rows(&pose)?
+        .row_iter()
+        .map(|r| r.transpose())
+        .collect();
     let rank = line_set_rank(&rows, 1e-9)?;
     let anchor = "wolf-s4-2";
     let note = "eq. 15 combination of the two sub-optima; the optimal set is the continuum \
@@ -74,11 +83,23 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     }
     comparisons.extend([
         source
-            .check("F_translation", "cm^2/s^2", 0.0, p_t.value(&PAPER_DESIGN)?, 1e-9)
+            .check(
+                "F_translation",
+                "cm^2/s^2",
+                0.0,
+                p_t.value(&PAPER_DESIGN)?,
+                1e-9,
+            )
             .with_note("at the paper's geometry; F = sum s_z^2 = 6 is the maximum, not 0")
             .erratum(anchor),
         source
-            .check("F_rotation", "cm^2/s^2", 0.0, p_r.value(&PAPER_DESIGN)?, 1e-9)
+            .check(
+                "F_rotation",
+                "cm^2/s^2",
+                0.0,
+                p_r.value(&PAPER_DESIGN)?,
+                1e-9,
+            )
             .with_note("at the paper's geometry"),
         source.info("F_translation_optimum", "cm^2/s^2", max_t.value),
         source.info("F_rotation_optimum", "cm^2/s^2", min_r.value),
@@ -88,7 +109,10 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
             .check("line_set_rank", "1", 3.0, rank as f64, 0.0)
             .with_note("paper: all lines parallel (architecture singularity) at its geometry"),
     ]);
-    comparisons.extend(kkt_rows(&source.with_id("wolf2006.s4_2.translation"), &max_t));
+    comparisons.extend(kkt_rows(
+        &source.with_id("wolf2006.s4_2.translation"),
+        &max_t,
+    ));
     comparisons.extend(kkt_rows(&source.with_id("wolf2006.s4_2.rotation"), &min_r));
     Ok(Outcome {
         comparisons,

@@ -19,8 +19,8 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let at_paper = StewartGough::new(12.0, 8.0, 30.0, paper_angle)?;
     let f_paper_pose = at_paper.task_objective(&paper.isometry()?, &twist)?;
     context.progress.check()?;
-    let problem = pose_problem([12.0, 8.0, 30.0, 8.0], twist)?
-        .free_design(3, Bounds::new(0.0, 30.0)?)?;
+    let problem =
+        pose_problem([12.0, 8.0, 30.0, 8.0], twist)?.free_design(3, Bounds::new(0.0, 30.0)?)?;
     let optimum = maximise(&problem, context.mode)?;
     let (mechanism, pose) = problem.evaluate(&optimum.design)?;
     let anchor = "wolf-s4-3";

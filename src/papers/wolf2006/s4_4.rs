@@ -33,7 +33,11 @@ fn exact_a1() -> Result<(Twist, f64), ExperimentError> {
 
 /// The home pose: $R = I$, $p = (0, 0, h)$ with the apex $h a / (a - b)$ at height `apex`.
 fn home(apex: f64) -> Isometry3<f64> {
-    Isometry3::translation(0.0, 0.0, apex * (BASE_RADIUS - PLATFORM_RADIUS) / BASE_RADIUS)
+    Isometry3::translation(
+        0.0,
+        0.0,
+        apex * (BASE_RADIUS - PLATFORM_RADIUS) / BASE_RADIUS,
+    )
 }
 
 fn park_axes() -> [UJointAxes; 3] {
@@ -47,7 +51,10 @@ fn tilted_axes(design: &[f64]) -> [UJointAxes; 3] {
         let UJointAxes { u1, u2 } = park[i];
         let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), design[2 * i].to_radians())
             * Rotation3::from_axis_angle(&Unit::new_normalize(u1), design[2 * i + 1].to_radians());
-        UJointAxes { u1: tilt * u1, u2: tilt * u2 }
+        UJointAxes {
+            u1: tilt * u1,
+            u2: tilt * u2,
+        }
     })
 }
 
@@ -81,16 +88,25 @@ impl Residuals for UpperAxesProblem {
         let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, tilted_axes(design))?;
         let rows = upu
             .wrench_rows(&self.pose)
-            .map_err(|e| ObjectiveError::Infeasible { reason: e.to_string() })?;
+            .map_err(|e| ObjectiveError::Infeasible {
+                reason: e.to_string(),
+            })?;
         r.copy_from_slice(task_residuals(&rows, &self.twist).as_slice());
         Ok(())
     }
 }
 
-fn optimise(sense: Sense, context: &Context<'_>) -> Result<(LocalOptimum, UpperAxesProblem), ExperimentError> {
+fn optimise(
+    sense: Sense,
+    context: &Context<'_>,
+) -> Result<(LocalOptimum, UpperAxesProblem), ExperimentError> {
     let (twist, apex) = exact_a1()?;
     let tilt = Bounds::new(-90.0, 90.0)?;
-    let problem = UpperAxesProblem { pose: home(apex), twist, bounds: [tilt; 6] };
+    let problem = UpperAxesProblem {
+        pose: home(apex),
+        twist,
+        bounds: [tilt; 6],
+    };
     context.progress.check()?;
     let optimum = multistart_levenberg_marquardt(
         &problem,
@@ -115,11 +131,18 @@ pub(super) fn run_min(context: &Context<'_>) -> Result<Outcome, ExperimentError>
         source
             .check("F", "1", 0.0, f_park, 1e-9)
             .with_note("Park's axes, A1 as an exact line, apex on A1 (a = 20, b = 10)"),
-        source.info("F_printed_a1", "1", f_printed).with_note("A1 as printed (rounded)"),
-        source.check("F_optimum", "1", 0.0, optimum.value, 1e-9).with_note("pkm's minimum over the upper U-joint tilts"),
+        source
+            .info("F_printed_a1", "1", f_printed)
+            .with_note("A1 as printed (rounded)"),
+        source
+            .check("F_optimum", "1", 0.0, optimum.value, 1e-9)
+            .with_note("pkm's minimum over the upper U-joint tilts"),
     ];
     comparisons.extend(kkt_rows(&source, &optimum));
-    Ok(Outcome { comparisons, ..Outcome::default() })
+    Ok(Outcome {
+        comparisons,
+        ..Outcome::default()
+    })
 }
 
 /// Maximise: the listed axes (Park's with u1, u2 swapped) cannot give 457.5.
@@ -130,7 +153,10 @@ pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError>
         ([-0.5, 0.866, 0.0], [0.866, 0.5, 0.0]),
         ([-0.5, -0.866, 0.0], [-0.866, 0.5, 0.0]),
     ]
-    .map(|(u1, u2)| UJointAxes { u1: Vector3::from(u1), u2: Vector3::from(u2) });
+    .map(|(u1, u2)| UJointAxes {
+        u1: Vector3::from(u1),
+        u2: Vector3::from(u2),
+    });
     let (twist, apex) = exact_a1()?;
     let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, listed)?;
     let f_listed = upu.task_objective(&home(apex), &twist)?;
@@ -147,5 +173,8 @@ pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError>
             .erratum(anchor),
     ];
     comparisons.extend(kkt_rows(&source, &optimum));
-    Ok(Outcome { comparisons, ..Outcome::default() })
+    Ok(Outcome {
+        comparisons,
+        ..Outcome::default()
+    })
 }
