@@ -131,8 +131,8 @@ impl StewartGough {
     pub fn wrench_rows(&self, pose: &Isometry3<f64>) -> Result<Matrix6<f64>, KinematicsError> {
         let a = self.platform_joints_world(pose);
         let mut rows = Matrix6::zeros();
-        for i in 0..6 {
-            rows.set_row(i, &leg_line(&self.base[i], &a[i])?.transpose());
+        for (i, (b, a)) in self.base.iter().zip(&a).enumerate() {
+            rows.set_row(i, &leg_line(b, a)?.transpose());
         }
         Ok(rows)
     }

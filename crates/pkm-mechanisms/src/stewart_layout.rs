@@ -53,7 +53,7 @@ impl JointLayout {
             Vector3::new(radius * t.cos(), radius * t.sin(), 0.0)
         };
         let centre = |k: usize| self.offset_deg + 120.0 * (k / 2) as f64;
-        let side = |k: usize| if k % 2 == 0 { -1.0 } else { 1.0 };
+        let side = |k: usize| if k.is_multiple_of(2) { -1.0 } else { 1.0 };
         let base = std::array::from_fn(|k| at(x1, centre(k) + side(k) * half * x3));
         let platform = std::array::from_fn(|k| {
             let t = match self.pairing {

@@ -1,4 +1,5 @@
 //! Property tests of the Stewart–Gough platform and the 3-UPU (Wolf & Shoham).
+#![allow(clippy::unwrap_used)]
 
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{StewartGough, ThreeUpu, UJointAxes, platform_pose, pose_from_task};
