@@ -4,6 +4,7 @@
 use criterion::{criterion_group, criterion_main};
 
 mod indices;
+mod screw;
 
-criterion_group!(benches, indices::condition_number);
+criterion_group!(benches, indices::condition_number, screw::screw);
 criterion_main!(benches);

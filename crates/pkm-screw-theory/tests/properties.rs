@@ -23,8 +23,9 @@ fn isometry() -> impl Strategy<Value = Isometry3<f64>> {
 }
 
 fn axis() -> impl Strategy<Value = ScrewAxis> {
-    (direction(), vec3(10.0), -5.0..5.0)
-        .prop_map(|(d, p, pitch)| ScrewAxis::new(&d, &p, pitch).unwrap())
+    (direction(), vec3(10.0), -5.0..5.0).prop_filter_map("valid axis", |(d, p, pitch)| {
+        ScrewAxis::new(&d, &p, pitch).ok()
+    })
 }
 
 fn rows6() -> impl Strategy<Value = SMatrix<f64, 6, 6>> {
@@ -55,7 +56,10 @@ proptest! {
     ) {
         let (wrench, twist) = (Wrench::from_vector(w), Twist::from_vector(t));
         let p = reciprocal_product(&wrench, &twist);
-        prop_assert_eq!(reciprocal_product_vectors(&w, &t), reciprocal_product_vectors(&t, &w));
+        prop_assert_eq!(
+            reciprocal_product_vectors(&w, &t).to_bits(),
+            reciprocal_product_vectors(&t, &w).to_bits()
+        );
         let moved = reciprocal_product(&wrench.transformed(&g), &twist.transformed(&g));
         prop_assert!((moved - p).abs() <= 1e-9 * (1.0 + w.norm() * t.norm() * 10.0));
     }
@@ -194,13 +198,11 @@ fn invalid_inputs_are_typed_errors() {
         line_set_rank(&[], 1.5),
         Err(ScrewError::InvalidTolerance { .. })
     ));
-    assert_eq!(
-        Twist::translation(&Vector3::z(), 2.0)
-            .unwrap()
-            .pitch()
-            .unwrap(),
-        f64::INFINITY
-    );
+    let pitch = Twist::translation(&Vector3::z(), 2.0)
+        .unwrap()
+        .pitch()
+        .unwrap();
+    assert!(pitch.is_infinite() && pitch > 0.0, "{pitch}");
     let message = PluckerLine::from_points(&p, &p).unwrap_err().to_string();
     assert!(message.contains('0'), "{message}");
 }

@@ -5,6 +5,7 @@
 //! `docs/conventions.md`, section "Wolf & Shoham"; they follow `shared/spec/wolf-shoham.md`.
 
 mod pose_report;
+pub mod screw_checks;
 mod s4_1;
 mod s4_2;
 mod s4_3;
@@ -15,6 +16,7 @@ use super::{Experiment, Paper};
 /// The experiments of this paper.
 pub fn experiments() -> Vec<Experiment> {
     vec![
+        screw_checks::experiment(),
         Experiment {
             id: "wolf2006.s4_1.lambda1",
             paper: Paper::WolfShoham,
