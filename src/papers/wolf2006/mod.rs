@@ -5,11 +5,11 @@
 //! `docs/conventions.md`, section "Wolf & Shoham"; they follow `shared/spec/wolf-shoham.md`.
 
 mod pose_report;
-pub mod screw_checks;
 mod s4_1;
 mod s4_2;
 mod s4_3;
 mod s4_4;
+pub mod screw_checks;
 
 use super::{Experiment, Paper};
 
