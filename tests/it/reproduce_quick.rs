@@ -73,6 +73,11 @@ fn run_quick(prefix: &str) {
 }
 
 #[test]
+fn wolf2006_s4_reproduces_in_quick_mode() {
+    run_quick("wolf2006.s4")
+}
+
+#[test]
 fn wolf2006_s2_reproduces_in_quick_mode() {
     run_quick("wolf2006.s2")
 }

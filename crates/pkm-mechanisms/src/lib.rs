@@ -9,7 +9,15 @@
 mod linear_delta;
 mod linear_delta_cross_section;
 pub mod rotary_delta;
+mod stewart_gough;
+mod stewart_layout;
+mod stewart_task;
+mod three_upu;
 
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
 pub use rotary_delta::{ElbowMode, Leg, Placement, RotaryDelta};
+pub use stewart_gough::{StewartGough, platform_pose, pose_from_task};
+pub use stewart_layout::{AngleMode, JointLayout, Pairing};
+pub use stewart_task::StewartTaskProblem;
+pub use three_upu::{ThreeUpu, UJointAxes};

@@ -11,11 +11,18 @@
 mod error;
 mod grid_search;
 mod lattice_refinement;
+mod levenberg_marquardt;
 mod multistart;
+mod weighted_combination;
 
 pub use error::OptimizeError;
 pub use grid_search::{
     GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
 };
 pub use lattice_refinement::{LatticeLevel, lattice_refined_search, lattice_window};
+pub use levenberg_marquardt::{
+    ActiveBound, LmSettings, LocalOptimum, Sense, levenberg_marquardt,
+    multistart_levenberg_marquardt,
+};
 pub use multistart::{run_multistart, uniform_start_points};
+pub use weighted_combination::{WeightedMean, weighted_combination};

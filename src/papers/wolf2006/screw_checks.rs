@@ -95,7 +95,7 @@ fn leg_lines() -> Result<Vec<(PluckerLine, Vector3<f64>)>, ExperimentError> {
     let rotation = rotation_from_axis_angle(&Vector3::z(), (-13.5_f64).to_radians())?;
     let p = Vector3::new(-10.0, -10.0, 50.0);
     let joint = |radius: f64, separation_deg: f64, k: usize| {
-        let side = if k % 2 == 0 { -1.0 } else { 1.0 };
+        let side = if k.is_multiple_of(2) { -1.0 } else { 1.0 };
         let t = (120.0 * (k / 2) as f64 + side * separation_deg / 2.0).to_radians();
         Vector3::new(radius * t.cos(), radius * t.sin(), 0.0)
     };

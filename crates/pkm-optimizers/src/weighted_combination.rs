@@ -1,0 +1,76 @@
+//! The weighted combination of per-task optima (Wolf & Shoham eq. 15).
+
+use crate::error::OptimizeError;
+
+/// How eq. 15 normalises the weighted sum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WeightedMean {
+    /// $Q = \sum_i w_i q_i / \sum_i w_i$, a true weighted mean (the consistent reading).
+    NormalisedByWeights,
+    /// $Q = \sum_i w_i q_i / n$, as printed; a mean only when $\sum_i w_i = n$.
+    AsPrinted,
+}
+
+/// Combines the optima `optima[i]` (each a design vector) of `n` tasks with weights `weights`.
+///
+/// # Errors
+/// [`OptimizeError::InvalidSetting`] when there are no tasks, the lengths differ, a weight is
+/// negative or not finite, or the weights sum to zero.
+///
+/// # Example
+/// ```
+/// use pkm_optimizers::{WeightedMean, weighted_combination};
+/// let q = [vec![0.0, 2.0], vec![4.0, 6.0]];
+/// let mean = weighted_combination(&q, &[1.0, 3.0], WeightedMean::NormalisedByWeights).unwrap();
+/// assert_eq!(mean, vec![3.0, 5.0]);
+/// let printed = weighted_combination(&q, &[1.0, 3.0], WeightedMean::AsPrinted).unwrap();
+/// assert_eq!(printed, vec![6.0, 10.0]);
+/// ```
+pub fn weighted_combination(
+    optima: &[Vec<f64>],
+    weights: &[f64],
+    form: WeightedMean,
+) -> Result<Vec<f64>, OptimizeError> {
+    let invalid = |setting, value, requirement| OptimizeError::InvalidSetting {
+        setting,
+        value,
+        requirement,
+    };
+    let first = optima
+        .first()
+        .ok_or(invalid("tasks", 0.0, "need at least one task"))?;
+    if weights.len() != optima.len() {
+        return Err(invalid(
+            "weights",
+            weights.len() as f64,
+            "one weight per task",
+        ));
+    }
+    if let Some(q) = optima.iter().find(|q| q.len() != first.len()) {
+        return Err(invalid(
+            "optimum length",
+            q.len() as f64,
+            "all optima the same length",
+        ));
+    }
+    if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
+        return Err(invalid("weight", *w, "must be finite and >= 0"));
+    }
+    let denominator = match form {
+        WeightedMean::NormalisedByWeights => weights.iter().sum(),
+        WeightedMean::AsPrinted => optima.len() as f64,
+    };
+    if !(denominator > 0.0) {
+        return Err(invalid("sum of weights", denominator, "must be > 0"));
+    }
+    Ok((0..first.len())
+        .map(|j| {
+            optima
+                .iter()
+                .zip(weights)
+                .map(|(q, w)| w * q[j])
+                .sum::<f64>()
+                / denominator
+        })
+        .collect())
+}

@@ -1,0 +1,125 @@
+//! Shared pieces of the §4.1 and §4.3 pose optimisations: the twists, the multistart run and the
+//! report of a pose optimum (n, α, p, F, KKT check).
+
+use crate::papers::{Comparison, ExperimentError, Mode, Source};
+use nalgebra::{Isometry3, Vector3};
+use pkm_mechanisms::{JointLayout, StewartTaskProblem};
+use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
+use pkm_screw_theory::Twist;
+use pkm_traits::Bounds;
+
+/// The §4.1 twist $\chi = [s ; s_0 \times s + \lambda s]$ with $s = (2,2,1)/3$, $s_0 = (2,3,6)$
+/// (eq. 3, 12; the printed λ = 1 twist has a typo in its 4th entry, see the conventions).
+pub(super) fn section_4_1_twist(lambda: f64) -> Twist {
+    let s = Vector3::new(2.0, 2.0, 1.0) / 3.0;
+    let s0 = Vector3::new(2.0, 3.0, 6.0);
+    Twist::new(s, s0.cross(&s) + s * lambda)
+}
+
+/// The §4.1 / §4.3 box: $-10 \le p_{x,y} \le 10$, $20 \le p_z \le 50$ (cm), $|\alpha| \le 30°$.
+pub(super) fn pose_problem(
+    design: [f64; 4],
+    twist: Twist,
+) -> Result<StewartTaskProblem, ExperimentError> {
+    let xy = Bounds::new(-10.0, 10.0)?;
+    Ok(StewartTaskProblem::new(
+        design,
+        JointLayout::default(),
+        Vector3::new(0.0, 0.0, 35.0),
+        Vector3::zeros(),
+        twist,
+    )?
+    .free_position(0, xy)?
+    .free_position(1, xy)?
+    .free_position(2, Bounds::new(20.0, 50.0)?)?
+    .free_rotation(30f64.to_radians())?)
+}
+
+/// Seeded multistart maximisation (quick: 12 starts, full: 64).
+pub(super) fn maximise(
+    problem: &StewartTaskProblem,
+    mode: Mode,
+) -> Result<LocalOptimum, ExperimentError> {
+    Ok(multistart_levenberg_marquardt(
+        problem,
+        Sense::Maximise,
+        &[],
+        mode.pick(12, 64),
+        2006,
+        &LmSettings::default(),
+    )?)
+}
+
+/// A pose printed by the paper: position, axis n (any length), angle α in degrees.
+pub(super) struct PaperPose {
+    pub(super) n: [f64; 3],
+    pub(super) alpha_deg: f64,
+    pub(super) p: [f64; 3],
+}
+
+impl PaperPose {
+    pub(super) fn isometry(&self) -> Result<Isometry3<f64>, ExperimentError> {
+        Ok(pkm_mechanisms::platform_pose(
+            Vector3::from(self.p),
+            Vector3::from(self.n),
+            self.alpha_deg.to_radians(),
+        )?)
+    }
+}
+
+/// Rows n_x, n_y, n_z, alpha (info, ill-conditioned: spec §3.3), p_x, p_y, p_z (checked at 0.05
+/// cm) and the KKT summary of the optimum `pose`.
+pub(super) fn pose_rows(
+    source: &Source,
+    pose: &Isometry3<f64>,
+    paper: &PaperPose,
+    optimum: &LocalOptimum,
+) -> Vec<Comparison> {
+    let w = pose.rotation.scaled_axis();
+    let alpha = w.norm();
+    let sign = if w.z < 0.0 { -1.0 } else { 1.0 };
+    let n = if alpha > 0.0 {
+        w / alpha * sign
+    } else {
+        Vector3::z()
+    };
+    let paper_n = Vector3::from(paper.n).normalize();
+    let note = format!(
+        "paper prints n = {:?} (normalised {:.3},{:.3},{:.3}), alpha = {} deg; F is flat in \
+         orientation (spec §3.3), so axis and angle are reported, not compared",
+        paper.n, paper_n.x, paper_n.y, paper_n.z, paper.alpha_deg
+    );
+    let mut rows = vec![
+        source.info("n_x", "1", n.x).with_note(note.clone()),
+        source.info("n_y", "1", n.y).with_note(note.clone()),
+        source.info("n_z", "1", n.z).with_note(note.clone()),
+        source
+            .info("alpha", "deg", (sign * alpha).to_degrees())
+            .with_note(note),
+    ];
+    for (k, name) in ["p_x", "p_y", "p_z"].into_iter().enumerate() {
+        rows.push(source.check(name, "cm", paper.p[k], pose.translation.vector[k], 0.05));
+    }
+    rows.extend(kkt_rows(source, optimum));
+    rows
+}
+
+/// The paper's gradient/Hessian check at an optimum: the largest free gradient entry, the
+/// number of active bounds and the extreme reduced-Hessian eigenvalues.
+pub(super) fn kkt_rows(source: &Source, optimum: &LocalOptimum) -> Vec<Comparison> {
+    let active = optimum
+        .active
+        .iter()
+        .filter(|a| **a != pkm_optimizers::ActiveBound::Free)
+        .count();
+    let eig = &optimum.reduced_hessian_eigenvalues;
+    let mut rows = vec![
+        source.info("kkt_free_gradient_max", "1", optimum.free_gradient_norm()),
+        source.info("kkt_active_bounds", "1", active as f64),
+    ];
+    if let (Some(lo), Some(hi)) = (eig.first(), eig.last()) {
+        rows.push(source.info("kkt_hessian_eig_min", "1", *lo));
+        rows.push(source.info("kkt_hessian_eig_max", "1", *hi));
+    }
+    rows
+}

@@ -1,0 +1,180 @@
+//! §4.4: the 3-UPU's upper universal-joint axes that minimise / maximise $F$ (eq. 18) for the
+//! zero-pitch twist about the line $A_1$ at the home position.
+//!
+//! Park's dimensions are not in the paper: base radius 20, platform radius 10, and the home
+//! height that puts the legs' apex on $A_1$ (spec §1.6; F = 0 needs the apex on the line).
+
+use super::pose_report::kkt_rows;
+use crate::papers::{Context, ExperimentError, Outcome, Paper, Source};
+use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
+use pkm_mechanisms::{ThreeUpu, UJointAxes};
+use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
+use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
+use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
+
+const BASE_RADIUS: f64 = 20.0;
+const PLATFORM_RADIUS: f64 = 10.0;
+
+/// $A_1$ as printed.
+fn printed_a1() -> Twist {
+    Twist::from_vector(Vector6::new(-0.94, 0.35, 0.0, -34.6, -93.9, 0.0))
+}
+
+/// $A_1$ made an exact line (zero pitch): same direction, through the printed line's point
+/// nearest the origin.
+fn exact_a1() -> Result<(Twist, f64), ExperimentError> {
+    let v = printed_a1().as_vector().clone_owned();
+    let d = Vector3::new(v[0], v[1], v[2]);
+    let m = Vector3::new(v[3], v[4], v[5]);
+    let apex = d.cross(&m) / d.norm_squared();
+    let line = PluckerLine::from_direction_and_point(&d, &apex)?;
+    Ok((Twist::new(line.direction(), line.moment()), apex.z))
+}
+
+/// The home pose: $R = I$, $p = (0, 0, h)$ with the apex $h a / (a - b)$ at height `apex`.
+fn home(apex: f64) -> Isometry3<f64> {
+    Isometry3::translation(
+        0.0,
+        0.0,
+        apex * (BASE_RADIUS - PLATFORM_RADIUS) / BASE_RADIUS,
+    )
+}
+
+fn park_axes() -> [UJointAxes; 3] {
+    ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians()))
+}
+
+/// Park's axes of joint i tilted by β about the radial and γ about the tangent (degrees).
+fn tilted_axes(design: &[f64]) -> [UJointAxes; 3] {
+    let park = park_axes();
+    std::array::from_fn(|i| {
+        let UJointAxes { u1, u2 } = park[i];
+        let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), design[2 * i].to_radians())
+            * Rotation3::from_axis_angle(&Unit::new_normalize(u1), design[2 * i + 1].to_radians());
+        UJointAxes {
+            u1: tilt * u1,
+            u2: tilt * u2,
+        }
+    })
+}
+
+/// F over the six tilt angles of the upper U joints, $[-90°, 90°]$ each.
+struct UpperAxesProblem {
+    pose: Isometry3<f64>,
+    twist: Twist,
+    bounds: [Bounds; 6],
+}
+
+impl Objective for UpperAxesProblem {
+    fn dimension(&self) -> usize {
+        6
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+    fn value(&self, design: &[f64]) -> Result<f64, ObjectiveError> {
+        let mut r = [0.0; 6];
+        self.residuals(design, &mut r)?;
+        Ok(r.iter().map(|x| x * x).sum())
+    }
+}
+
+impl Residuals for UpperAxesProblem {
+    fn n_residuals(&self) -> usize {
+        6
+    }
+    fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
+        self.check_dimension(design)?;
+        let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, tilted_axes(design))?;
+        let rows = upu
+            .wrench_rows(&self.pose)
+            .map_err(|e| ObjectiveError::Infeasible {
+                reason: e.to_string(),
+            })?;
+        r.copy_from_slice(task_residuals(&rows, &self.twist).as_slice());
+        Ok(())
+    }
+}
+
+fn optimise(
+    sense: Sense,
+    context: &Context<'_>,
+) -> Result<(LocalOptimum, UpperAxesProblem), ExperimentError> {
+    let (twist, apex) = exact_a1()?;
+    let tilt = Bounds::new(-90.0, 90.0)?;
+    let problem = UpperAxesProblem {
+        pose: home(apex),
+        twist,
+        bounds: [tilt; 6],
+    };
+    context.progress.check()?;
+    let optimum = multistart_levenberg_marquardt(
+        &problem,
+        sense,
+        &[],
+        context.mode.pick(8, 32),
+        18,
+        &LmSettings::default(),
+    )?;
+    Ok((optimum, problem))
+}
+
+/// Minimise: Park's design, F = 0.
+pub(super) fn run_min(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
+    let source = Source::new("wolf2006.s4_4.min", Paper::WolfShoham, "§4.4");
+    let (twist, apex) = exact_a1()?;
+    let park = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, park_axes())?;
+    let f_park = park.task_objective(&home(apex), &twist)?;
+    let f_printed = park.task_objective(&home(apex), &printed_a1())?;
+    let (optimum, _) = optimise(Sense::Minimise, context)?;
+    let mut comparisons = vec![
+        source
+            .check("F", "1", 0.0, f_park, 1e-9)
+            .with_note("Park's axes, A1 as an exact line, apex on A1 (a = 20, b = 10)"),
+        source
+            .info("F_printed_a1", "1", f_printed)
+            .with_note("A1 as printed (rounded)"),
+        source
+            .check("F_optimum", "1", 0.0, optimum.value, 1e-9)
+            .with_note("pkm's minimum over the upper U-joint tilts"),
+    ];
+    comparisons.extend(kkt_rows(&source, &optimum));
+    Ok(Outcome {
+        comparisons,
+        ..Outcome::default()
+    })
+}
+
+/// Maximise: the listed axes (Park's with u1, u2 swapped) cannot give 457.5.
+pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
+    let source = Source::new("wolf2006.s4_4.max", Paper::WolfShoham, "§4.4");
+    let listed = [
+        ([1.0, 0.0, 0.0], [0.0, -1.0, 0.0]),
+        ([-0.5, 0.866, 0.0], [0.866, 0.5, 0.0]),
+        ([-0.5, -0.866, 0.0], [-0.866, 0.5, 0.0]),
+    ]
+    .map(|(u1, u2)| UJointAxes {
+        u1: Vector3::from(u1),
+        u2: Vector3::from(u2),
+    });
+    let (twist, apex) = exact_a1()?;
+    let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, listed)?;
+    let f_listed = upu.task_objective(&home(apex), &twist)?;
+    let (optimum, _) = optimise(Sense::Maximise, context)?;
+    let anchor = "wolf-s4-4-max";
+    let mut comparisons = vec![
+        source
+            .check("F", "1", 457.5, f_listed, 0.02 * 457.5)
+            .with_note("the paper's listed maximising axes")
+            .erratum(anchor),
+        source
+            .check("F_optimum", "1", 457.5, optimum.value, 0.02 * 457.5)
+            .with_note("pkm's maximum over the upper U-joint tilts (3 |x|^2)")
+            .erratum(anchor),
+    ];
+    comparisons.extend(kkt_rows(&source, &optimum));
+    Ok(Outcome {
+        comparisons,
+        ..Outcome::default()
+    })
+}
