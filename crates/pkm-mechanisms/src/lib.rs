@@ -5,3 +5,7 @@
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
+
+mod tsai3dof;
+
+pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof};
