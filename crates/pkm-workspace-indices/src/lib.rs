@@ -13,3 +13,14 @@ mod parallel;
 pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use error::IndexError;
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
+
+mod condition3;
+mod sampler;
+mod slice;
+mod sobol;
+mod volume;
+
+pub use condition3::inverse_condition_number_3x3;
+pub use sampler::Sampler;
+pub use slice::Slice;
+pub use volume::{HemisphereEstimate, hemisphere_estimate};
