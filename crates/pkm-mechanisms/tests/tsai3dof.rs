@@ -48,15 +48,16 @@ fn spec_test_vector_gci_design() {
     let th2 = [127.1099, 149.1066, 140.1078];
     let th3 = [95.1225, 96.3156, 78.5045];
     for leg in 0..3 {
-        let q = d.leg_inverse_kinematics(leg, &p, LegBranch::PRINCIPAL_OUT).unwrap();
+        let q = d
+            .leg_inverse_kinematics(leg, &p, LegBranch::PRINCIPAL_OUT)
+            .unwrap();
         assert!((q.theta1.to_degrees() - th1[leg]).abs() < 1e-4);
         assert!((q.theta2.to_degrees() - th2[leg]).abs() < 1e-4);
         assert!((q.theta3.to_degrees() - th3[leg]).abs() < 1e-4);
     }
     let j = d.jacobian_eq7(&p).unwrap();
     let expected = Matrix3::new(
-        -1.581838, -0.235026, 2.090812, 1.377149, -1.804555, 1.347062, 1.475627, 1.483603,
-        1.690731,
+        -1.581838, -0.235026, 2.090812, 1.377149, -1.804555, 1.347062, 1.475627, 1.483603, 1.690731,
     );
     assert!((j - expected).amax() < 2e-6, "{j}");
     assert!((cond(&j) - 1.320975).abs() < 2e-6);
@@ -72,7 +73,9 @@ fn spec_test_vector_offset_design() {
     let th2 = [106.7809, 125.7790, 121.3543];
     let th3 = [95.7392, 100.3463, 77.4385];
     for leg in 0..3 {
-        let q = d.leg_inverse_kinematics(leg, &p, LegBranch::PRINCIPAL_OUT).unwrap();
+        let q = d
+            .leg_inverse_kinematics(leg, &p, LegBranch::PRINCIPAL_OUT)
+            .unwrap();
         assert!((q.theta1.to_degrees() - th1[leg]).abs() < 1e-4);
         assert!((q.theta2.to_degrees() - th2[leg]).abs() < 1e-4);
         assert!((q.theta3.to_degrees() - th3[leg]).abs() < 1e-4);
@@ -93,7 +96,11 @@ fn centre_of_symmetric_design_matches_closed_form() {
 fn conformance() {
     check_traits::<Tsai3Dof>();
     for d in [gci_design(), offset_design()] {
-        for mode in [[Elbow::Out; 3], [Elbow::In; 3], [Elbow::Out, Elbow::In, Elbow::Out]] {
+        for mode in [
+            [Elbow::Out; 3],
+            [Elbow::In; 3],
+            [Elbow::Out, Elbow::In, Elbow::Out],
+        ] {
             check_closure(&d, mode, &poses(), 1e-12).unwrap();
             check_jacobians_against_central_differences(&d, mode, &poses(), 1e-6, 1e-6).unwrap();
             check_ik_fk_round_trip(&d, mode, &poses(), 1e-3, 1e-9).unwrap();
@@ -148,7 +155,13 @@ fn bad_input_is_a_typed_error() {
     assert!(Tsai3Dof::new(0.4, 0.5, 0.0, f64::INFINITY, 1.0, 2.0).is_err());
     let d = gci_design();
     let p = Vector3::new(f64::NAN, 0.0, 0.5);
-    assert!(d.leg_inverse_kinematics(0, &p, LegBranch::PRINCIPAL_OUT).is_err());
+    assert!(
+        d.leg_inverse_kinematics(0, &p, LegBranch::PRINCIPAL_OUT)
+            .is_err()
+    );
     assert!(d.jacobian_eq7(&p).is_none());
-    assert!(d.inverse_kinematics(&Vector3::new(0.0, 0.0, 3.0), [Elbow::Out; 3]).is_err());
+    assert!(
+        d.inverse_kinematics(&Vector3::new(0.0, 0.0, 3.0), [Elbow::Out; 3])
+            .is_err()
+    );
 }

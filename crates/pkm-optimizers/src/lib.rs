@@ -17,3 +17,10 @@ pub use grid_search::{
     GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
 };
 pub use multistart::{run_multistart, uniform_start_points};
+
+mod augmented_lagrangian;
+mod spg;
+
+pub use augmented_lagrangian::{
+    AugmentedLagrangianSettings, ConstrainedResult, augmented_lagrangian,
+};

@@ -35,5 +35,9 @@ pub fn inverse_condition_number_3x3(j: &Matrix3<f64>) -> f64 {
     let det = j.determinant();
     let l3 = det * det / (l1 * l2);
     let inv = (l3 / l1).sqrt();
-    if inv.is_finite() { inv.clamp(0.0, 1.0) } else { 0.0 }
+    if inv.is_finite() {
+        inv.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }

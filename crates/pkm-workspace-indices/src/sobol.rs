@@ -90,7 +90,10 @@ mod tests {
         ];
         for (i, e) in expected.iter().enumerate() {
             let p = sobol3(i as u64, 0);
-            assert!(p.iter().zip(e).all(|(a, b)| (a - b).abs() < 1e-12), "{i}: {p:?}");
+            assert!(
+                p.iter().zip(e).all(|(a, b)| (a - b).abs() < 1e-12),
+                "{i}: {p:?}"
+            );
         }
     }
 

@@ -46,7 +46,10 @@ fn volume_of_a_ball_within_four_standard_errors() {
     for sampler in [Sampler::MonteCarlo { seed: 3 }, Sampler::Sobol { seed: 3 }] {
         let points = sampler.unit_hemisphere_points(50_000).unwrap();
         let e = hemisphere_estimate(&points, 1.0, &Silent, ball).unwrap();
-        assert!((e.volume - PI / 6.0).abs() < 4.0 * e.volume_se, "{sampler:?} {e:?}");
+        assert!(
+            (e.volume - PI / 6.0).abs() < 4.0 * e.volume_se,
+            "{sampler:?} {e:?}"
+        );
         // f = 2 inside: eta = 2 W exactly, and its standard error is twice W's.
         assert!((e.gci - 2.0 * e.volume).abs() < 1e-12);
         assert!((e.gci_se - 2.0 * e.volume_se).abs() < 1e-12);
@@ -58,10 +61,17 @@ fn sobol_beats_monte_carlo_on_the_ball() {
     let n = 1 << 14;
     let err = |s: Sampler| {
         let points = s.unit_hemisphere_points(n).unwrap();
-        (hemisphere_estimate(&points, 1.0, &Silent, ball).unwrap().volume - PI / 6.0).abs()
+        (hemisphere_estimate(&points, 1.0, &Silent, ball)
+            .unwrap()
+            .volume
+            - PI / 6.0)
+            .abs()
     };
     let qmc = err(Sampler::Sobol { seed: 11 });
-    let mc: f64 = (0..8).map(|s| err(Sampler::MonteCarlo { seed: s })).sum::<f64>() / 8.0;
+    let mc: f64 = (0..8)
+        .map(|s| err(Sampler::MonteCarlo { seed: s }))
+        .sum::<f64>()
+        / 8.0;
     assert!(qmc < mc, "sobol {qmc} vs mean monte carlo {mc}");
 }
 
@@ -77,7 +87,10 @@ fn grid_sampler_covers_the_box() {
 #[test]
 fn bad_input_is_a_typed_error() {
     let s = Sampler::MonteCarlo { seed: 1 };
-    assert!(matches!(s.unit_hemisphere_points(0), Err(IndexError::EmptySample { .. })));
+    assert!(matches!(
+        s.unit_hemisphere_points(0),
+        Err(IndexError::EmptySample { .. })
+    ));
     let points = s.unit_hemisphere_points(10).unwrap();
     assert!(hemisphere_estimate(&points, f64::NAN, &Silent, ball).is_err());
     assert!(hemisphere_estimate(&points, -1.0, &Silent, ball).is_err());

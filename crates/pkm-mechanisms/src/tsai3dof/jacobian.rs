@@ -58,7 +58,11 @@ impl InverseKinematics<3, 3> for Tsai3Dof {
     /// The $\theta_1$ root of each leg; $\theta_3$ is principal (the closure's branch).
     type WorkingMode = [Elbow; 3];
 
-    fn inverse_kinematics(&self, x: &Task<3>, mode: [Elbow; 3]) -> Result<Joints<3>, KinematicsError> {
+    fn inverse_kinematics(
+        &self,
+        x: &Task<3>,
+        mode: [Elbow; 3],
+    ) -> Result<Joints<3>, KinematicsError> {
         let mut q = Vector3::zeros();
         for (i, elbow) in mode.into_iter().enumerate() {
             let branch = LegBranch {
