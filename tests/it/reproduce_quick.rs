@@ -47,3 +47,8 @@ fn run_quick(prefix: &str) {
         }
     }
 }
+
+#[test]
+fn stamper1997_reproduces_in_quick_mode() {
+    run_quick("stamper1997")
+}

@@ -70,7 +70,12 @@ fn hs35() {
     let r = augmented_lagrangian(&p, &[0.5, 0.5, 0.5], &Default::default()).unwrap();
     let expected = [4.0 / 3.0, 7.0 / 9.0, 4.0 / 9.0];
     assert!((r.value - 1.0 / 9.0).abs() < 1e-7, "{r:?}");
-    assert!(r.design.iter().zip(expected).all(|(a, e)| (a - e).abs() < 1e-4));
+    assert!(
+        r.design
+            .iter()
+            .zip(expected)
+            .all(|(a, e)| (a - e).abs() < 1e-4)
+    );
     assert!((r.multipliers[0] - 2.0 / 9.0).abs() < 1e-3);
 }
 
@@ -79,7 +84,9 @@ fn hs43_rosen_suzuki() {
     let p = Problem {
         bounds: vec![b(-10.0, 10.0); 4],
         f: |x| {
-            x[0] * x[0] + x[1] * x[1] + 2.0 * x[2] * x[2] + x[3] * x[3] - 5.0 * x[0] - 5.0 * x[1]
+            x[0] * x[0] + x[1] * x[1] + 2.0 * x[2] * x[2] + x[3] * x[3]
+                - 5.0 * x[0]
+                - 5.0 * x[1]
                 - 21.0 * x[2]
                 + 7.0 * x[3]
         },
@@ -88,14 +95,23 @@ fn hs43_rosen_suzuki() {
                 -(8.0 - x[0] * x[0] - x[1] * x[1] - x[2] * x[2] - x[3] * x[3] - x[0] + x[1] - x[2]
                     + x[3])
             },
-            |x| -(10.0 - x[0] * x[0] - 2.0 * x[1] * x[1] - x[2] * x[2] - 2.0 * x[3] * x[3] + x[0] + x[3]),
+            |x| {
+                -(10.0 - x[0] * x[0] - 2.0 * x[1] * x[1] - x[2] * x[2] - 2.0 * x[3] * x[3]
+                    + x[0]
+                    + x[3])
+            },
             |x| -(5.0 - 2.0 * x[0] * x[0] - x[1] * x[1] - x[2] * x[2] - 2.0 * x[0] + x[1] + x[3]),
         ],
     };
     let r = augmented_lagrangian(&p, &[0.0; 4], &Default::default()).unwrap();
     let expected = [0.0, 1.0, 2.0, -1.0];
     assert!((r.value + 44.0).abs() < 1e-5, "{r:?}");
-    assert!(r.design.iter().zip(expected).all(|(a, e)| (a - e).abs() < 1e-3));
+    assert!(
+        r.design
+            .iter()
+            .zip(expected)
+            .all(|(a, e)| (a - e).abs() < 1e-3)
+    );
 }
 
 #[test]
@@ -107,7 +123,10 @@ fn infeasible_constraint_set_returns_no_design() {
         g: vec![|x| 2.0 - x[0], |x| x[0] - 1.0],
     };
     let r = augmented_lagrangian(&p, &[0.0], &Default::default());
-    assert!(matches!(r, Err(OptimizeError::NoFeasibleDesign { .. })), "{r:?}");
+    assert!(
+        matches!(r, Err(OptimizeError::NoFeasibleDesign { .. })),
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -118,6 +137,9 @@ fn bad_settings_are_typed_errors() {
         g: vec![],
     };
     assert!(augmented_lagrangian(&p, &[0.0, 1.0], &Default::default()).is_err());
-    let s = pkm_optimizers::AugmentedLagrangianSettings { fd_step: f64::NAN, ..Default::default() };
+    let s = pkm_optimizers::AugmentedLagrangianSettings {
+        fd_step: f64::NAN,
+        ..Default::default()
+    };
     assert!(augmented_lagrangian(&p, &[0.0], &s).is_err());
 }

@@ -8,6 +8,7 @@
 
 mod jacobian;
 mod leg;
+mod volume;
 
 pub use leg::{Elbow, LegAngles, LegBranch};
 
