@@ -65,7 +65,7 @@ fn max_volume(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
             legs: None,
             paper: MAX_VOLUME_DESIGN,
             tolerance: [0.02, 0.02, 0.02, 0.02, 2.0, 2.0],
-            anchor: "stamper-max-volume",
+            anchor: Some("stamper-max-volume"),
         },
         ctx,
     )
@@ -80,7 +80,7 @@ fn max_volume_symmetric(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
             legs: Some((120.0, 240.0)),
             paper: [0.32, 0.68, 0.0, 0.0, 120.0, 240.0],
             tolerance: [0.02, 0.02, 0.02, 0.02, 1e-9, 1e-9],
-            anchor: "stamper-max-volume-symmetric",
+            anchor: Some("stamper-max-volume-symmetric"),
         },
         ctx,
     )
@@ -95,7 +95,7 @@ fn max_gci(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
             legs: None,
             paper: MAX_GCI_DESIGN,
             tolerance: [0.01, 0.01, 0.01, 0.01, 3.0, 3.0],
-            anchor: "stamper-max-gci",
+            anchor: None,
         },
         ctx,
     )

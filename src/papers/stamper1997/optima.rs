@@ -22,8 +22,9 @@ pub(super) struct Study {
     pub(super) paper: [f64; 6],
     /// Tolerances on the six design variables (full mode).
     pub(super) tolerance: [f64; 6],
-    /// Heading in `docs/conventions.md` with the evidence where the optimum differs.
-    pub(super) anchor: &'static str,
+    /// Heading in `docs/conventions.md` with the evidence where the optimum differs; `None`
+    /// where the paper's optimum reproduces.
+    pub(super) anchor: Option<&'static str>,
 }
 
 const NAMES: [&str; 6] = ["a", "b", "d+e", "c-r", "phi_2", "phi_3"];
@@ -53,7 +54,13 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let crn =
         Sampler::MonteCarlo { seed: 999 }.unit_hemisphere_points(ctx.mode.pick(3_000, 30_000))?;
     let problem = StamperProblem {
-        bounds: bounds(study.legs)?,
+        // Quick mode: 3,000 points and 4 starts do not find the GCI's leg layout reliably (local
+        // optima near 120/270), so the quick run optimises the lengths with legs at 120/240.
+        bounds: bounds(if quick && study.criterion == Criterion::Gci {
+            Some((120.0, 240.0))
+        } else {
+            study.legs
+        })?,
         criterion: match study.criterion {
             Criterion::Volume { ngrid } => Criterion::Volume {
                 ngrid: if quick { ngrid / 4 } else { ngrid },
@@ -65,11 +72,14 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let settings = AugmentedLagrangianSettings {
         fd_step: 1e-3,
         tolerance: 1e-6,
-        max_outer: ctx.mode.pick(6, 15),
-        max_inner: ctx.mode.pick(30, 150),
-        ..Default::default()
+        max_outer: ctx.mode.pick(10, 20),
+        feasibility: 1e-4,
+        max_inner: ctx.mode.pick(60, 200),
     };
-    let starts = uniform_start_points(&problem.bounds, ctx.mode.pick(2, 8), 2024);
+    let starts: Vec<Vec<f64>> = uniform_start_points(&problem.bounds, ctx.mode.pick(4, 8), 2024)
+        .into_iter()
+        .map(feasible_start)
+        .collect();
     ctx.progress.check()?;
     let best = run_multistart(&starts, |s| augmented_lagrangian(&problem, s, &settings))
         .into_iter()
@@ -88,30 +98,50 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let widen = if quick { 4.0 } else { 1.0 };
     let mut rows: Vec<Comparison> = (0..6)
         .map(|k| {
-            source
-                .check(
-                    NAMES[k],
-                    UNITS[k],
-                    study.paper[k],
-                    best.design[k],
-                    widen * study.tolerance[k],
-                )
-                .erratum(study.anchor)
+            let row = source.check(
+                NAMES[k],
+                UNITS[k],
+                study.paper[k],
+                best.design[k],
+                widen * study.tolerance[k],
+            );
+            match study.anchor {
+                Some(anchor) => row.erratum(anchor),
+                None => row,
+            }
         })
         .collect();
     rows.extend(estimate_rows(&source, "", &ours));
     rows.extend(estimate_rows(&source, "paper_design_", &paper));
     if quick {
         for row in &mut rows {
-            *row = row
-                .clone()
-                .with_note("quick mode: 3,000 CRN points, 2 starts, tolerances x4");
+            *row = row.clone().with_note(
+                "quick mode: 3,000 CRN points, 4 starts, tolerances x4, GCI legs fixed at 120/240",
+            );
         }
     }
     Ok(Outcome {
         comparisons: rows,
         ..Outcome::default()
     })
+}
+
+/// Moves a uniform start onto the length constraint $a + b + d + e = 1$ (always active: $W$
+/// and $\eta$ scale with the cube of the lengths), with a small $c - r$ and ordered legs, so
+/// that the start has a workspace and the objective a gradient.
+fn feasible_start(mut x: Vec<f64>) -> Vec<f64> {
+    let total = x[0] + x[1] + 4.0 * x[2];
+    x[0] /= total;
+    x[1] /= total;
+    x[2] *= 4.0 / total;
+    x[2] *= 0.25;
+    x[3] *= 0.1;
+    if x[4] > x[5] - 5.0 {
+        x.swap(4, 5);
+        x[5] = x[5].max(x[4] + 5.0).min(355.0);
+        x[4] = x[4].min(x[5] - 5.0);
+    }
+    x
 }
 
 fn estimate_rows(source: &Source, prefix: &str, e: &HemisphereEstimate) -> Vec<Comparison> {
