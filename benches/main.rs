@@ -4,6 +4,7 @@
 use criterion::{criterion_group, criterion_main};
 
 mod indices;
+mod stamper;
 
-criterion_group!(benches, indices::condition_number);
+criterion_group!(benches, indices::condition_number, stamper::gci_kernel);
 criterion_main!(benches);

@@ -1,5 +1,6 @@
 //! Cross-crate integration tests: quick reproductions, determinism, tidy checks.
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
+mod determinism;
 mod reproduce_quick;
 mod tidy;
