@@ -38,7 +38,7 @@ impl Slice {
         if n == 0 {
             return Err(IndexError::EmptySample { n_samples: 0 });
         }
-        if !(half_width.is_finite() && half_width > 0.0) || !z.is_finite() {
+        if !(half_width.is_finite() && half_width > 0.0 && z.is_finite()) {
             return Err(IndexError::Invalid {
                 what: "slice half-width or height",
                 value: if z.is_finite() { half_width } else { z },
