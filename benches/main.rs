@@ -8,6 +8,7 @@ mod indices;
 mod integrators;
 mod linear_delta;
 mod screw;
+mod stamper;
 
 criterion_group!(
     benches,
@@ -15,6 +16,7 @@ criterion_group!(
     integrators::harmonic_oscillator,
     linear_delta::eta_of_one_design,
     screw::screw,
+    stamper::gci_kernel,
     dynamics::inverse_dynamics,
     dynamics::forward_cycle,
 );

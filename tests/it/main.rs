@@ -2,5 +2,6 @@
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
 mod cross_checks;
+mod determinism;
 mod reproduce_quick;
 mod tidy;

@@ -96,3 +96,8 @@ fn miller2004_dynamics_reproduces_in_quick_mode() {
 fn miller2004_nuwar_reproduces_in_quick_mode() {
     run_quick("miller2004.nuwar")
 }
+
+#[test]
+fn stamper1997_reproduces_in_quick_mode() {
+    run_quick("stamper1997")
+}

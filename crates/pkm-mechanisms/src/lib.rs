@@ -13,6 +13,7 @@ mod stewart_gough;
 mod stewart_layout;
 mod stewart_task;
 mod three_upu;
+mod tsai3dof;
 
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
@@ -21,3 +22,4 @@ pub use stewart_gough::{StewartGough, platform_pose, pose_from_task};
 pub use stewart_layout::{AngleMode, JointLayout, Pairing};
 pub use stewart_task::StewartTaskProblem;
 pub use three_upu::{ThreeUpu, UJointAxes};
+pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof};

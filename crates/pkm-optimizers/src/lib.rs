@@ -8,13 +8,18 @@
 //!   parallel with outcomes in start order.
 #![warn(missing_docs)]
 
+mod augmented_lagrangian;
 mod error;
 mod grid_search;
 mod lattice_refinement;
 mod levenberg_marquardt;
 mod multistart;
+mod spg;
 mod weighted_combination;
 
+pub use augmented_lagrangian::{
+    AugmentedLagrangianSettings, ConstrainedResult, augmented_lagrangian,
+};
 pub use error::OptimizeError;
 pub use grid_search::{
     GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,

@@ -7,19 +7,24 @@
 #![warn(missing_docs)]
 
 mod condition;
-mod error;
-mod parallel;
-
-pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
-pub use error::IndexError;
-pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
-
 mod condition_3x3;
 mod cross_section_indices;
+mod error;
 mod gauss_legendre;
+mod parallel;
+mod sampler;
+mod slice;
+mod sobol;
 mod space_utilization;
+mod volume;
 
+pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use condition_3x3::inverse_condition_number_3x3;
 pub use cross_section_indices::{GridMean, GridRule, mean_by_grid, mean_by_quadrature};
+pub use error::IndexError;
 pub use gauss_legendre::GaussLegendre;
+pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
+pub use sampler::Sampler;
+pub use slice::Slice;
 pub use space_utilization::space_utilization;
+pub use volume::{HemisphereEstimate, hemisphere_estimate};

@@ -1,0 +1,36 @@
+//! Points per second of the GCI kernel (IK + Jacobian of eq. 7 + closed-form 1/κ per point),
+//! on one core and on two.
+
+use criterion::{Criterion, Throughput};
+use pkm::mechanisms::Tsai3Dof;
+use pkm::workspace_indices::{Sampler, hemisphere_estimate, inverse_condition_number_3x3};
+use pkm_traits::Silent;
+
+pub(crate) fn gci_kernel(c: &mut Criterion) {
+    let Ok(design) = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0) else {
+        return;
+    };
+    let Ok(points) = (Sampler::MonteCarlo { seed: 1 }).unit_hemisphere_points(1 << 20) else {
+        return;
+    };
+    let mut group = c.benchmark_group("stamper/gci_kernel");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(points.len() as u64));
+    for threads in [1, 2] {
+        let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(threads).build() else {
+            return;
+        };
+        group.bench_function(format!("{threads}_threads"), |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    hemisphere_estimate(&points, design.reach(), &Silent, |p| {
+                        design
+                            .jacobian_eq7(p)
+                            .map(|j| inverse_condition_number_3x3(&j))
+                    })
+                })
+            })
+        });
+    }
+    group.finish();
+}

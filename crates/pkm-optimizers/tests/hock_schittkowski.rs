@@ -1,0 +1,145 @@
+//! The augmented-Lagrangian optimiser on Hock–Schittkowski problems 21, 35 and 43, and an
+//! infeasible constraint set.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use pkm_optimizers::{OptimizeError, augmented_lagrangian};
+use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError};
+
+type Fun = fn(&[f64]) -> f64;
+
+struct Problem {
+    bounds: Vec<Bounds>,
+    f: Fun,
+    g: Vec<Fun>,
+}
+
+impl Objective for Problem {
+    fn dimension(&self) -> usize {
+        self.bounds.len()
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+    fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+        Ok((self.f)(p))
+    }
+}
+
+impl Constraints for Problem {
+    fn n_constraints(&self) -> usize {
+        self.g.len()
+    }
+    fn inequalities(&self, p: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError> {
+        for (gi, fi) in g.iter_mut().zip(&self.g) {
+            *gi = fi(p);
+        }
+        Ok(())
+    }
+}
+
+fn b(lo: f64, hi: f64) -> Bounds {
+    Bounds::new(lo, hi).unwrap()
+}
+
+#[test]
+fn hs21() {
+    let p = Problem {
+        bounds: vec![b(2.0, 50.0), b(-50.0, 50.0)],
+        f: |x| 0.01 * x[0] * x[0] + x[1] * x[1] - 100.0,
+        g: vec![|x| 10.0 - 10.0 * x[0] + x[1]],
+    };
+    let r = augmented_lagrangian(&p, &[-1.0, -1.0], &Default::default()).unwrap();
+    assert!((r.value + 99.96).abs() < 1e-6, "{r:?}");
+    assert!((r.design[0] - 2.0).abs() < 1e-5 && r.design[1].abs() < 1e-4);
+}
+
+#[test]
+fn hs35() {
+    let p = Problem {
+        bounds: vec![b(0.0, 10.0); 3],
+        f: |x| {
+            9.0 - 8.0 * x[0] - 6.0 * x[1] - 4.0 * x[2]
+                + 2.0 * x[0] * x[0]
+                + 2.0 * x[1] * x[1]
+                + x[2] * x[2]
+                + 2.0 * x[0] * x[1]
+                + 2.0 * x[0] * x[2]
+        },
+        g: vec![|x| x[0] + x[1] + 2.0 * x[2] - 3.0],
+    };
+    let r = augmented_lagrangian(&p, &[0.5, 0.5, 0.5], &Default::default()).unwrap();
+    let expected = [4.0 / 3.0, 7.0 / 9.0, 4.0 / 9.0];
+    assert!((r.value - 1.0 / 9.0).abs() < 1e-7, "{r:?}");
+    assert!(
+        r.design
+            .iter()
+            .zip(expected)
+            .all(|(a, e)| (a - e).abs() < 1e-4)
+    );
+    assert!((r.multipliers[0] - 2.0 / 9.0).abs() < 1e-3);
+}
+
+#[test]
+fn hs43_rosen_suzuki() {
+    let p = Problem {
+        bounds: vec![b(-10.0, 10.0); 4],
+        f: |x| {
+            x[0] * x[0] + x[1] * x[1] + 2.0 * x[2] * x[2] + x[3] * x[3]
+                - 5.0 * x[0]
+                - 5.0 * x[1]
+                - 21.0 * x[2]
+                + 7.0 * x[3]
+        },
+        g: vec![
+            |x| {
+                -(8.0 - x[0] * x[0] - x[1] * x[1] - x[2] * x[2] - x[3] * x[3] - x[0] + x[1] - x[2]
+                    + x[3])
+            },
+            |x| {
+                -(10.0 - x[0] * x[0] - 2.0 * x[1] * x[1] - x[2] * x[2] - 2.0 * x[3] * x[3]
+                    + x[0]
+                    + x[3])
+            },
+            |x| -(5.0 - 2.0 * x[0] * x[0] - x[1] * x[1] - x[2] * x[2] - 2.0 * x[0] + x[1] + x[3]),
+        ],
+    };
+    let r = augmented_lagrangian(&p, &[0.0; 4], &Default::default()).unwrap();
+    let expected = [0.0, 1.0, 2.0, -1.0];
+    assert!((r.value + 44.0).abs() < 1e-5, "{r:?}");
+    assert!(
+        r.design
+            .iter()
+            .zip(expected)
+            .all(|(a, e)| (a - e).abs() < 1e-3)
+    );
+}
+
+#[test]
+fn infeasible_constraint_set_returns_no_design() {
+    // x >= 2 and x <= 1 cannot both hold.
+    let p = Problem {
+        bounds: vec![b(-5.0, 5.0)],
+        f: |x| x[0] * x[0],
+        g: vec![|x| 2.0 - x[0], |x| x[0] - 1.0],
+    };
+    let r = augmented_lagrangian(&p, &[0.0], &Default::default());
+    assert!(
+        matches!(r, Err(OptimizeError::NoFeasibleDesign { .. })),
+        "{r:?}"
+    );
+}
+
+#[test]
+fn bad_settings_are_typed_errors() {
+    let p = Problem {
+        bounds: vec![b(-1.0, 1.0)],
+        f: |x| x[0],
+        g: vec![],
+    };
+    assert!(augmented_lagrangian(&p, &[0.0, 1.0], &Default::default()).is_err());
+    let s = pkm_optimizers::AugmentedLagrangianSettings {
+        fd_step: f64::NAN,
+        ..Default::default()
+    };
+    assert!(augmented_lagrangian(&p, &[0.0], &s).is_err());
+}

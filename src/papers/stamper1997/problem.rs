@@ -1,0 +1,83 @@
+//! The design problem of sec. 5: maximise the workspace volume (eq. 3) or the global condition
+//! index (eq. 8) over $x = (a, b, d + e, c - r, \phi_2, \phi_3)$ (angles in degrees) subject to
+//! $a + b + d + e \le 1$, leg separation $\ge 5°$ ($5 \le \phi_2$, $\phi_3 - \phi_2 \ge 5$,
+//! $\phi_3 \le 355$) and non-negative lengths (bounds; $c - r \ge 0$, spec §4 A4).
+
+use nalgebra::Vector3;
+use pkm_mechanisms::Tsai3Dof;
+use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
+use pkm_workspace_indices::{
+    HemisphereEstimate, hemisphere_estimate, inverse_condition_number_3x3,
+};
+
+/// What is maximised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Criterion {
+    /// Workspace volume, by the column quadrature (continuous in the design).
+    Volume {
+        /// Columns per axis.
+        ngrid: usize,
+    },
+    /// Global condition index on the common random numbers.
+    Gci,
+}
+
+/// Stamper's problem on a fixed set of unit-hemisphere points (common random numbers).
+#[derive(Debug)]
+pub(super) struct StamperProblem<'a> {
+    pub(super) bounds: [Bounds; 6],
+    pub(super) criterion: Criterion,
+    pub(super) points: &'a [Vector3<f64>],
+}
+
+/// The design of a design vector.
+pub(super) fn design(x: &[f64]) -> Result<Tsai3Dof, ObjectiveError> {
+    Ok(Tsai3Dof::from_degrees(x[0], x[1], x[2], x[3], x[4], x[5])?)
+}
+
+/// $W$ and $\eta$ of `design` on the unit-hemisphere `points` (one pass).
+pub(super) fn estimate(
+    design: &Tsai3Dof,
+    points: &[Vector3<f64>],
+) -> Result<HemisphereEstimate, pkm_workspace_indices::IndexError> {
+    hemisphere_estimate(points, design.reach(), &Silent, |p| {
+        design
+            .jacobian_eq7(p)
+            .map(|j| inverse_condition_number_3x3(&j))
+    })
+}
+
+impl Objective for StamperProblem<'_> {
+    fn dimension(&self) -> usize {
+        6
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+    fn value(&self, x: &[f64]) -> Result<f64, ObjectiveError> {
+        self.check_dimension(x)?;
+        let d = design(x)?;
+        match self.criterion {
+            Criterion::Volume { ngrid } => Ok(-d.column_volume(ngrid)),
+            Criterion::Gci => {
+                estimate(&d, self.points)
+                    .map(|e| -e.gci)
+                    .map_err(|e| ObjectiveError::Infeasible {
+                        reason: e.to_string(),
+                    })
+            }
+        }
+    }
+}
+
+impl Constraints for StamperProblem<'_> {
+    fn n_constraints(&self) -> usize {
+        2
+    }
+    fn inequalities(&self, x: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError> {
+        self.check_dimension(x)?;
+        g[0] = x[0] + x[1] + x[2] - 1.0;
+        g[1] = x[4] - x[5] + 5.0;
+        Ok(())
+    }
+}
