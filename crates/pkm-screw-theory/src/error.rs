@@ -1,6 +1,15 @@
 //! The error type of the crate.
 
 /// Why a screw-theory object could not be built or evaluated.
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_screw_theory::{PluckerLine, ScrewError};
+/// let p = Vector3::new(1.0, 2.0, 3.0);
+/// let err = PluckerLine::from_points(&p, &p).unwrap_err();
+/// assert!(matches!(err, ScrewError::CoincidentPoints { .. }));
+/// ```
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ScrewError {

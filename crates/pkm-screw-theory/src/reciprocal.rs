@@ -35,6 +35,19 @@ pub fn reciprocal_product(wrench: &Wrench, twist: &Twist) -> f64 {
 /// The common normal from one screw axis to another: the distance $a \ge 0$ along it and the
 /// angle $\alpha$ from the first direction to the second, right-handed about the normal
 /// (Wolf & Shoham Fig. 1; convention of `spec/wolf-shoham.md` §1.1).
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_screw_theory::{CommonNormal, ScrewAxis};
+/// // The z axis and a line along y through (2, 0, 0): a = 2, α = −90° about +x.
+/// let z = ScrewAxis::new(&Vector3::z(), &Vector3::zeros(), 0.0)?;
+/// let y = ScrewAxis::new(&Vector3::y(), &Vector3::new(2.0, 0.0, 0.0), 0.0)?;
+/// let normal = CommonNormal::between(&z, &y);
+/// assert!((normal.distance - 2.0).abs() < 1e-12);
+/// assert!((normal.angle.abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+/// # Ok::<(), pkm_screw_theory::ScrewError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CommonNormal {
     /// Distance $a$ between the axes (non-negative).
