@@ -20,5 +20,5 @@
 mod fields;
 mod torque;
 
-pub use fields::{AccelerationForm, ForwardForm, HamiltonForm};
+pub use fields::{AccelerationForm, ForwardForm, HamiltonForm, SADDLE_MATRIX};
 pub use torque::SampledTorques;

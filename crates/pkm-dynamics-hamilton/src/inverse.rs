@@ -172,3 +172,72 @@ pub fn lagrange_torques(
     let rate = model.mass_matrix(q) * qdd + model.mass_matrix_rate_times_velocity(q, qd);
     torques(model, q, qd, &rate)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::MassParameters;
+    use crate::trajectory::{MotionLaw, Path, Segment};
+    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_traits::KinematicsError;
+
+    fn nuwar() -> ExtendedModel {
+        let m = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+        ExtendedModel::new(m, &MassParameters::miller2004()).unwrap()
+    }
+
+    #[test]
+    fn an_unreachable_point_reports_its_time_and_leg() {
+        let model = nuwar();
+        // From the middle of the workspace straight away from motor 1 (horizontally): leg 1
+        // (index 0) is stretched first.
+        let radial = model.mechanism().legs()[0].plate_offset.normalize();
+        let start = Vector3::new(0.0, 0.0, -0.75);
+        let path = Path::line(start, start - radial * 1.0).unwrap();
+        let law = MotionLaw::Cycloidal;
+        let segment = Segment {
+            path,
+            law,
+            duration: 1.0,
+            reverse: false,
+        };
+        let trajectory = Trajectory::new(vec![segment]).unwrap();
+        let dt = 1e-3;
+        let Err(DynamicsError::Unreachable { t, source }) = sample(&model, &trajectory, dt) else {
+            panic!("the line leaves the workspace");
+        };
+        let KinematicsError::Unreachable { leg, .. } = source else {
+            panic!("expected a leg that cannot reach, got {source:?}");
+        };
+        assert_eq!(leg, 0, "{source}");
+        // `t` is the first grid time whose point is out of reach.
+        let k = (t / dt).round();
+        assert!((t - k * dt).abs() < 1e-15 && t > 0.0 && t < 1.0, "t = {t}");
+        let reach = |t: f64| {
+            let m = trajectory.sample(t);
+            model.joint_motion(&m.p, &m.v, &m.a)
+        };
+        assert!(reach(t - dt).is_ok());
+        assert!(matches!(reach(t), Err(DynamicsError::Unreachable { .. })));
+        // The message names both.
+        let message = DynamicsError::Unreachable { t, source }.to_string();
+        assert!(
+            message.contains(&format!("t = {t}")) && message.contains("leg 0"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn failures_of_one_sample_carry_its_time() {
+        let model = nuwar();
+        let reading = crate::trajectory::CycleReading::RoundTrip;
+        let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
+        let mut samples = sample(&model, &trajectory, 1e-3).unwrap();
+        samples[7].1.qd[3] = f64::NAN;
+        let e = hamilton(&model, &samples, 1e-3, Differencing::Backward).unwrap_err();
+        assert!(
+            matches!(e, DynamicsError::NonFinite { what: "torque", t } if (t - 0.007).abs() < 1e-15),
+            "{e:?}"
+        );
+    }
+}

@@ -168,6 +168,33 @@ impl ExtendedModel {
         self.kinetic_energy(q, qd) + self.potential(q)
     }
 
+    /// The acceleration-level inverse kinematics alone: $\ddot q = (\ddot p, \ddot\theta)$ with
+    /// $\ddot\theta = -\Phi_\theta^{-1}(\Phi_x\ddot p + \gamma)$ at given consistent $(q, \dot q)$
+    /// ($\Phi_\theta$ is diagonal). This is what Lagrange's inverse dynamics needs per sample
+    /// beyond the positions and velocities that Hamilton's needs as well.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Singular`] (at `t = NaN`) when a diagonal entry of $\Phi_\theta$ is zero
+    /// (a leg stretched or folded) or the result is not finite.
+    pub fn joint_accelerations(
+        &self,
+        q: &Vector6<f64>,
+        qd: &Vector6<f64>,
+        a: &Vector3<f64>,
+    ) -> Result<Vector6<f64>, DynamicsError> {
+        let phi_q = self.constraint_jacobian(q);
+        let rhs = phi_q.fixed_view::<3, 3>(0, 0) * a + self.gamma(q, qd);
+        let thdd = Vector3::from_fn(|i, _| -rhs[i] / phi_q[(i, 3 + i)]);
+        if thdd.iter().all(|v| v.is_finite()) {
+            Ok(Vector6::new(a.x, a.y, a.z, thdd.x, thdd.y, thdd.z))
+        } else {
+            Err(DynamicsError::Singular {
+                matrix: "Phi_theta",
+                t: f64::NAN,
+            })
+        }
+    }
+
     /// Extended positions, velocities and accelerations of a task motion $(p, \dot p, \ddot p)$:
     /// $\theta = \mathrm{IK}(p)$ (elbow out), $\dot\theta = -\Phi_\theta^{-1}\Phi_x\dot p$,
     /// $\ddot\theta = -\Phi_\theta^{-1}(\Phi_x\ddot p + \gamma)$.
@@ -219,5 +246,32 @@ impl ExtendedInertia<6> for ExtendedModel {
 
     fn potential_gradient(&self, s: &Vector6<f64>) -> Vector6<f64> {
         -self.lagrangian_gradient(s, &Vector6::zeros())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pkm_mechanisms::Placement;
+
+    #[test]
+    fn acceleration_level_ik_agrees_with_joint_motion() {
+        let model = ExtendedModel::new(
+            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            &MassParameters::miller2004(),
+        )
+        .unwrap();
+        let (p, v, a) = (
+            Vector3::new(0.05, -0.1, -0.8),
+            Vector3::new(0.3, -1.2, 2.0),
+            Vector3::new(-40.0, 25.0, 180.0),
+        );
+        let s = model.joint_motion(&p, &v, &a).unwrap();
+        let qdd = model.joint_accelerations(&s.q, &s.qd, &a).unwrap();
+        assert!(
+            (qdd - s.qdd).amax() < 1e-9 * s.qdd.amax(),
+            "{qdd} vs {}",
+            s.qdd
+        );
     }
 }

@@ -61,6 +61,44 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Random clothoids: $|dp/ds| = 1$, signed curvature $\kappa_0 + c s$, and the analytic
+    /// $p'$, $p''$ against central differences of the quadrature-evaluated $p$; composed with a
+    /// motion program, $\dot p$ and $\ddot p$ against central differences in time.
+    #[test]
+    fn clothoid_derivatives_and_curvature(
+        k0 in -10.0..10.0f64,
+        c in -50.0..50.0f64,
+        length in 0.05..1.0f64,
+        t in prop::array::uniform3(-1.0..1.0f64),
+        n in prop::array::uniform3(-1.0..1.0f64),
+        u in 0.01..0.99f64,
+    ) {
+        use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment};
+        let (t, n) = (Vector3::from(t), Vector3::from(n));
+        prop_assume!(t.cross(&n).norm() > 0.1 * t.norm() * n.norm());
+        let path = Path::clothoid(Vector3::new(0.0, 0.0, -0.8), t, n, k0, c, length).unwrap();
+        let h = 1e-5;
+        let [_, d1, d2] = path.eval(u);
+        let [pp, dp, _] = path.eval(u + h);
+        let [pm, dm, _] = path.eval(u - h);
+        // Truncation ~ h² (κL)² / 6 relative, κL ≤ 60: below 1e-7.
+        prop_assert!(((pp - pm) / (2.0 * h) - d1).norm() < 1e-6 * d1.norm());
+        prop_assert!(((dp - dm) / (2.0 * h) - d2).norm() < 1e-6 * d2.norm().max(1.0));
+        prop_assert!((d1.norm() - length).abs() < 1e-13);
+        let kappa = d1.cross(&d2).dot(&t.cross(&n).normalize()) / d1.norm().powi(3);
+        prop_assert!((kappa - (k0 + c * u * length)).abs() < 1e-10 * (1.0 + k0.abs() + c.abs()));
+
+        let traj = Trajectory::new(vec![Segment { path, law: MotionLaw::Polynomial345, duration: 0.4, reverse: true }]).unwrap();
+        let (time, h) = (0.4 * u, 1e-6);
+        let (m, mp, mm) = (traj.sample(time), traj.sample(time + h), traj.sample(time - h));
+        prop_assert!(((mp.p - mm.p) / (2.0 * h) - m.v).norm() < 1e-6 * m.v.norm().max(1.0));
+        prop_assert!(((mp.v - mm.v) / (2.0 * h) - m.a).norm() < 1e-6 * m.a.norm().max(1.0));
+    }
+}
+
 #[test]
 fn canonical_cycle_reproduces_the_spec_reference_numbers() {
     let m = nuwar();

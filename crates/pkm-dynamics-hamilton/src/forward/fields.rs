@@ -1,6 +1,6 @@
 //! The Hamilton and acceleration forms as [`VectorField`]s of dimension 13.
 
-use crate::ExtendedModel;
+use crate::{DynamicsError, ExtendedModel};
 use nalgebra::{SMatrix, SVector, Vector3, Vector6};
 use pkm_traits::{RhsError, VectorField};
 
@@ -41,24 +41,53 @@ pub trait ForwardForm: VectorField<13> {
     }
 }
 
+/// Name of the saddle-point matrix in [`DynamicsError::Singular`].
+pub const SADDLE_MATRIX: &str = "[M Phi_q^T; Phi_q 0]";
+
+impl From<DynamicsError> for RhsError {
+    fn from(e: DynamicsError) -> Self {
+        let t = match e {
+            DynamicsError::Singular { t, .. }
+            | DynamicsError::NonFinite { t, .. }
+            | DynamicsError::Unreachable { t, .. } => t,
+            _ => f64::NAN,
+        };
+        Self {
+            t,
+            reason: e.to_string(),
+        }
+    }
+}
+
 /// Solves $\begin{pmatrix} M & \Phi_q^\top \\ \Phi_q & 0\end{pmatrix} (a, b) = (r_1, r_2)$.
+///
+/// The matrix counts as singular when a pivot of its LU factorisation (partial pivoting) is at
+/// most $9\,\varepsilon \max|A_{ij}|$, i.e. zero to working precision (on the canonical cycle the
+/// smallest pivot is of order 1, set by $|\Phi_q|^2 / m_t$).
 fn saddle(
     m: &ExtendedModel,
     t: f64,
     q: &Vector6<f64>,
     r1: &Vector6<f64>,
     r2: &Vector3<f64>,
-) -> Result<(Vector6<f64>, Vector3<f64>), RhsError> {
+) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
     let phi_q = m.constraint_jacobian(q);
     let mut a = SMatrix::<f64, 9, 9>::zeros();
     a.fixed_view_mut::<6, 6>(0, 0).copy_from(&m.mass_matrix(q));
     a.fixed_view_mut::<6, 3>(0, 6).copy_from(&phi_q.transpose());
     a.fixed_view_mut::<3, 6>(6, 0).copy_from(&phi_q);
-    let rhs = SVector::<f64, 9>::from_iterator(r1.iter().chain(r2.iter()).copied());
-    let x = a.lu().solve(&rhs).ok_or_else(|| RhsError {
+    let singular = DynamicsError::Singular {
+        matrix: SADDLE_MATRIX,
         t,
-        reason: "[M Phi_q^T; Phi_q 0] is singular".to_owned(),
-    })?;
+    };
+    let threshold = 9.0 * f64::EPSILON * a.amax();
+    let lu = a.lu();
+    let min_pivot = lu.u().diagonal().amin();
+    if !(min_pivot > threshold) {
+        return Err(singular);
+    }
+    let rhs = SVector::<f64, 9>::from_iterator(r1.iter().chain(r2.iter()).copied());
+    let x = lu.solve(&rhs).ok_or(singular)?;
     Ok((x.fixed_rows::<6>(0).into(), x.fixed_rows::<3>(6).into()))
 }
 
@@ -89,7 +118,13 @@ pub struct HamiltonForm<'a, F> {
 }
 
 impl<F: Fn(f64) -> Vector3<f64>> HamiltonForm<'_, F> {
-    fn solve(&self, t: f64, z: &State) -> Result<(Vector6<f64>, Vector3<f64>), RhsError> {
+    /// The velocities $\dot q$ and multipliers $\sigma$ at state `z` (eq. 19 with Baumgarte).
+    ///
+    /// # Errors
+    /// [`DynamicsError::Singular`] (matrix [`SADDLE_MATRIX`], time `t`) when the saddle-point
+    /// matrix is singular, e.g. where $\Phi_q$ loses rank. Inside an integration the same failure
+    /// arrives as [`pkm_traits::IntegrationError::Rhs`] with this error's message and time.
+    pub fn solve(&self, t: f64, z: &State) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
         let q = self.positions(z);
         let p: Vector6<f64> = z.fixed_rows::<6>(6).into();
         let (qd, minus_sigma) = saddle(
@@ -144,19 +179,36 @@ pub struct AccelerationForm<'a, F> {
     pub omega: f64,
 }
 
-impl<F: Fn(f64) -> Vector3<f64>> VectorField<13> for AccelerationForm<'_, F> {
-    fn rhs(&self, t: f64, z: &State, dz: &mut State) -> Result<(), RhsError> {
+impl<F: Fn(f64) -> Vector3<f64>> AccelerationForm<'_, F> {
+    /// The accelerations $\ddot q$ and multipliers $\lambda$ at state `z` under the torque
+    /// `tau`.
+    ///
+    /// # Errors
+    /// As [`HamiltonForm::solve`].
+    pub fn solve(
+        &self,
+        t: f64,
+        z: &State,
+        tau: &Vector3<f64>,
+    ) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
         let m = self.model;
         let q = self.positions(z);
         let qd: Vector6<f64> = z.fixed_rows::<6>(6).into();
-        let tau = (self.torque)(t);
-        let r1 = m.lagrangian_gradient(&q, &qd) + joint_force(&tau)
+        let r1 = m.lagrangian_gradient(&q, &qd) + joint_force(tau)
             - m.mass_matrix_rate_times_velocity(&q, &qd);
         let w = self.omega;
         let r2 = -m.gamma(&q, &qd)
             - m.constraint_jacobian(&q) * qd * (2.0 * w)
             - m.constraints(&q) * (w * w);
-        let (qdd, _) = saddle(m, t, &q, &r1, &r2)?;
+        saddle(m, t, &q, &r1, &r2)
+    }
+}
+
+impl<F: Fn(f64) -> Vector3<f64>> VectorField<13> for AccelerationForm<'_, F> {
+    fn rhs(&self, t: f64, z: &State, dz: &mut State) -> Result<(), RhsError> {
+        let qd: Vector6<f64> = z.fixed_rows::<6>(6).into();
+        let tau = (self.torque)(t);
+        let (qdd, _) = self.solve(t, z, &tau)?;
         dz.fixed_rows_mut::<6>(0).copy_from(&qd);
         dz.fixed_rows_mut::<6>(6).copy_from(&qdd);
         dz[12] = tau.dot(&qd.fixed_rows::<3>(3));
@@ -175,5 +227,97 @@ impl<F: Fn(f64) -> Vector3<f64>> ForwardForm for AccelerationForm<'_, F> {
 
     fn velocity(&self, _t: f64, z: &State) -> Result<Vector6<f64>, RhsError> {
         Ok(z.fixed_rows::<6>(6).into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::MassParameters;
+    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_traits::IntegrationError;
+
+    /// The Delta (α = β = 0) with all three forearm vectors $v_i = C_i - B_i$ zero: the plate on
+    /// the vertical axis with every elbow on it, $\cos\theta = (r - R)/L_a$. Then $\Phi_q = 0$ and
+    /// the saddle-point matrix has rank 6.
+    fn collapsed() -> (ExtendedModel, State) {
+        let delta = RotaryDelta::delta(Placement::canonical()).unwrap();
+        let model = ExtendedModel::new(delta, &MassParameters::miller2004()).unwrap();
+        let theta = ((0.03f64 - 0.194) / 0.26).acos();
+        let z = -0.2928 - 0.26 * theta.sin();
+        let q = Vector6::new(0.0, 0.0, z, theta, theta, theta);
+        let v = model
+            .mechanism()
+            .forearm_vector(0, &q.fixed_rows::<3>(0).into(), theta);
+        assert!(v.norm() < 1e-15, "{v}");
+        let z = State::from_iterator(q.iter().copied().chain([0.0; 7]));
+        (model, z)
+    }
+
+    #[test]
+    fn a_singular_saddle_matrix_is_a_typed_error() {
+        let (model, z) = collapsed();
+        let h = HamiltonForm {
+            model: &model,
+            torque: |_| Vector3::zeros(),
+            kappa: 0.0,
+        };
+        assert_eq!(
+            h.solve(0.25, &z).unwrap_err(),
+            DynamicsError::Singular {
+                matrix: SADDLE_MATRIX,
+                t: 0.25
+            }
+        );
+        let a = AccelerationForm {
+            model: &model,
+            torque: |_| Vector3::zeros(),
+            omega: 0.0,
+        };
+        assert!(matches!(
+            a.solve(0.5, &z, &Vector3::zeros()),
+            Err(DynamicsError::Singular { matrix: SADDLE_MATRIX, t }) if (t - 0.5).abs() < 1e-15
+        ));
+        // Through an integrator: the failed evaluation, with time and matrix.
+        let settings = pkm_integrators::AdaptiveSettings::default();
+        let err = pkm_integrators::integrate(
+            &h,
+            &mut pkm_integrators::DormandPrince54::new(settings),
+            (0.0, 0.1),
+            &z,
+            &pkm_integrators::OutputTimes::Uniform(0.01),
+            &pkm_traits::Silent,
+        )
+        .unwrap_err();
+        let IntegrationError::Rhs(RhsError { t, reason }) = err else {
+            panic!("expected a RHS failure, got {err:?}");
+        };
+        assert!(
+            t.abs() < 1e-15 && reason.contains(SADDLE_MATRIX),
+            "{t} {reason}"
+        );
+    }
+
+    #[test]
+    fn the_canonical_start_is_far_from_singular() {
+        let model = ExtendedModel::new(
+            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            &MassParameters::miller2004(),
+        )
+        .unwrap();
+        let s = model
+            .joint_motion(
+                &Vector3::new(0.0, -0.2, -0.9),
+                &Vector3::zeros(),
+                &Vector3::zeros(),
+            )
+            .unwrap();
+        let h = HamiltonForm {
+            model: &model,
+            torque: |_| Vector3::zeros(),
+            kappa: 0.0,
+        };
+        let (qd, _) = h.solve(0.0, &h.initial_state(&s.q, &s.qd)).unwrap();
+        assert!(qd.amax() < 1e-12);
     }
 }

@@ -1,5 +1,6 @@
-//! Task-space trajectories: motion programs ([`MotionLaw`]) composed with path shapes
-//! ([`Path`]), with analytic velocity and acceleration (Miller 2004 §3.5).
+//! Task-space trajectories: motion programs ([`MotionLaw`]: parabolic, cycloidal, 3-4-5)
+//! composed with path shapes ([`Path`]: straight line, ellipse, sheared ellipse, clothoid), with
+//! analytic velocity and acceleration (Miller 2004 §3.5).
 //!
 //! On a segment of duration $T$ with path parameter $u = s(t/T)$:
 //! $\dot p = p'(u)\,s'/T$, $\ddot p = p''(u)\,(s'/T)^2 + p'(u)\,s''/T^2$.
@@ -75,7 +76,8 @@ impl Trajectory {
     /// Chains segments.
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for no segment or a non-positive duration.
+    /// [`DynamicsError::InvalidSetting`] for no segment, a non-positive duration or a path that
+    /// fails [`Path::validate`].
     pub fn new(segments: Vec<Segment>) -> Result<Self, DynamicsError> {
         if segments.is_empty() {
             return Err(DynamicsError::InvalidSetting {
@@ -93,6 +95,9 @@ impl Trajectory {
                 value: s.duration,
                 requirement: "must be finite and > 0",
             });
+        }
+        for s in &segments {
+            s.path.validate()?;
         }
         Ok(Self { segments })
     }
