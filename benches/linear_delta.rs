@@ -1,5 +1,6 @@
 use criterion::Criterion;
 use pkm::papers::miller2004::linear_delta::evaluation::{eta1, eta1_by_grid, eta2};
+use pkm_traits::ObjectiveError;
 use std::hint::black_box;
 
 /// The row-4 optimum of Table 2.
@@ -18,5 +19,21 @@ pub(crate) fn eta_of_one_design(c: &mut Criterion) {
         b.iter(|| eta1_by_grid(black_box(&DESIGN)))
     });
     group.bench_function("eta2", |b| b.iter(|| eta2(black_box(&DESIGN))));
+    // One full design evaluation, η = η1 + η2 (w1 = w2 = 1), by each η1 rule of the search:
+    // the designs-per-second figure of docs/performance.md.
+    for (name, n) in [("eta_quadrature_16", 16), ("eta_quadrature_24", 24)] {
+        group.bench_function(name, |b| {
+            b.iter(|| -> Result<f64, ObjectiveError> {
+                let design = black_box(&DESIGN);
+                Ok(eta1(design, n)? + eta2(design)?)
+            })
+        });
+    }
+    group.bench_function("eta_paper_grid", |b| {
+        b.iter(|| -> Result<f64, ObjectiveError> {
+            let design = black_box(&DESIGN);
+            Ok(eta1_by_grid(design)?.mean + eta2(design)?)
+        })
+    });
     group.finish();
 }

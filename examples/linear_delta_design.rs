@@ -38,9 +38,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let bounds = search_box(STATED_LIMITS)?;
     println!("  w1    w2 | L1/YR YA/YR ZR/YR L2/L1 |   eta1   eta2    eta");
     for (w1, w2) in weights {
-        let optimum = optimise((w1, w2), bounds, Rules::for_mode(mode), &memo, &context)?;
+        let rules = Rules::for_mode(mode);
+        let optimum = optimise((w1, w2), bounds, rules, &memo, &context)?;
         let [l1, ya, zr, l2] = optimum.design;
         let [eta1, eta2, eta] = optimum.indices;
+        // The search skips η1 when w1 = 0; report it at the optimum all the same.
+        let eta1 = if eta1.is_nan() {
+            memo.eta1(&optimum.design, rules.fine)?
+        } else {
+            eta1
+        };
         println!(
             "{w1:5.2} {w2:5.2} | {l1:5.2} {ya:5.2} {zr:5.2} {l2:5.2} | {eta1:6.4} {eta2:6.4} {eta:6.4}"
         );

@@ -7,7 +7,7 @@
 //!
 //! $$ \Phi_i(x, q) = (x - q_i)^2 + (y - A_{iy})^2 + (z - A_{iz})^2 - L_i^2 = 0. $$
 
-use crate::linear_delta_cross_section::CrossSection;
+use crate::linear_delta_cross_section::{CrossSection, outside_half_plane};
 use nalgebra::{Matrix3, Vector3};
 use pkm_traits::{
     ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
@@ -213,7 +213,15 @@ impl ClosedChain<3, 3> for LinearDelta {
 impl InverseKinematics<3, 3> for LinearDelta {
     type WorkingMode = LinearDeltaMode;
 
-    /// $q_i = x - s_i u_i$.
+    /// $q_i = x - s_i u_i$, for $(y, z)$ in the workspace cross-section $W$ only.
+    ///
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] for NaN or infinite input;
+    /// [`KinematicsError::Unreachable`] when $(y, z) \notin W$ ([`CrossSection`]'s membership):
+    /// outside arm `leg`'s disc (negative discriminant), above the plane $z = 0$ that the end
+    /// effector cannot pass (`leg` the outer leg on the side of $y$), or, when $Z_R < 0$, outside
+    /// the wedge below the centre rail (`leg` the outer leg whose arm the rail blocks); the
+    /// `discriminant` of a half-plane is its margin $a y + b - z < 0$.
     fn inverse_kinematics(
         &self,
         x: &Task<3>,
@@ -225,6 +233,12 @@ impl InverseKinematics<3, 3> for LinearDelta {
             }
         }
         let u = self.arm_reaches(x[1], x[2])?;
+        if let Some((leg, margin)) = outside_half_plane(&self.rails, x[1], x[2]) {
+            return Err(KinematicsError::Unreachable {
+                leg,
+                discriminant: margin,
+            });
+        }
         Ok(Joints::from_fn(|leg, _| x[0] - mode.sign(leg) * u[leg]))
     }
 }

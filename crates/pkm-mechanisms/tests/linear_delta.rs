@@ -75,6 +75,66 @@ fn velocity_jacobian_is_minus_jq_inverse_jx() {
 }
 
 #[test]
+fn inverse_kinematics_rejects_poses_outside_the_cross_section() {
+    use pkm_traits::{InverseKinematics, KinematicsError};
+    let mode = LinearDeltaMode::PAPER;
+    let unreachable = |d: &LinearDelta, y: f64, z: f64| {
+        matches!(
+            d.inverse_kinematics(&Vector3::new(0.3, y, z), mode),
+            Err(KinematicsError::Unreachable { discriminant, .. }) if discriminant < 0.0
+        )
+    };
+    // Inside all three discs, but above the plane z = 0 that the end effector cannot pass.
+    let d = delta(2.0, 0.0, 0.0, 0.63);
+    assert!(unreachable(&d, 0.0, 0.1));
+    assert!(unreachable(&d, 0.2, 1e-9));
+    assert!(
+        d.inverse_kinematics(&Vector3::new(0.3, 0.0, 0.0), mode)
+            .is_ok()
+    );
+    assert!(
+        d.inverse_kinematics(&Vector3::new(0.3, 0.0, -0.5), mode)
+            .is_ok()
+    );
+    // ZR < 0: inside the discs and below z = 0, but above the line A1-A3 (the centre rail at
+    // A3 = (0.15, -0.2) blocks the outer arms).
+    let d = delta(1.6, 0.3, -0.4, 0.9);
+    assert!(unreachable(&d, 0.0, -0.1));
+    assert!(
+        d.inverse_kinematics(&Vector3::new(0.3, 0.15, -0.4), mode)
+            .is_ok()
+    );
+}
+
+#[test]
+fn inverse_kinematics_succeeds_exactly_on_the_cross_section() {
+    use pkm_traits::InverseKinematics;
+    let mut inside = 0;
+    for d in [
+        delta(2.0, 0.0, 0.0, 0.63),
+        delta(1.6, 0.3, -0.4, 0.9),
+        delta(1.5, 0.1, 0.3, 1.2),
+        delta(1.48, 0.0, -0.73, 0.01),
+        delta(2.0, -0.4, -0.9, 0.7),
+    ] {
+        let region = d.cross_section();
+        let e = region.extents();
+        let (dy, dz) = (e.y_max - e.y_min, e.z_max - e.z_min);
+        for i in 0..=60 {
+            for k in 0..=60 {
+                // A box 20 % larger than the extents on every side, off the extents' lattice.
+                let y = e.y_min - 0.2 * dy + 1.4 * dy * (i as f64 + 0.37) / 61.0;
+                let z = e.z_min - 0.2 * dz + 1.4 * dz * (k as f64 + 0.61) / 61.0;
+                let ik = d.inverse_kinematics(&Vector3::new(0.0, y, z), LinearDeltaMode::PAPER);
+                assert_eq!(ik.is_ok(), region.contains(y, z), "({y}, {z}) in {d:?}");
+                inside += usize::from(ik.is_ok());
+            }
+        }
+    }
+    assert!(inside > 1000, "vacuous: only {inside} poses inside");
+}
+
+#[test]
 fn bad_designs_are_typed_errors() {
     let ratios = |l1: f64, ya: f64, l2: f64| LinearDeltaRatios {
         l1_over_yr: l1,

@@ -8,6 +8,8 @@ use crate::papers::{Comparison, Context, ExperimentError, Mode, Paper, Source};
 
 /// (L1/YR, YA/YR, ZR/YR) agree on the 0.01 lattice.
 const SAME_NODE: f64 = 0.005;
+/// A "considerable change in geometry": (L1/YR, YA/YR, ZR/YR) moves by more than this.
+const JUMP: f64 = 0.1;
 
 /// Largest change of (L1/YR, YA/YR, ZR/YR) between `a` and `b`.
 fn geometry_change(a: &Optimum, b: &Optimum) -> f64 {
@@ -51,6 +53,8 @@ pub fn w1_sweep(
     let base = at_weights((1.0, 1.0), memo, context)?;
     let mut rows = Vec::new();
     let mut change_up_to_3: f64 = 0.0;
+    // The first sweep interval (previous weight, weight) over which the geometry jumps, wherever
+    // it lies: a jump at w1 <= 3 must fail the "above 3" check, not go unnoticed.
     let mut jump: Option<(f64, f64)> = None;
     let mut previous = 1.0;
     for &w1 in weights {
@@ -59,7 +63,8 @@ pub fn w1_sweep(
         let change = geometry_change(&optimum, &base);
         if w1 <= 3.0 {
             change_up_to_3 = change_up_to_3.max(change);
-        } else if jump.is_none() && change > 0.1 {
+        }
+        if jump.is_none() && change > JUMP {
             jump = Some((previous, w1));
         }
         previous = w1;
@@ -75,13 +80,31 @@ pub fn w1_sweep(
             )
             .with_note("'w1 > 3 necessary before a considerable change in geometry'"),
     );
-    if let Some((below, above)) = jump {
-        let w1_jump = bisect_jump(below, above, &base, memo, context)?;
-        rows.push(
-            source
-                .info("w1_jump", "", w1_jump)
-                .with_note("weight above which (L1/YR, YA/YR, ZR/YR) moves by more than 0.1; the paper says w1 > 3"),
-        );
+    let w1_jump = match jump {
+        Some((below, above)) => Some(bisect_jump(below, above, &base, memo, context)?),
+        None => None,
+    };
+    let above_3 = w1_jump.is_some_and(|w| w > 3.0);
+    rows.push(
+        source
+            .check(
+                "w1_jump_above_3",
+                "",
+                1.0,
+                f64::from(u8::from(above_3)),
+                0.0,
+            )
+            .with_note(match w1_jump {
+                Some(w) => {
+                    format!("1 when the geometry's first jump lies above w1 = 3; it is at w1 = {w}")
+                }
+                None => format!("0: no jump of the geometry found for w1 <= {previous}"),
+            }),
+    );
+    if let Some(w1_jump) = w1_jump {
+        rows.push(source.info("w1_jump", "", w1_jump).with_note(
+            "weight above which (L1/YR, YA/YR, ZR/YR) moves by more than 0.1; the paper says w1 > 3",
+        ));
     }
     Ok(rows)
 }
@@ -97,7 +120,7 @@ fn bisect_jump(
     let resolution = context.mode.pick(f64::INFINITY, 0.01);
     while above - below > resolution {
         let mid = 0.5 * (below + above);
-        if geometry_change(&at_weights((mid, 1.0), memo, context)?, base) > 0.1 {
+        if geometry_change(&at_weights((mid, 1.0), memo, context)?, base) > JUMP {
             above = mid;
         } else {
             below = mid;
