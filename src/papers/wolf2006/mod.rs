@@ -11,7 +11,32 @@ mod s4_3;
 mod s4_4;
 pub mod screw_checks;
 
-use super::{Experiment, Paper};
+use super::{Experiment, ExperimentError, Mode, Paper};
+use pkm_mechanisms::StewartTaskProblem;
+use pkm_optimizers::LocalOptimum;
+
+/// The §4.1 pose problem exactly as `wolf2006.s4_1.*` builds it: platform
+/// $x = (12, 8, 30°, 8°)$, the task twist with pitch `lambda` (1 or 0), $p$ in the paper's box and
+/// $|\alpha| \le 30°$. Free variables: $(p_x, p_y, p_z, u_x, u_y, u_z)$, with $u$ the cube
+/// coordinates of the rotation vector $w = 30° \cdot \mathrm{ball}(u)$. Public for the benches.
+///
+/// # Errors
+/// [`ExperimentError`] when the problem cannot be built (it always can).
+pub fn section_4_1_problem(lambda: f64) -> Result<StewartTaskProblem, ExperimentError> {
+    pose_report::pose_problem(s4_1::DESIGN, pose_report::section_4_1_twist(lambda))
+}
+
+/// The seeded multistart maximisation the §4.1 and §4.3 experiments run (20 starts in quick
+/// mode, 64 in full). Public for the benches.
+///
+/// # Errors
+/// [`ExperimentError`] when every start fails.
+pub fn maximise_pose(
+    problem: &StewartTaskProblem,
+    mode: Mode,
+) -> Result<LocalOptimum, ExperimentError> {
+    pose_report::maximise(problem, mode)
+}
 
 /// The experiments of this paper.
 pub fn experiments() -> Vec<Experiment> {

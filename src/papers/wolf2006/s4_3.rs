@@ -23,16 +23,25 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         pose_problem([12.0, 8.0, 30.0, 8.0], twist)?.free_design(3, Bounds::new(0.0, 30.0)?)?;
     let optimum = maximise(&problem, context.mode)?;
     let (mechanism, pose) = problem.evaluate(&optimum.design)?;
-    let anchor = "wolf-s4-3";
+    let paper_f = 524.7;
+    let tolerance = 0.02 * paper_f;
+    let mut f_row = source
+        .check("F", "cm^2/s^2", paper_f, f_paper_pose, tolerance)
+        .with_note("F at the paper's printed pose and upper angle 21.1 deg");
+    let mut optimum_row = source
+        .check("F_optimum", "cm^2/s^2", paper_f, optimum.value, tolerance)
+        .with_note("F at pkm's multistart optimum");
+    // Evidence: with the upper angle free, the model's maximum over the box (which contains the
+    // paper's pose and angle) stays more than 2 % below 524.7, so the paper's value is out of
+    // the model's reach.
+    if optimum.value < paper_f - tolerance {
+        let anchor = "wolf-s4-3";
+        f_row = f_row.erratum(anchor);
+        optimum_row = optimum_row.erratum(anchor);
+    }
     let mut comparisons = vec![
-        source
-            .check("F", "cm^2/s^2", 524.7, f_paper_pose, 0.02 * 524.7)
-            .with_note("F at the paper's printed pose and upper angle 21.1 deg")
-            .erratum(anchor),
-        source
-            .check("F_optimum", "cm^2/s^2", 524.7, optimum.value, 0.02 * 524.7)
-            .with_note("F at pkm's multistart optimum")
-            .erratum(anchor),
+        f_row,
+        optimum_row,
         source
             .info("x3", "deg", mechanism.design()[3])
             .with_note("upper-platform joint separation at pkm's optimum; paper prints 21.1"),

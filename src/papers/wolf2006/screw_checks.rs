@@ -22,6 +22,10 @@ pub const ID: &str = "wolf2006.s2";
 /// rounding of them.
 const CHI_TOLERANCE: f64 = 1e-3;
 
+/// Absolute tolerance on the identities (eq. 2, eq. 5 = eq. 6, leg rate) on the six legs:
+/// round-off on lengths of about 50 cm is near 1e-13.
+const IDENTITY_TOLERANCE: f64 = 1e-9;
+
 /// The experiment.
 pub fn experiment() -> Experiment {
     Experiment {
@@ -129,9 +133,35 @@ fn leg_rows() -> Result<Vec<Comparison>, ExperimentError> {
     }
     let rows: Vec<Vector6<f64>> = legs.iter().map(|(line, _)| line.to_vector()).collect();
     Ok(vec![
-        source.info("max_abs_klein_form", "cm", klein),
-        source.info("max_abs_eq5_minus_eq6", "cm/s", eq5_eq6),
-        source.info("max_abs_product_minus_leg_rate", "cm/s", leg_rate),
-        source.info("line_set_rank", "", line_set_rank(&rows, 1e-9)? as f64),
+        source
+            .check("max_abs_klein_form", "cm", 0.0, klein, IDENTITY_TOLERANCE)
+            .with_note("eq. 2: K(L) = 0 for every line"),
+        source
+            .check(
+                "max_abs_eq5_minus_eq6",
+                "cm/s",
+                0.0,
+                eq5_eq6,
+                IDENTITY_TOLERANCE,
+            )
+            .with_note("eq. 5 (algebraic) and eq. 6 (geometric) reciprocal products agree"),
+        source
+            .check(
+                "max_abs_product_minus_leg_rate",
+                "cm/s",
+                0.0,
+                leg_rate,
+                IDENTITY_TOLERANCE,
+            )
+            .with_note("L ∧ χ is the leg rate s · (x̄ + x × a)"),
+        source
+            .check(
+                "line_set_rank",
+                "",
+                6.0,
+                line_set_rank(&rows, 1e-9)? as f64,
+                0.0,
+            )
+            .with_note("six legs in general position at the §4.1 pose span all wrenches"),
     ])
 }
