@@ -9,6 +9,7 @@ mod integrators;
 mod linear_delta;
 mod screw;
 mod stamper;
+mod wolf;
 
 criterion_group!(
     benches,
@@ -19,5 +20,6 @@ criterion_group!(
     stamper::gci_kernel,
     dynamics::inverse_dynamics,
     dynamics::forward_cycle,
+    wolf::section_4_1,
 );
 criterion_main!(benches);

@@ -221,7 +221,7 @@ pub fn pose_from_task(x: &Task<6>) -> Result<Isometry3<f64>, KinematicsError> {
 }
 
 /// The left Jacobian of SO(3), $\omega = J_l(w)\,\dot w$ for $R = \exp([w]_\times)$.
-fn so3_left_jacobian(w: &Vector3<f64>) -> Matrix3<f64> {
+pub(crate) fn so3_left_jacobian(w: &Vector3<f64>) -> Matrix3<f64> {
     let theta = w.norm();
     let k = w.cross_matrix();
     let (a, b) = if theta < 1e-6 {

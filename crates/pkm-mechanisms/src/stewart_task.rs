@@ -8,11 +8,18 @@
 //! $w_x = \alpha_{max} u_x \sqrt{1 - u_y^2/2 - u_z^2/2 + u_y^2 u_z^2/3}$ (and cyclically), whose
 //! cube faces map onto the sphere $|w| = \alpha_{max}$.
 
-use crate::stewart_gough::{StewartGough, pose_from_task};
+use crate::stewart_gough::{StewartGough, pose_from_task, so3_left_jacobian};
 use crate::stewart_layout::JointLayout;
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Rotation3, Vector3};
 use pkm_screw_theory::Twist;
-use pkm_traits::{Bounds, DesignError, Objective, ObjectiveError, Residuals, Task};
+use pkm_traits::{
+    Bounds, DesignError, KinematicsError, Objective, ObjectiveError, Residuals, Task,
+};
+use std::borrow::Cow;
+
+/// Finite-difference step of the design columns of [`Residuals::residual_jacobian`], relative to
+/// each interval width: `pkm_optimizers::LmSettings::default().fd_step`.
+const DESIGN_FD_STEP: f64 = 1e-6;
 
 /// One free variable of a [`StewartTaskProblem`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,14 +46,34 @@ enum Slot {
 /// ```
 #[derive(Debug, Clone)]
 pub struct StewartTaskProblem {
-    design: [f64; 4],
-    layout: JointLayout,
+    /// The mechanism of the fixed design, built once; rebuilt per evaluation only when a design
+    /// variable is free.
+    mechanism: StewartGough,
     position: Vector3<f64>,
     rotation: Vector3<f64>,
     max_angle: f64,
     twist: Twist,
     slots: Vec<Slot>,
     bounds: Vec<Bounds>,
+    design_free: bool,
+}
+
+/// The legs at one evaluation (see [`StewartTaskProblem::legs`]).
+#[derive(Default)]
+struct Legs {
+    arm: [Vector3<f64>; 6],
+    a: [Vector3<f64>; 6],
+    s: [Vector3<f64>; 6],
+    /// $1 / \ell_i$.
+    inv_length: [f64; 6],
+}
+
+/// The variables of one evaluation: design, position, cube coordinates $u$ and rotation vector.
+struct Variables {
+    design: [f64; 4],
+    position: Vector3<f64>,
+    cube: Vector3<f64>,
+    rotation: Vector3<f64>,
 }
 
 impl StewartTaskProblem {
@@ -63,20 +90,21 @@ impl StewartTaskProblem {
         w: Vector3<f64>,
         twist: Twist,
     ) -> Result<Self, DesignError> {
-        StewartGough::with_layout(design[0], design[1], design[2], design[3], layout)?;
+        let mechanism =
+            StewartGough::with_layout(design[0], design[1], design[2], design[3], layout)?;
         for v in p.iter().chain(w.iter()) {
             DesignError::require_finite("pose", *v)?;
         }
         DesignError::require_positive("|chi|", twist.as_vector().norm())?;
         Ok(Self {
-            design,
-            layout,
+            mechanism,
             position: p,
             rotation: w,
             max_angle: 0.0,
             twist,
             slots: Vec::new(),
             bounds: Vec::new(),
+            design_free: false,
         })
     }
 
@@ -122,6 +150,7 @@ impl StewartTaskProblem {
                 requirement: "must be < 4 for x, < 3 for p",
             });
         }
+        self.design_free |= matches!(slot, Slot::Design(_));
         self.slots.push(slot);
         self.bounds.push(bounds);
         Ok(self)
@@ -132,8 +161,16 @@ impl StewartTaskProblem {
     /// # Errors
     /// [`ObjectiveError::Dimension`] or [`ObjectiveError::Infeasible`] (invalid design).
     pub fn evaluate(&self, v: &[f64]) -> Result<(StewartGough, Isometry3<f64>), ObjectiveError> {
+        let vars = self.variables(v)?;
+        let mechanism = self.mechanism_at(&vars)?;
+        let pose = pose_of(&vars)?;
+        Ok((mechanism.into_owned(), pose))
+    }
+
+    /// Splits a design vector into its variables (the fixed ones from the problem).
+    fn variables(&self, v: &[f64]) -> Result<Variables, ObjectiveError> {
         self.check_dimension(v)?;
-        let (mut x, mut p, mut u) = (self.design, self.position, Vector3::zeros());
+        let (mut x, mut p, mut u) = (self.mechanism.design(), self.position, Vector3::zeros());
         for (slot, value) in self.slots.iter().zip(v) {
             match *slot {
                 Slot::Design(k) => x[k] = *value,
@@ -146,14 +183,118 @@ impl StewartTaskProblem {
         } else {
             self.rotation
         };
-        let mechanism = StewartGough::with_layout(x[0], x[1], x[2], x[3], self.layout)?;
-        let pose = pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z)).map_err(|e| {
-            ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            }
-        })?;
-        Ok((mechanism, pose))
+        Ok(Variables {
+            design: x,
+            position: p,
+            cube: u,
+            rotation: w,
+        })
     }
+
+    /// The mechanism of `vars`: the one built at construction unless a design variable is free.
+    fn mechanism_at(&self, vars: &Variables) -> Result<Cow<'_, StewartGough>, ObjectiveError> {
+        if self.design_free {
+            let [x1, x2, x3, x4] = vars.design;
+            let layout = self.mechanism.layout();
+            Ok(Cow::Owned(StewartGough::with_layout(
+                x1, x2, x3, x4, layout,
+            )?))
+        } else {
+            Ok(Cow::Borrowed(&self.mechanism))
+        }
+    }
+
+    /// The legs at `vars`: $R = \exp([w]_\times)$, arms $R r_i$, platform joints
+    /// $a_i = p + R r_i$, lengths $\ell_i = |a_i - b_i|$ and unit directions $s_i$; the same
+    /// quantities as [`StewartGough::wrench_rows`] at [`StewartTaskProblem::evaluate`]'s pose
+    /// (to rounding), computed directly from the rotation matrix.
+    fn legs(
+        mechanism: &StewartGough,
+        vars: &Variables,
+        legs: &mut Legs,
+    ) -> Result<(), ObjectiveError> {
+        if let Some(value) = vars
+            .position
+            .iter()
+            .chain(vars.rotation.iter())
+            .copied()
+            .find(|v| !v.is_finite())
+        {
+            return Err(KinematicsError::NonFinite { what: "x", value }.into());
+        }
+        let rotation = Rotation3::new(vars.rotation);
+        let joints = mechanism
+            .base_joints()
+            .iter()
+            .zip(mechanism.platform_joints());
+        for (i, (b, r)) in joints.enumerate() {
+            let arm = rotation * r;
+            let a = vars.position + arm;
+            let d = a - b;
+            let length = d.norm();
+            if !(length.is_finite() && length > 1e-12) {
+                return Err(KinematicsError::Singular {
+                    matrix: "leg direction",
+                    sigma_min: length,
+                }
+                .into());
+            }
+            legs.arm[i] = arm;
+            legs.a[i] = a;
+            let inv_length = 1.0 / length;
+            legs.s[i] = d * inv_length;
+            legs.inv_length[i] = inv_length;
+        }
+        Ok(())
+    }
+
+    /// The leg rates $L_i \wedge \chi = s_i \cdot (\bar x + x \times a_i)$ of `legs`.
+    fn rates(&self, legs: &Legs, r: &mut [f64]) {
+        let (omega, linear) = (self.twist.angular(), self.twist.linear());
+        for (r, (s, a)) in r.iter_mut().zip(legs.s.iter().zip(&legs.a)) {
+            *r = s.dot(&(linear + omega.cross(a)));
+        }
+    }
+
+    /// Central differences of the residuals in variable `j` (a design variable), step
+    /// [`DESIGN_FD_STEP`] of its interval width clamped into the box (one-sided on a bound), as
+    /// the optimiser's own finite differences; written into column `j` of the row-major
+    /// `jacobian`.
+    fn design_column(
+        &self,
+        v: &[f64],
+        j: usize,
+        jacobian: &mut [f64],
+    ) -> Result<(), ObjectiveError> {
+        let n = v.len();
+        let b = &self.bounds[j];
+        let h = DESIGN_FD_STEP * b.width().max(1e-8);
+        let (hi, lo) = (b.clamp(v[j] + h), b.clamp(v[j] - h));
+        let mut q = v.to_vec();
+        let (mut rp, mut rm) = ([0.0; 6], [0.0; 6]);
+        q[j] = hi;
+        self.residuals(&q, &mut rp)?;
+        q[j] = lo;
+        self.residuals(&q, &mut rm)?;
+        for i in 0..6 {
+            jacobian[i * n + j] = if hi > lo {
+                (rp[i] - rm[i]) / (hi - lo)
+            } else {
+                0.0
+            };
+        }
+        Ok(())
+    }
+}
+
+/// The pose ${}^wR_p$ of the variables.
+fn pose_of(vars: &Variables) -> Result<Isometry3<f64>, ObjectiveError> {
+    let (p, w) = (vars.position, vars.rotation);
+    pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z)).map_err(|e| {
+        ObjectiveError::Infeasible {
+            reason: e.to_string(),
+        }
+    })
 }
 
 /// The smooth map of the cube $[-1, 1]^3$ onto the unit ball (faces onto the sphere).
@@ -164,6 +305,23 @@ fn cube_to_ball(u: &Vector3<f64>) -> Vector3<f64> {
         u.y * (1.0 - s.z / 2.0 - s.x / 2.0 + s.z * s.x / 3.0).sqrt(),
         u.z * (1.0 - s.x / 2.0 - s.y / 2.0 + s.x * s.y / 3.0).sqrt(),
     )
+}
+
+/// The Jacobian $\partial\,\mathrm{ball}(u) / \partial u$ of [`cube_to_ball`]: with
+/// $g_x = 1 - u_y^2/2 - u_z^2/2 + u_y^2 u_z^2/3$ (and cyclically),
+/// $\partial w_x/\partial u_x = \sqrt{g_x}$,
+/// $\partial w_x/\partial u_y = u_x u_y (2 u_z^2/3 - 1) / (2\sqrt{g_x})$,
+/// $\partial w_x/\partial u_z = u_x u_z (2 u_y^2/3 - 1) / (2\sqrt{g_x})$; $g \ge 1/3$ on the cube.
+fn cube_to_ball_jacobian(u: &Vector3<f64>) -> Matrix3<f64> {
+    let s = u.map(|c| c * c);
+    let mut jac = Matrix3::zeros();
+    for (i, j, k) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
+        let root = (1.0 - s[j] / 2.0 - s[k] / 2.0 + s[j] * s[k] / 3.0).sqrt();
+        jac[(i, i)] = root;
+        jac[(i, j)] = u[i] * u[j] * (2.0 * s[k] / 3.0 - 1.0) / (2.0 * root);
+        jac[(i, k)] = u[i] * u[k] * (2.0 * s[j] / 3.0 - 1.0) / (2.0 * root);
+    }
+    jac
 }
 
 impl Objective for StewartTaskProblem {
@@ -188,7 +346,9 @@ impl Residuals for StewartTaskProblem {
         6
     }
 
-    /// The leg rates $L_i \wedge \chi$.
+    /// The leg rates $L_i \wedge \chi = s_i \cdot (\bar x + x \times a_i)$ (as
+    /// [`StewartGough::leg_rates`] at [`StewartTaskProblem::evaluate`]'s mechanism and pose, to
+    /// rounding).
     fn residuals(&self, v: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
         if r.len() != 6 {
             return Err(ObjectiveError::Dimension {
@@ -196,14 +356,65 @@ impl Residuals for StewartTaskProblem {
                 got: r.len(),
             });
         }
-        let (mechanism, pose) = self.evaluate(v)?;
-        let rates =
-            mechanism
-                .leg_rates(&pose, &self.twist)
-                .map_err(|e| ObjectiveError::Infeasible {
-                    reason: e.to_string(),
-                })?;
-        r.copy_from_slice(rates.as_slice());
+        let vars = self.variables(v)?;
+        let mechanism = self.mechanism_at(&vars)?;
+        let mut legs = Legs::default();
+        Self::legs(&mechanism, &vars, &mut legs)?;
+        self.rates(&legs, r);
         Ok(())
+    }
+
+    /// The leg rates and their Jacobian, analytic in the position and rotation variables:
+    /// $r_i = s_i \cdot v_i$ with $v_i = \bar x + x \times a_i$ has
+    /// $\nabla_{a} r_i = (v_i - s_i (s_i \cdot v_i)) / \ell_i + s_i \times x$ ($\ell_i$ the leg
+    /// length), $\partial a_i / \partial p = I$,
+    /// $\partial a_i / \partial w = -[R r_i]_\times J_l(w)$ (left Jacobian of SO(3)) and
+    /// $\partial w / \partial u = \alpha_{max} \partial\,\mathrm{ball}(u)/\partial u$. Design
+    /// columns are central differences of the residuals (step $10^{-6}$ of the interval width,
+    /// one-sided on a bound). The residuals are those of [`Residuals::residuals`], bit for bit.
+    fn residual_jacobian(
+        &self,
+        v: &[f64],
+        r: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, ObjectiveError> {
+        let n = self.dimension();
+        for (expected, got) in [(6, r.len()), (6 * n, jacobian.len())] {
+            if expected != got {
+                return Err(ObjectiveError::Dimension { expected, got });
+            }
+        }
+        let vars = self.variables(v)?;
+        let mechanism = self.mechanism_at(&vars)?;
+        let mut legs = Legs::default();
+        Self::legs(&mechanism, &vars, &mut legs)?;
+        self.rates(&legs, r);
+        let (omega, linear) = (self.twist.angular(), self.twist.linear());
+        // ∂a_i/∂u = -[R r_i]× · du, with du = J_l(w) ∂w/∂u.
+        let du = if self.max_angle > 0.0 {
+            so3_left_jacobian(&vars.rotation) * cube_to_ball_jacobian(&vars.cube) * self.max_angle
+        } else {
+            Matrix3::zeros()
+        };
+        for i in 0..6 {
+            let (s, a) = (legs.s[i], legs.a[i]);
+            let rate = linear + omega.cross(&a);
+            let grad_a = (rate - s * s.dot(&rate)) * legs.inv_length[i] + s.cross(&omega);
+            // grad_aᵀ (-[arm]×) = (arm × grad_a)ᵀ.
+            let grad_u = du.tr_mul(&legs.arm[i].cross(&grad_a));
+            for (j, slot) in self.slots.iter().enumerate() {
+                jacobian[i * n + j] = match *slot {
+                    Slot::Position(k) => grad_a[k],
+                    Slot::Rotation(k) => grad_u[k],
+                    Slot::Design(_) => 0.0,
+                };
+            }
+        }
+        for (j, slot) in self.slots.iter().enumerate() {
+            if matches!(slot, Slot::Design(_)) {
+                self.design_column(v, j, jacobian)?;
+            }
+        }
+        Ok(true)
     }
 }

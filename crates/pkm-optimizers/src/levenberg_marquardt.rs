@@ -4,6 +4,8 @@
 //!
 //! Each iteration solves the damped normal equations on the free variables,
 //! $$ (A^\top A + \mu I)\,\delta = \sigma A^\top r, \qquad A = \partial r / \partial p, $$
+//! ($A$ from [`Residuals::residual_jacobian`] when the problem provides it, else central
+//! differences of the residuals with step [`LmSettings::fd_step`]),
 //! with $\sigma = -1$ to minimise and $\sigma = +1$ to maximise (for a maximisation the
 //! Gauss–Newton matrix is a positive preconditioner of the ascent direction $A^\top r$), then
 //! projects $p + \delta$ onto the box. A variable on a bound whose gradient pushes outward is
@@ -59,7 +61,8 @@ pub struct LmSettings {
     /// Stop when the projected gradient's largest entry, scaled by the interval width, is below
     /// this, or when a step changes $f$ by less than this relative amount.
     pub tolerance: f64,
-    /// Finite-difference step, relative to each interval width.
+    /// Finite-difference step, relative to each interval width (for problems without
+    /// [`Residuals::residual_jacobian`]).
     pub fd_step: f64,
 }
 
@@ -80,7 +83,8 @@ pub struct LocalOptimum {
     pub design: Vec<f64>,
     /// $f = \lVert r \rVert^2$ there.
     pub value: f64,
-    /// $\nabla f$ (central differences).
+    /// $\nabla f = 2 A^\top r$, with $A$ from [`Residuals::residual_jacobian`] when the problem
+    /// provides it, else from central differences.
     pub gradient: Vec<f64>,
     /// Which bound each variable sits on.
     pub active: Vec<ActiveBound>,
@@ -271,15 +275,25 @@ fn fd_points(b: &Bounds, x: f64, rel: f64) -> (f64, f64) {
     (b.clamp(x + h), b.clamp(x - h))
 }
 
+/// $r(p)$ and $A = \partial r / \partial p$: the problem's own Jacobian when
+/// [`Residuals::residual_jacobian`] provides one, else central differences (one-sided where a
+/// side leaves the box, see [`fd_points`]).
 fn residuals_and_jacobian<P: Residuals + ?Sized>(
     problem: &P,
     p: &[f64],
     rel: f64,
 ) -> Result<(Vec<f64>, Mat<f64>), OptimizeError> {
-    let m = problem.n_residuals();
+    let (m, n) = (problem.n_residuals(), p.len());
     let mut r = vec![0.0; m];
+    let mut analytic = vec![0.0; m * n];
+    if problem.residual_jacobian(p, &mut r, &mut analytic)? {
+        if let Some(value) = analytic.iter().copied().find(|v| !v.is_finite()) {
+            return Err(ObjectiveError::NonFinite { value }.into());
+        }
+        return Ok((r, Mat::from_fn(m, n, |i, j| analytic[i * n + j])));
+    }
     problem.residuals(p, &mut r)?;
-    let mut a = Mat::<f64>::zeros(m, p.len());
+    let mut a = Mat::<f64>::zeros(m, n);
     let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
     let mut q = p.to_vec();
     for (j, b) in problem.bounds().iter().enumerate() {

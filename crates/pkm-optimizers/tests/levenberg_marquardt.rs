@@ -74,3 +74,90 @@ fn result_is_identical_for_1_and_2_threads() {
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&a.design), bits(&b.design));
 }
+
+/// Rosenbrock's residuals $r = (10 (p_1 - p_0^2),\; 1 - p_0)$ on $[-2, 2]^2$, with the analytic
+/// Jacobian optional; counts residual evaluations.
+struct Rosenbrock {
+    bounds: [Bounds; 2],
+    analytic: bool,
+    evaluations: std::sync::atomic::AtomicUsize,
+}
+
+impl Rosenbrock {
+    fn new(analytic: bool) -> Self {
+        let b = Bounds::new(-2.0, 2.0).unwrap();
+        Self {
+            bounds: [b, b],
+            analytic,
+            evaluations: std::sync::atomic::AtomicUsize::new(0),
+        }
+    }
+}
+
+impl Objective for Rosenbrock {
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+    fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+        let mut r = [0.0; 2];
+        self.residuals(p, &mut r)?;
+        Ok(r.iter().map(|x| x * x).sum())
+    }
+}
+
+impl Residuals for Rosenbrock {
+    fn n_residuals(&self) -> usize {
+        2
+    }
+    fn residuals(&self, p: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
+        self.evaluations
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        r.copy_from_slice(&[10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]]);
+        Ok(())
+    }
+    fn residual_jacobian(
+        &self,
+        p: &[f64],
+        r: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, ObjectiveError> {
+        if !self.analytic {
+            return Ok(false);
+        }
+        self.residuals(p, r)?;
+        jacobian.copy_from_slice(&[-20.0 * p[0], 10.0, -1.0, 0.0]);
+        Ok(true)
+    }
+}
+
+#[test]
+fn analytic_jacobian_reaches_the_same_optimum_as_finite_differences() {
+    let run = |analytic, sense| {
+        let problem = Rosenbrock::new(analytic);
+        let starts = [vec![-1.2, 1.0], vec![1.5, -1.5]];
+        let optimum =
+            multistart_levenberg_marquardt(&problem, sense, &starts, 8, 3, &LmSettings::default())
+                .unwrap();
+        (optimum, problem.evaluations.into_inner())
+    };
+    let ((fd_min, fd_calls), (an_min, an_calls)) =
+        (run(false, Sense::Minimise), run(true, Sense::Minimise));
+    assert!(
+        fd_min.value < 1e-12 && an_min.value < 1e-12,
+        "{fd_min:?} {an_min:?}"
+    );
+    for (a, b) in an_min.design.iter().zip(&fd_min.design) {
+        assert!((a - 1.0).abs() < 1e-6 && (b - 1.0).abs() < 1e-6, "{a} {b}");
+    }
+    assert!(an_min.free_gradient_norm() < 1e-6, "{:?}", an_min.gradient);
+    assert!(an_calls < fd_calls, "{an_calls} vs {fd_calls}");
+    // Maximum on the corner (-2, -2): r = (-60, 3), f = 3609.
+    let ((fd_max, _), (an_max, _)) = (run(false, Sense::Maximise), run(true, Sense::Maximise));
+    assert!((fd_max.value - 3609.0).abs() < 1e-9, "{}", fd_max.value);
+    assert_eq!(an_max.value.to_bits(), fd_max.value.to_bits());
+    assert_eq!(an_max.design, fd_max.design);
+    assert_eq!(an_max.active, fd_max.active);
+}

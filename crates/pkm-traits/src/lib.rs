@@ -12,7 +12,7 @@
 //! | [`progress`] | progress reporting and cooperative cancellation |
 //! | [`error`] | typed errors that carry the offending numbers |
 //!
-//! With the `testkit` feature, [`testkit`] provides the conformance checks that every mechanism
+//! With the `testkit` feature, the `testkit` module provides the conformance checks that every mechanism
 //! passes in its tests.
 //!
 //! # Example

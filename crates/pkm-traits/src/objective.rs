@@ -89,6 +89,27 @@ pub trait Residuals: Objective {
     /// # Errors
     /// As [`Objective::value`].
     fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError>;
+
+    /// Writes $r(p)$ into `r` and, when the problem provides it, the Jacobian
+    /// $A_{ij} = \partial r_i / \partial p_j$ into `jacobian`, row-major
+    /// ([`Residuals::n_residuals`] rows × [`Objective::dimension`] columns, $A_{ij}$ at
+    /// `i * dimension + j`), and returns `Ok(true)`.
+    ///
+    /// The default returns `Ok(false)` ("not provided") and leaves both buffers untouched; the
+    /// optimisers then use finite differences of [`Residuals::residuals`]. An implementation must
+    /// write the same `r` as [`Residuals::residuals`].
+    ///
+    /// # Errors
+    /// As [`Objective::value`]; [`ObjectiveError::Dimension`] for buffers of the wrong length.
+    fn residual_jacobian(
+        &self,
+        design: &[f64],
+        r: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, ObjectiveError> {
+        let _ = (design, r, jacobian);
+        Ok(false)
+    }
 }
 
 /// Inequality constraints $g(p) \le 0$ (in addition to the bounds).
