@@ -4,15 +4,15 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 use crate::error::{ScrewError, require_finite, unit};
 
-/// The skew matrix $[n]_\times$ with $[n]_\times v = n \times v$.
+/// The skew matrix $\[n\]_\times$ with $\[n\]_\times v = n \times v$.
 pub fn skew(n: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -n.z, n.y, n.z, 0.0, -n.x, -n.y, n.x, 0.0)
 }
 
 /// The rotation of `angle` radians about `axis` (normalised here), eq. 9:
-/// $R = \exp(\alpha [n]_\times) = I + \sin\alpha\,[n]_\times + (1 - \cos\alpha)\,[n]_\times^2$
-/// (Rodrigues). The paper prints the last row of $[n]_\times$ as $[n_2, n_1, 0]$; the correct
-/// row is $[-n_2, n_1, 0]$ (erratum, immaterial for the paper's $n = z$ and $n = x$).
+/// $R = \exp(\alpha \[n\]_\times) = I + \sin\alpha\,\[n\]_\times + (1 - \cos\alpha)\,\[n\]_\times^2$
+/// (Rodrigues). The paper prints the last row of $\[n\]_\times$ as $\[n_2, n_1, 0\]$; the correct
+/// row is $\[-n_2, n_1, 0\]$ (erratum, immaterial for the paper's $n = z$ and $n = x$).
 ///
 /// # Errors
 /// [`ScrewError::NonFinite`] for a non-finite input, [`ScrewError::ZeroDirection`] for a zero

@@ -57,7 +57,8 @@ impl Sampler {
 
     /// Point $i$ uniform in the unit upper hemisphere $|p| \le 1$, $z \ge 0$: the direction
     /// has $z = u_0$ (Archimedes: uniform on the half sphere), azimuth $2\pi u_1$, and the
-    /// radius is $u_2^{1/3}$. A [`Sampler::Grid`] maps to a warped (not equal-volume) grid.
+    /// radius is $u_2^{1/3}$. The map preserves volume, so a [`Sampler::Grid`] maps to the centres of a warped
+    /// grid of equal-volume cells.
     pub fn in_unit_hemisphere(&self, i: u64) -> Vector3<f64> {
         let [u0, u1, u2] = self.unit_cube(i);
         let (sin_az, cos_az) = (TAU * u1).sin_cos();

@@ -131,7 +131,7 @@ impl Tsai3Dof {
 
     /// The point $E_i - A_i$ in leg coordinates reached by the open chain with `angles`:
     /// $a(\cos\theta_1, 0, \sin\theta_1) + (d + e) n + b(\sin\theta_3\, n + \cos\theta_3\, v)$,
-    /// $n = (\cos\theta_2, 0, \sin\theta_2)$. Equal to [`Self::leg_coordinates`] when the
+    /// $n = (\cos\theta_2, 0, \sin\theta_2)$. Equal to the leg's target coordinates when the
     /// loop closes.
     pub fn leg_chain_end(&self, angles: &LegAngles) -> Vector3<f64> {
         let l = self.s + self.b * angles.theta3.sin();
