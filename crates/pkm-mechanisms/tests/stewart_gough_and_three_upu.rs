@@ -153,3 +153,97 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// For random semi-regular designs and random poses around a random home height: the
+    /// loop closes at the IK solution, $J_x$ and $J_q$ match central differences, and Newton's
+    /// forward kinematics started 0.01 off recovers the pose (the testkit's conformance checks,
+    /// each on three poses).
+    #[test]
+    fn stewart_gough_conformance_for_random_designs(
+        x1 in 6.0..20.0f64, x2 in 3.0..12.0f64, x3 in 5.0..50.0f64, x4 in 5.0..50.0f64,
+        height in 15.0..50.0f64,
+        offsets in prop::array::uniform3(prop::array::uniform6(-1.0..1.0f64)),
+    ) {
+        let sg = StewartGough::new(x1, x2, x3, x4).unwrap();
+        let poses: Vec<Task<6>> = offsets
+            .iter()
+            .map(|o| Task::<6>::new(
+                2.0 * o[0], 2.0 * o[1], height + 3.0 * o[2], 0.2 * o[3], 0.2 * o[4], 0.3 * o[5],
+            ))
+            .collect();
+        prop_assert!(check_closure(&sg, (), &poses, 1e-10).is_ok());
+        prop_assert!(
+            check_jacobians_against_central_differences(&sg, (), &poses, 1e-5, 1e-5).is_ok()
+        );
+        prop_assert!(check_ik_fk_round_trip(&sg, (), &poses, 1e-2, 1e-8).is_ok());
+    }
+
+    /// 3-UPU (eq. 17–18): the three leg rows are unit lines through the base and platform
+    /// joints, the three couples are pure moments normal to both upper U-joint axes, and
+    /// swapping $u_1$ and $u_2$ of every joint (which only flips each normal) leaves $F$ for
+    /// any twist unchanged (spec §3.6).
+    #[test]
+    fn three_upu_rows_and_swap_invariance(
+        height in 20.0..80.0f64, tilt in prop::array::uniform3(-0.5..0.5f64),
+        chi in prop::array::uniform6(-1.0..1.0f64),
+    ) {
+        let axes = |swap: bool| ThreeUpu::PARK_AZIMUTHS.map(|t| {
+            let park = UJointAxes::park(t.to_radians());
+            let k = tilt[0] * t.to_radians().cos() + tilt[1];
+            let u1 = park.u1 + Vector3::z() * k;
+            let u2 = park.u2 + Vector3::z() * tilt[2];
+            if swap { UJointAxes { u1: u2, u2: u1 } } else { UJointAxes { u1, u2 } }
+        });
+        let pose = Isometry3::translation(0.0, 0.0, height);
+        let twist = Twist::from_vector(nalgebra::Vector6::from(chi));
+        let upu = ThreeUpu::new(20.0, 10.0, axes(false)).unwrap();
+        let swapped = ThreeUpu::new(20.0, 10.0, axes(true)).unwrap();
+        let rows = upu.wrench_rows(&pose).unwrap();
+        for (i, row) in rows.row_iter().enumerate() {
+            let d = Vector3::new(row[0], row[1], row[2]);
+            let m = Vector3::new(row[3], row[4], row[5]);
+            if i < 3 {
+                prop_assert!((d.norm() - 1.0).abs() < 1e-12);
+                prop_assert!(d.dot(&m).abs() < 1e-9 * (1.0 + m.norm()));
+            } else {
+                prop_assert!(d.norm() <= 0.0);
+                let UJointAxes { u1, u2 } = axes(false)[i - 3];
+                prop_assert!(m.dot(&u1).abs() < 1e-12 * u1.norm());
+                prop_assert!(m.dot(&u2).abs() < 1e-12 * u2.norm());
+                prop_assert!((m.norm() - 1.0).abs() < 1e-12);
+            }
+        }
+        let (f, f_swapped) = (
+            upu.task_objective(&pose, &twist).unwrap(),
+            swapped.task_objective(&pose, &twist).unwrap(),
+        );
+        prop_assert!((f - f_swapped).abs() <= 1e-12 * (1.0 + f));
+    }
+}
+
+/// §4.4: with Park's axes and the legs' apex on the horizontal line $A_2$ (printed
+/// `[0.35, 0.94, 0, −93.9, 34.6, 0]`, made an exact line through its point nearest the origin),
+/// $F = 0$ exactly, as for $A_1$ (spec §1.5: both lines pass through the apex).
+#[test]
+fn park_design_is_singular_for_a2_too() {
+    let d = Vector3::new(0.35, 0.94, 0.0);
+    let m = Vector3::new(-93.9, 34.6, 0.0);
+    let point = d.cross(&m) / d.norm_squared();
+    let line = PluckerLine::from_direction_and_point(&d, &point).unwrap();
+    let a2 = Twist::new(line.direction(), line.moment());
+    let (a, b) = (20.0, 10.0);
+    let park = ThreeUpu::new(
+        a,
+        b,
+        ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians())),
+    )
+    .unwrap();
+    let home = Isometry3::translation(0.0, 0.0, point.z * (a - b) / a);
+    assert!(park.task_objective(&home, &a2).unwrap() < 1e-20);
+    // Off the apex height the legs miss A2 and F is positive.
+    let off = Isometry3::translation(0.0, 0.0, 0.9 * point.z * (a - b) / a);
+    assert!(park.task_objective(&off, &a2).unwrap() > 1e-3);
+}
