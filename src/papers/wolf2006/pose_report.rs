@@ -8,6 +8,26 @@ use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marqu
 use pkm_screw_theory::Twist;
 use pkm_traits::Bounds;
 
+/// $F$ at the paper's printed pose and at pkm's optimum, each against the printed `paper_f` with
+/// the 2 % tolerance of spec §6 (F is flat in orientation, so F values are compared, not
+/// argmax angles).
+pub(super) fn objective_rows(
+    source: &Source,
+    paper_f: f64,
+    (at_paper_pose, paper_pose_note): (f64, &str),
+    at_optimum: f64,
+) -> [Comparison; 2] {
+    let tolerance = 0.02 * paper_f;
+    [
+        source
+            .check("F", "cm^2/s^2", paper_f, at_paper_pose, tolerance)
+            .with_note(paper_pose_note),
+        source
+            .check("F_optimum", "cm^2/s^2", paper_f, at_optimum, tolerance)
+            .with_note("F at pkm's multistart optimum"),
+    ]
+}
+
 /// The §4.1 twist $\chi = [s ; s_0 \times s + \lambda s]$ with $s = (2,2,1)/3$, $s_0 = (2,3,6)$
 /// (eq. 3, 12; the printed λ = 1 twist has a typo in its 4th entry, see the conventions).
 pub(super) fn section_4_1_twist(lambda: f64) -> Twist {
