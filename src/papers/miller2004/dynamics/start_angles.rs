@@ -1,7 +1,7 @@
 //! `miller2004.nuwar.start_angles`: NUWAR's joint angles at the start point $(0, -0.2, -0.9)$.
 
 use super::{Robot, model, placement_at};
-use crate::papers::{Context, Experiment, ExperimentError, Outcome, Paper, Source};
+use crate::papers::{Comparison, Context, Experiment, ExperimentError, Outcome, Paper, Source};
 use nalgebra::Vector3;
 use pkm_dynamics_hamilton::ExtendedModel;
 use pkm_mechanisms::{ElbowMode, Placement};
@@ -15,6 +15,8 @@ pub(super) const EXPERIMENT: Experiment = Experiment {
 };
 
 const PAPER_DEG: [f64; 3] = [70.95, 87.13, 51.65];
+/// The printed angles carry two decimals.
+const PRINT_PRECISION_DEG: f64 = 0.01;
 
 fn angles(placement: Placement) -> Result<Vector3<f64>, ExperimentError> {
     let m: ExtendedModel = model(Robot::Nuwar, placement)?;
@@ -55,30 +57,35 @@ fn best_height(azimuth_deg: f64) -> (f64, f64) {
 fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let source = Source::new(EXPERIMENT.id, Paper::Miller2004, "§3.5, start point");
     let canonical = angles(Placement::canonical())?;
-    let mut comparisons: Vec<_> = (0..3)
-        .map(|i| {
-            source
-                .check(
-                    &format!("theta_{}", i + 1),
-                    "deg",
-                    PAPER_DEG[i],
-                    canonical[i],
-                    0.01,
-                )
-                .erratum("miller2004-start-angles")
-                .with_note("canonical convention: z0 = -0.2928 m, motor 1 at 300°")
-        })
-        .collect();
     let fits = (0..12).map(|k| (30.0 * f64::from(k), best_height(30.0 * f64::from(k))));
     let (azimuth, (z0, rms)) = fits
         .min_by(|a, b| a.1.1.total_cmp(&b.1.1))
         .unwrap_or((300.0, (-0.2928, f64::NAN)));
+    // Evidence: no placement of the searched family fits the printed angles to within ten
+    // times their print precision (0.01°).
+    let documented = |row: Comparison| {
+        if rms > 10.0 * PRINT_PRECISION_DEG {
+            row.erratum("miller2004-start-angles")
+        } else {
+            row
+        }
+    };
+    let mut comparisons: Vec<_> = (0..3)
+        .map(|i| {
+            documented(source.check(
+                &format!("theta_{}", i + 1),
+                "deg",
+                PAPER_DEG[i],
+                canonical[i],
+                PRINT_PRECISION_DEG,
+            ))
+            .with_note("canonical convention: z0 = -0.2928 m, motor 1 at 300°")
+        })
+        .collect();
     comparisons.push(source.info("best_fit_azimuth_motor_1", "deg", azimuth));
     comparisons.push(source.info("best_fit_motor_plane_z", "m", z0));
     comparisons.push(
-        source
-            .check("best_fit_rms_error", "deg", 0.0, rms, 0.01)
-            .erratum("miller2004-start-angles")
+        documented(source.check("best_fit_rms_error", "deg", 0.0, rms, PRINT_PRECISION_DEG))
             .with_note("least squares over z0, motor 1 azimuth in 30° steps"),
     );
     Ok(Outcome {
