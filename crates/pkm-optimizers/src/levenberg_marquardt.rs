@@ -298,6 +298,10 @@ fn residuals_and_jacobian<P: Residuals + ?Sized>(
     let mut q = p.to_vec();
     for (j, b) in problem.bounds().iter().enumerate() {
         let (hi, lo) = fd_points(b, p[j], rel);
+        if !(hi > lo) {
+            // A variable fixed by its bounds (lower = upper): its column stays zero.
+            continue;
+        }
         q[j] = hi;
         problem.residuals(&q, &mut rp)?;
         q[j] = lo;

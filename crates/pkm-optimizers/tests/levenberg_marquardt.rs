@@ -161,3 +161,31 @@ fn analytic_jacobian_reaches_the_same_optimum_as_finite_differences() {
     assert_eq!(an_max.design, fd_max.design);
     assert_eq!(an_max.active, fd_max.active);
 }
+
+#[test]
+fn a_variable_fixed_by_equal_bounds_stays_put_and_reports_finite_numbers() {
+    let fixed = Quadratic([
+        Bounds::new(-2.0, 3.0).unwrap(),
+        Bounds::new(0.25, 0.25).unwrap(),
+    ]);
+    let min =
+        multistart_levenberg_marquardt(&fixed, Sense::Minimise, &[], 8, 3, &LmSettings::default())
+            .unwrap();
+    // r = (p0 - 1, 1.5, 0.25 p0): minimum of (p0 - 1)² + p0²/16 at p0 = 16/17.
+    assert!(
+        (min.design[0] - 16.0 / 17.0).abs() < 1e-6,
+        "{:?}",
+        min.design
+    );
+    assert!((min.design[1] - 0.25).abs() < 1e-15);
+    assert!(
+        min.gradient.iter().all(|g| g.is_finite()),
+        "{:?}",
+        min.gradient
+    );
+    assert!(
+        min.reduced_hessian_eigenvalues
+            .iter()
+            .all(|e| e.is_finite())
+    );
+}
