@@ -157,10 +157,14 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
-    /// For random semi-regular designs and random poses around a random home height: the
-    /// loop closes at the IK solution, $J_x$ and $J_q$ match central differences, and Newton's
-    /// forward kinematics started 0.01 off recovers the pose (the testkit's conformance checks,
-    /// each on three poses).
+    /// For random semi-regular designs and random well-conditioned poses around a random home
+    /// height: the loop closes at the IK solution, $J_x$ and $J_q$ match central differences,
+    /// and Newton's forward kinematics started 0.01 off recovers the pose (the testkit's
+    /// conformance checks, each on three poses).
+    ///
+    /// Poses whose leg lines are nearly dependent are skipped: with $x_3 \approx x_4$ the
+    /// same-pattern layout is close to the architecture singularity of §4.2 (every leg in a
+    /// plane through the normal), where forward kinematics is ill-posed.
     #[test]
     fn stewart_gough_conformance_for_random_designs(
         x1 in 6.0..20.0f64, x2 in 3.0..12.0f64, x3 in 5.0..50.0f64, x4 in 5.0..50.0f64,
@@ -174,6 +178,11 @@ proptest! {
                 2.0 * o[0], 2.0 * o[1], height + 3.0 * o[2], 0.2 * o[3], 0.2 * o[4], 0.3 * o[5],
             ))
             .collect();
+        for x in &poses {
+            let rows = sg.wrench_rows(&pose_from_task(x).unwrap()).unwrap();
+            let sigma = rows.singular_values();
+            prop_assume!(sigma.min() > 2e-4 * sigma.max());
+        }
         prop_assert!(check_closure(&sg, (), &poses, 1e-10).is_ok());
         prop_assert!(
             check_jacobians_against_central_differences(&sg, (), &poses, 1e-5, 1e-5).is_ok()
