@@ -29,8 +29,7 @@ fn fd_gradient<P: Residuals>(
     let mut q = [0.0; 6];
     q.copy_from_slice(p);
     for (j, b) in problem.bounds().iter().enumerate() {
-        let h = rel * b.width().max(1e-8);
-        let (hi, lo) = (b.clamp(p[j] + h), b.clamp(p[j] - h));
+        let (hi, lo) = b.difference_points(p[j], rel);
         q[j] = hi;
         problem.residuals(&q, &mut rp)?;
         q[j] = lo;

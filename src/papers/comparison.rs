@@ -131,6 +131,13 @@ impl Comparison {
         self
     }
 
+    /// [`Comparison::erratum`] while `evidence` holds: the paper's error, shown by a quantity
+    /// computed in the same run. Without the evidence the comparison stays as it is, so a value
+    /// that leaves its tolerance fails.
+    pub fn erratum_if(self, evidence: bool, anchor: &str) -> Self {
+        if evidence { self.erratum(anchor) } else { self }
+    }
+
     /// Attaches a note.
     pub fn with_note(mut self, note: impl Into<String>) -> Self {
         let note = note.into();

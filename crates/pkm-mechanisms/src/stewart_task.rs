@@ -267,9 +267,7 @@ impl StewartTaskProblem {
         jacobian: &mut [f64],
     ) -> Result<(), ObjectiveError> {
         let n = v.len();
-        let b = &self.bounds[j];
-        let h = DESIGN_FD_STEP * b.width().max(1e-8);
-        let (hi, lo) = (b.clamp(v[j] + h), b.clamp(v[j] - h));
+        let (hi, lo) = self.bounds[j].difference_points(v[j], DESIGN_FD_STEP);
         let mut q = v.to_vec();
         let (mut rp, mut rm) = ([0.0; 6], [0.0; 6]);
         q[j] = hi;

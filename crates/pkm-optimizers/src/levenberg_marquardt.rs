@@ -269,15 +269,9 @@ fn sum_of_squares<P: Residuals + ?Sized>(problem: &P, p: &[f64]) -> Result<f64, 
     }
 }
 
-/// The finite-difference step for variable `j`, one-sided when a side leaves the box.
-fn fd_points(b: &Bounds, x: f64, rel: f64) -> (f64, f64) {
-    let h = rel * b.width().max(1e-8);
-    (b.clamp(x + h), b.clamp(x - h))
-}
-
 /// $r(p)$ and $A = \partial r / \partial p$: the problem's own Jacobian when
 /// [`Residuals::residual_jacobian`] provides one, else central differences (one-sided where a
-/// side leaves the box, see [`fd_points`]).
+/// side leaves the box, see [`Bounds::difference_points`]).
 fn residuals_and_jacobian<P: Residuals + ?Sized>(
     problem: &P,
     p: &[f64],
@@ -297,7 +291,7 @@ fn residuals_and_jacobian<P: Residuals + ?Sized>(
     let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
     let mut q = p.to_vec();
     for (j, b) in problem.bounds().iter().enumerate() {
-        let (hi, lo) = fd_points(b, p[j], rel);
+        let (hi, lo) = b.difference_points(p[j], rel);
         if !(hi > lo) {
             // A variable fixed by its bounds (lower = upper): its column stays zero.
             continue;
@@ -433,11 +427,12 @@ fn free_hessian<P: Residuals + ?Sized>(
         sum_of_squares(problem, &q)
     };
     let n = free.len();
+    let f0 = f_at(&[])?;
     let mut hess = Mat::<f64>::zeros(n, n);
     for k in 0..n {
         for l in k..n {
             let v = if k == l {
-                (f_at(&[(k, 1.0)])? - 2.0 * f_at(&[])? + f_at(&[(k, -1.0)])?) / (h[k] * h[k])
+                (f_at(&[(k, 1.0)])? - 2.0 * f0 + f_at(&[(k, -1.0)])?) / (h[k] * h[k])
             } else {
                 (f_at(&[(k, 1.0), (l, 1.0)])?
                     - f_at(&[(k, 1.0), (l, -1.0)])?

@@ -45,6 +45,21 @@ impl Bounds {
     pub fn contains(&self, value: f64) -> bool {
         (self.lower..=self.upper).contains(&value)
     }
+
+    /// The two points `(x + h, x − h)` of a central difference at `x`, with
+    /// $h$ = `relative_step` × max(width, 1e-8), each clamped into the interval: one-sided at a
+    /// bound, and equal for a variable fixed by `lower = upper` (whose difference is then 0).
+    ///
+    /// ```
+    /// use pkm_traits::Bounds;
+    /// let b = Bounds::new(0.0, 2.0).unwrap();
+    /// assert_eq!(b.difference_points(1.0, 0.25), (1.5, 0.5));
+    /// assert_eq!(b.difference_points(2.0, 0.25), (2.0, 1.5));
+    /// ```
+    pub fn difference_points(&self, x: f64, relative_step: f64) -> (f64, f64) {
+        let h = relative_step * self.width().max(1e-8);
+        (self.clamp(x + h), self.clamp(x - h))
+    }
 }
 
 /// A scalar objective $f(p)$ to minimise over a box.

@@ -70,11 +70,13 @@ pub(super) fn run_slice(
     })?;
     let (max, x, y) = slice.max().unwrap_or((0.0, f64::NAN, f64::NAN));
     let source = Source::new(id, Paper::Stamper1997, figure);
-    let mut row = source.check("max_inv_cond", "1", paper_max, max, tolerance);
-    if evidence.holds(&paper_design, 0.5, max, paper_max) {
-        row = row.erratum("stamper-slice-maxima");
-    }
-    let row = row.with_note(format!("at (x, y) = ({x:.3}, {y:.3}), {n}x{n} grid"));
+    let row = source
+        .check("max_inv_cond", "1", paper_max, max, tolerance)
+        .erratum_if(
+            evidence.holds(&paper_design, 0.5, max, paper_max),
+            "stamper-slice-maxima",
+        )
+        .with_note(format!("at (x, y) = ({x:.3}, {y:.3}), {n}x{n} grid"));
     let heatmap = Heatmap {
         x_label: "x / R".into(),
         y_label: "y / R".into(),

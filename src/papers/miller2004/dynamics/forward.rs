@@ -99,6 +99,39 @@ fn exact_torque<'a>(
     }
 }
 
+/// One retrace of the commanded cycle by the Hamilton form (Baumgarte [`GAIN`]) under a given
+/// torque: the position errors at the output times and the run's diagnostics.
+struct Retrace {
+    errors: Vec<(f64, Vector3<f64>)>,
+    drift: f64,
+    energy: f64,
+    evaluations: usize,
+}
+
+impl Retrace {
+    fn of(
+        torque: &dyn Fn(f64) -> Vector3<f64>,
+        m: &ExtendedModel,
+        trajectory: &Trajectory,
+        rtol: f64,
+        context: &Context<'_>,
+    ) -> Result<Self, ExperimentError> {
+        let form = HamiltonForm {
+            model: m,
+            torque,
+            kappa: GAIN,
+        };
+        let run = simulate(&form, trajectory, trajectory.duration(), rtol, context)?;
+        let (drift, energy) = diagnostics(&form, &run)?;
+        Ok(Self {
+            errors: position_errors(trajectory, &run),
+            drift,
+            energy,
+            evaluations: run.stats.evaluations,
+        })
+    }
+}
+
 fn max_norm(errors: &[(f64, Vector3<f64>)]) -> f64 {
     errors.iter().map(|(_, e)| e.norm()).fold(0.0, f64::max)
 }
@@ -147,35 +180,18 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         .map(|(h, l)| (h - l).amax())
         .fold(0.0, f64::max);
     let tau = SampledTorques::new(DT, hamilton)?;
-    let retrace = HamiltonForm {
-        model: &m,
-        torque: |t| tau.at(t),
-        kappa: GAIN,
-    };
-    let run = simulate(&retrace, &trajectory, duration, rtol, context)?;
-    let errors = position_errors(&trajectory, &run);
-    let max_error = max_norm(&errors);
-    let (drift, energy) = diagnostics(&retrace, &run)?;
+    let measured = Retrace::of(&|t| tau.at(t), &m, &trajectory, rtol, context)?;
 
     // The same retrace fed with the exact torques, sampled at 1 ms (interpolation error only)
     // and continuous (integration error only): the error budget of the 1 ms row.
     let sampled = SampledTorques::new(DT, lagrange)?;
-    let interpolated = HamiltonForm {
-        model: &m,
-        torque: |t| sampled.at(t),
-        kappa: GAIN,
-    };
-    let run_sampled = simulate(&interpolated, &trajectory, duration, rtol, context)?;
-    let sampled_error = max_norm(&position_errors(&trajectory, &run_sampled));
-    let (drift_sampled, energy_sampled) = diagnostics(&interpolated, &run_sampled)?;
-    let exact = HamiltonForm {
-        model: &m,
-        torque: &torque,
-        kappa: GAIN,
-    };
-    let run_exact = simulate(&exact, &trajectory, duration, rtol, context)?;
-    let exact_error = max_norm(&position_errors(&trajectory, &run_exact));
-    let (drift_exact, energy_exact) = diagnostics(&exact, &run_exact)?;
+    let interpolated = Retrace::of(&|t| sampled.at(t), &m, &trajectory, rtol, context)?;
+    let exact = Retrace::of(&torque, &m, &trajectory, rtol, context)?;
+    let (max_error, sampled_error, exact_error) = (
+        max_norm(&measured.errors),
+        max_norm(&interpolated.errors),
+        max_norm(&exact.errors),
+    );
 
     let setup = format!(
         "Hamilton form, Baumgarte {GAIN} /s, DP54 rtol {rtol:e}, atol {:.0e}",
@@ -216,21 +232,12 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
                 "exact torques sampled at 1 ms, Catmull-Rom cubic, {setup}"
             )),
     ]);
-    for (label, drift, energy, evaluations) in [
-        ("", drift, energy, run.stats.evaluations),
-        (
-            "_exact_torques_sampled_1ms",
-            drift_sampled,
-            energy_sampled,
-            run_sampled.stats.evaluations,
-        ),
-        (
-            "_exact_torques",
-            drift_exact,
-            energy_exact,
-            run_exact.stats.evaluations,
-        ),
+    for (label, run) in [
+        ("", &measured),
+        ("_exact_torques_sampled_1ms", &interpolated),
+        ("_exact_torques", &exact),
     ] {
+        let (drift, energy, evaluations) = (run.drift, run.energy, run.evaluations);
         comparisons.extend([
             source
                 .info(&format!("retrace_max_constraint_drift{label}"), "m", drift)
@@ -310,6 +317,6 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     Ok(Outcome {
         comparisons,
         tables: Vec::new(),
-        figures: vec![fig9(&errors)],
+        figures: vec![fig9(&measured.errors)],
     })
 }

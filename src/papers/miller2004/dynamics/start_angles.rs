@@ -64,11 +64,7 @@ fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     // Evidence: no placement of the searched family fits the printed angles to within ten
     // times their print precision (0.01°).
     let documented = |row: Comparison| {
-        if rms > 10.0 * PRINT_PRECISION_DEG {
-            row.erratum("miller2004-start-angles")
-        } else {
-            row
-        }
+        row.erratum_if(rms > 10.0 * PRINT_PRECISION_DEG, "miller2004-start-angles")
     };
     let mut comparisons: Vec<_> = (0..3)
         .map(|i| {

@@ -65,7 +65,9 @@ fn run_trajectory(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     // the one the text describes), and neither reading of "0.5 s" gives the printed value.
     let closed_form = closed_form_max_acceleration(CYCLE_TIME / 2.0);
     let tolerance = 0.5;
-    let mut row = source
+    let evidence = (canonical - closed_form).abs() <= 1e-3 * closed_form
+        && (each_leg - PAPER_MAX_ACCELERATION).abs() > tolerance;
+    let row = source
         .check(
             "max_acceleration",
             "m/s^2",
@@ -73,12 +75,8 @@ fn run_trajectory(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
             canonical,
             tolerance,
         )
-        .with_note("3-4-5 on the eccentric angle, 0.25 s per leg (round trip 0.5 s)");
-    if (canonical - closed_form).abs() <= 1e-3 * closed_form
-        && (each_leg - PAPER_MAX_ACCELERATION).abs() > tolerance
-    {
-        row = row.erratum("miller2004-max-acceleration");
-    }
+        .with_note("3-4-5 on the eccentric angle, 0.25 s per leg (round trip 0.5 s)")
+        .erratum_if(evidence, "miller2004-max-acceleration");
     Ok(Outcome {
         comparisons: vec![
             row,
@@ -206,12 +204,13 @@ fn robot_outcome(
     // Evidence: the printed maximum lies outside the range that every tabulated placement
     // (motor-plane height, either motor-1 class) gives.
     let (lowest, highest) = placement_range(robot)?;
-    let mut max_row = source
+    let max_row = source
         .check("max_torque", "N m", paper_max, peak(&t.lagrange_exact), 0.5)
-        .with_note("canonical convention, exact accelerations");
-    if !(lowest - 0.5..=highest + 0.5).contains(&paper_max) {
-        max_row = max_row.erratum("miller2004-max-torque");
-    }
+        .with_note("canonical convention, exact accelerations")
+        .erratum_if(
+            !(lowest - 0.5..=highest + 0.5).contains(&paper_max),
+            "miller2004-max-torque",
+        );
     let comparisons = vec![
         max_row,
         source
@@ -271,13 +270,12 @@ fn run_delta(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         let delta = peak(&torques(Robot::Delta, placement)?.lagrange_exact);
         let nuwar = peak(&torques(Robot::Nuwar, placement)?.lagrange_exact);
         let quantity = format!("delta_nuwar_torque_ratio_motor_1_at_{azimuth}_deg");
-        let mut row = source
-            .check(&quantity, "1", paper_ratio, delta / nuwar, 0.02)
-            .with_note(note);
-        if torques_not_reproduced {
-            row = row.erratum("miller2004-max-torque");
-        }
-        outcome.comparisons.push(row);
+        outcome.comparisons.push(
+            source
+                .check(&quantity, "1", paper_ratio, delta / nuwar, 0.02)
+                .with_note(note)
+                .erratum_if(torques_not_reproduced, "miller2004-max-torque"),
+        );
     }
     context.progress.check()?;
     outcome.tables.push(sensitivity_table()?);
