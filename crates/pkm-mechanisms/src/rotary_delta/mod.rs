@@ -14,8 +14,10 @@
 //! $\Phi_i = |C_i - B_i|^2 - L_b^2$.
 
 mod kinematics;
+mod workspace;
 
 pub use kinematics::ElbowMode;
+pub use workspace::FOREARM_CLEARANCE_SPAN;
 
 use nalgebra::{Rotation3, Vector3};
 use pkm_traits::DesignError;
@@ -81,6 +83,8 @@ impl Leg {
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct RotaryDelta {
+    base_radius: f64,
+    plate_offset: f64,
     arm: f64,
     forearm: f64,
     alpha: f64,
@@ -124,6 +128,8 @@ impl RotaryDelta {
             }
         });
         Ok(Self {
+            base_radius,
+            plate_offset: r,
             arm,
             forearm,
             alpha,
@@ -132,12 +138,22 @@ impl RotaryDelta {
         })
     }
 
+    /// The §3.5 prototype's dimensions ($R = 0.194$ m, $r = 0.03$ m, $L_a = 0.26$ m,
+    /// $L_b = 0.48$ m) with motor inclination and turn `(alpha, beta)` (rad): the design family
+    /// of the §2.1 workspace study.
+    ///
+    /// # Errors
+    /// [`DesignError`] for a non-finite angle or placement.
+    pub fn prototype(angles: (f64, f64), placement: Placement) -> Result<Self, DesignError> {
+        Self::new(0.194, 0.03, 0.26, 0.48, angles, placement)
+    }
+
     /// The paper's Delta (§3.5 dimensions, $\alpha = \beta = 0$).
     ///
     /// # Errors
     /// [`DesignError`] for a non-finite placement.
     pub fn delta(placement: Placement) -> Result<Self, DesignError> {
-        Self::new(0.194, 0.03, 0.26, 0.48, (0.0, 0.0), placement)
+        Self::prototype((0.0, 0.0), placement)
     }
 
     /// The paper's NUWAR (§3.5 dimensions, $\alpha = 35.26°$, $\beta = 60°$).
@@ -145,8 +161,30 @@ impl RotaryDelta {
     /// # Errors
     /// [`DesignError`] for a non-finite placement.
     pub fn nuwar(placement: Placement) -> Result<Self, DesignError> {
-        let angles = (35.26f64.to_radians(), 60f64.to_radians());
-        Self::new(0.194, 0.03, 0.26, 0.48, angles, placement)
+        Self::prototype((35.26f64.to_radians(), 60f64.to_radians()), placement)
+    }
+
+    /// Base radius $R$ (radial distance of the motor points from the centreline).
+    pub fn base_radius(&self) -> f64 {
+        self.base_radius
+    }
+
+    /// Radial plate offset $r$ of the joint-pair mid-points.
+    pub fn plate_offset(&self) -> f64 {
+        self.plate_offset
+    }
+
+    /// A vertical cylinder about the centreline that holds every reachable plate position, as
+    /// (radius, half-height about the motor plane): $|C_i - A_i| \le L_a + L_b$ gives
+    /// $\rho \le |R - r| + L_a + L_b$ and $|z - z_0| \le L_a + L_b$, whatever $\alpha, \beta$.
+    pub fn reach_cylinder(&self) -> (f64, f64) {
+        let reach = self.arm + self.forearm;
+        ((self.base_radius - self.plate_offset).abs() + reach, reach)
+    }
+
+    /// Height $z_0$ of the motor plane.
+    pub fn motor_plane_z(&self) -> f64 {
+        self.legs[0].motor.z
     }
 
     /// Arm length $L_a$.
