@@ -10,6 +10,7 @@ mod linear_delta;
 mod screw;
 mod stamper;
 mod wolf;
+mod workspace;
 
 criterion_group!(
     benches,
@@ -21,5 +22,6 @@ criterion_group!(
     dynamics::inverse_dynamics,
     dynamics::forward_cycle,
     wolf::section_4_1,
+    workspace::membership_kernel,
 );
 criterion_main!(benches);

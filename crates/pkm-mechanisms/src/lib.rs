@@ -14,6 +14,7 @@ mod stewart_layout;
 mod stewart_task;
 mod three_upu;
 mod tsai3dof;
+mod workspace_models;
 
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;

@@ -330,3 +330,35 @@ fn joint_limits_only_shrink_the_workspace() {
         assert!(limited > 0);
     }
 }
+
+#[test]
+fn the_tsai_workspace_through_the_traits_matches_the_stamper_kernel() {
+    use pkm_mechanisms::{Elbow, Tsai3Dof};
+    use pkm_workspace_indices::inverse_condition_number_3x3;
+    let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let radius = tsai.reach();
+    let sampler = Sampler::MonteCarlo { seed: 4 };
+    let unit = sampler.unit_hemisphere_points(20_000).unwrap();
+    let stamper = hemisphere_estimate(&unit, radius, &Silent, |p| {
+        tsai.jacobian_eq7(p)
+            .map(|j| inverse_condition_number_3x3(&j))
+    })
+    .unwrap();
+    let domain = Domain::new(Region::Hemisphere {
+        center: Vector3::zeros(),
+        radius,
+    })
+    .unwrap();
+    let points = PointSet::new(domain, sampler, 20_000, 1).unwrap();
+    let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
+    let e = ws.volume_and_eta(&points, &Silent).unwrap();
+    // The same points; membership by the IK instead of eq. 7's own test, and 1/κ of the
+    // velocity Jacobian −J_q⁻¹J_x, which eq. 7 writes in closed form.
+    assert!(
+        (e.n_inside as f64 - stamper.n_inside as f64).abs() <= 0.002 * stamper.n_inside as f64,
+        "{} vs {}",
+        e.n_inside,
+        stamper.n_inside
+    );
+    assert!((e.eta.unwrap() - stamper.gci).abs() <= 0.01 * stamper.gci);
+}

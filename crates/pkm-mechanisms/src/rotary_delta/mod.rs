@@ -176,15 +176,34 @@ impl RotaryDelta {
 
     /// A vertical cylinder about the centreline that holds every reachable plate position, as
     /// (radius, half-height about the motor plane): $|C_i - A_i| \le L_a + L_b$ gives
-    /// $\rho \le |R - r| + L_a + L_b$ and $|z - z_0| \le L_a + L_b$, whatever $\alpha, \beta$.
+    /// $\rho \le \max_i |(c_i - A_i)_{xy}| + L_a + L_b$ (that is $|R - r| + L_a + L_b$ for radial
+    /// plate offsets) and $|z - z_0| \le L_a + L_b$, whatever $\alpha, \beta$.
     pub fn reach_cylinder(&self) -> (f64, f64) {
         let reach = self.arm + self.forearm;
-        ((self.base_radius - self.plate_offset).abs() + reach, reach)
+        let offset = self
+            .legs
+            .iter()
+            .map(|l| (l.plate_offset - l.motor).xy().norm())
+            .fold(0.0, f64::max);
+        (offset + reach, reach)
     }
 
     /// Height $z_0$ of the motor plane.
     pub fn motor_plane_z(&self) -> f64 {
         self.legs[0].motor.z
+    }
+
+    /// The same design with each plate joint-pair mid-point turned with its motor by $\beta$
+    /// about the vertical, $c_i = r(\cos(\varphi_i + \beta), \sin(\varphi_i + \beta), 0)$: the
+    /// plate built to match turned motors (a reading of Miller 2004 §2.1; the default keeps
+    /// $c_i$ radial).
+    #[must_use]
+    pub fn with_turned_plate_offsets(mut self) -> Self {
+        let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), self.beta);
+        for leg in &mut self.legs {
+            leg.plate_offset = turn * leg.plate_offset;
+        }
+        self
     }
 
     /// Arm length $L_a$.

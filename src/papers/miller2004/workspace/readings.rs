@@ -43,6 +43,8 @@ pub(super) struct Reading {
     bound: Bound,
     limits: Limits,
     elbow_out_only: bool,
+    /// Plate joint pairs turned with the motors by β instead of radial.
+    turned_plate: bool,
     /// Grid step (deg) and points per replicate, full mode.
     step_deg: f64,
     per_replicate: u64,
@@ -69,6 +71,7 @@ impl Reading {
             bound,
             limits,
             elbow_out_only: false,
+            turned_plate: false,
             step_deg: 3.0,
             per_replicate: IK_POINTS,
         }
@@ -100,6 +103,17 @@ impl Reading {
                 Bound::Both,
                 Limits::None,
             )),
+            Self {
+                turned_plate: true,
+                step_deg: 2.0,
+                per_replicate: MAIN_POINTS,
+                ..Self::new(
+                    "below_turned_plate",
+                    "below, every leg reachable, plate joint pairs turned with the motors by β",
+                    Bound::Below,
+                    Limits::Below,
+                )
+            },
             Self {
                 elbow_out_only: true,
                 ..Self::new(
@@ -197,10 +211,14 @@ impl Reading {
         }
     }
 
-    /// One 120° sector of the region the points fill (the robot is 3-fold symmetric).
-    fn domain(&self, reference: &RotaryDelta) -> Result<Domain, ExperimentError> {
-        let (radius, half_height) = reference.reach_cylinder();
-        let z0 = reference.motor_plane_z();
+    /// One 120° sector of the region the points fill (the robot is 3-fold symmetric): a
+    /// cylinder that holds the reachable positions of every design.
+    fn domain(&self, designs: &[RotaryDelta]) -> Result<Domain, ExperimentError> {
+        let (radius, half_height) = designs
+            .iter()
+            .map(RotaryDelta::reach_cylinder)
+            .fold((0.0f64, 0.0f64), |a, b| (a.0.max(b.0), a.1.max(b.1)));
+        let z0 = designs.first().map_or(0.0, RotaryDelta::motor_plane_z);
         let region = match self.bound {
             Bound::Below => cylinder(radius, z0 - half_height, z0),
             Bound::Both => cylinder(radius, z0 - half_height, z0 + half_height),
@@ -218,6 +236,14 @@ impl Reading {
     /// arg-max that the verdicts use carry small standard errors.
     pub(super) fn sweep(&self, ctx: &Context<'_>) -> Result<SweepResult, ExperimentError> {
         let axis = grid_axis(self.step_deg);
+        let design = |a: f64, b: f64| -> Result<RotaryDelta, ExperimentError> {
+            let d = design(a, b)?;
+            Ok(if self.turned_plate {
+                d.with_turned_plate_offsets()
+            } else {
+                d
+            })
+        };
         let mut designs = Vec::with_capacity(axis.len() * axis.len() + 2);
         for a in &axis {
             for b in &axis {
@@ -256,7 +282,7 @@ impl Reading {
             .map(|d| Workspace::new(d, self.modes(), &constraints))
             .collect::<Result<Vec<_>, _>>()?;
         let points = PointSet::new(
-            self.domain(&designs[0])?,
+            self.domain(designs)?,
             Sampler::Sobol { seed },
             per_replicate,
             REPLICATES,
