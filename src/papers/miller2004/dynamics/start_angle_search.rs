@@ -589,7 +589,6 @@ fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>)
     let heights = scan_heights();
     let table = ScanTable::new(&legs, &heights, printed);
     let mut sums = vec![0.0; heights.len()];
-    let refine_below = refine_below();
     let elbow_of = |bits: usize, leg: usize| {
         if bits >> leg & 1 == 0 {
             (0, ElbowMode::Out)
@@ -606,12 +605,6 @@ fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>)
                 for (r, reading) in Reading::ALL.into_iter().enumerate() {
                     let rows: [&[f64]; 3] =
                         std::array::from_fn(|i| table.row(r, i, elbows[i].0, steps[i]));
-                    let scan = rows[0]
-                        .iter()
-                        .zip(rows[1])
-                        .zip(rows[2])
-                        .map(|((a, b), c)| a + b + c);
-                    let least = scan.clone().fold(f64::INFINITY, f64::min);
                     let convention = Convention {
                         geometry,
                         numbering,
@@ -619,23 +612,42 @@ fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>)
                         elbows: elbows.map(|e| e.1),
                         reading,
                     };
-                    let (h, sum) = if least <= refine_below {
-                        for (s, value) in sums.iter_mut().zip(scan) {
-                            *s = value;
-                        }
-                        let three = steps.map(|step| legs[step]);
-                        let objective = |h| sum_of_squares(&three, &convention, printed, h);
-                        minimise_over_scan(&heights, &sums, objective, refine_below)
-                    } else {
-                        let k = scan.clone().position(|s| s <= least).unwrap_or(0);
-                        (heights[k], least)
-                    };
+                    let three = steps.map(|step| legs[step]);
+                    let objective = |h| sum_of_squares(&three, &convention, printed, h);
+                    let (h, sum) = least_over_scan(rows, &heights, &mut sums, objective);
                     fits.push(fit(convention, h, sum, p_task, printed));
                 }
             }
         }
     }
     fits
+}
+
+/// The least sum of squares of one convention whose scan is the sum of the three `rows`:
+/// refined near the scan's minima when it is below [`REFINE_BELOW_RMS_DEG`], the scan's least
+/// value otherwise. `sums` is a work buffer of the scan's length.
+fn least_over_scan(
+    rows: [&[f64]; 3],
+    heights: &[f64],
+    sums: &mut [f64],
+    objective: impl Fn(f64) -> f64,
+) -> (f64, f64) {
+    let scan = rows[0]
+        .iter()
+        .zip(rows[1])
+        .zip(rows[2])
+        .map(|((a, b), c)| a + b + c);
+    let least = scan.clone().fold(f64::INFINITY, f64::min);
+    let refine_below = refine_below();
+    if least <= refine_below {
+        for (s, value) in sums.iter_mut().zip(scan) {
+            *s = value;
+        }
+        minimise_over_scan(heights, sums, objective, refine_below)
+    } else {
+        let k = scan.clone().position(|s| s <= least).unwrap_or(0);
+        (heights[k], least)
+    }
 }
 
 /// The fit record of `convention` at height `h` above the task point `p` with sum of squared
@@ -896,6 +908,29 @@ mod tests {
         );
         for dz in [1e-5, -1e-5, 1e-2, -1e-2, 0.1, -0.1] {
             assert!(rms_at(fit.motor_plane_z + dz) > fit.rms_deg, "{dz}");
+        }
+    }
+
+    #[test]
+    fn search_is_identical_for_any_number_of_threads() {
+        let printed = [70.95, 87.13, 51.65];
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| search(printed, &start()))
+        };
+        let (one, three) = (run(1), run(3));
+        assert_eq!(one.fits.len(), three.fits.len());
+        for (a, b) in one.fits.iter().zip(&three.fits) {
+            assert_eq!(a.convention, b.convention);
+            assert_eq!(a.rms_deg.to_bits(), b.rms_deg.to_bits(), "{a:?}");
+            assert_eq!(
+                a.motor_plane_z.to_bits(),
+                b.motor_plane_z.to_bits(),
+                "{a:?}"
+            );
         }
     }
 

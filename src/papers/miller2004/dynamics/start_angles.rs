@@ -106,8 +106,8 @@ fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let found = search(PAPER_DEG, &start());
     let best_rms = found.best().map_or(f64::NAN, |b| b.rms_deg);
     // Evidence: no convention of the search fits the printed angles, with z0 free, to within
-    // ten times their print precision. A NaN (nothing reachable) is no evidence.
-    let evidence = best_rms > EVIDENCE_MULTIPLE * PRINT_PRECISION_DEG;
+    // ten times their print precision. No reachable convention at all is no evidence.
+    let evidence = best_rms.is_finite() && best_rms > EVIDENCE_MULTIPLE * PRINT_PRECISION_DEG;
     let mut comparisons: Vec<_> = (0..3)
         .map(|i| {
             source
