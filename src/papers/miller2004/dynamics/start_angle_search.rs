@@ -244,6 +244,46 @@ impl Reading {
     }
 }
 
+/// What the fit adjusts besides the discrete convention.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Unknowns {
+    /// The motor-plane height $z_0$ only.
+    Height,
+    /// $z_0$ and a common zero $\delta$ of the three angles (one of the spec's two-unknown
+    /// fits): the residuals are the errors less their mean.
+    HeightAndZero,
+}
+
+impl Unknowns {
+    /// The readings that differ: with a free zero, $\theta - 90°$ is $\theta$ and $90° - \theta$
+    /// is $-\theta$.
+    fn readings(self) -> &'static [Reading] {
+        match self {
+            Self::Height => &Reading::ALL,
+            Self::HeightAndZero => &Reading::ALL[..2],
+        }
+    }
+
+    /// The residuals left by the fit of the free zero to the angle errors `e` (rad, each in
+    /// $[-\pi, \pi]$); NaN when an error is.
+    fn residuals(self, e: [f64; 3]) -> [f64; 3] {
+        match self {
+            Self::Height => e,
+            Self::HeightAndZero => {
+                // Errors relative to the first, by the shorter way round, less their mean.
+                let d = [0.0, wrapped_once(e[1] - e[0]), wrapped_once(e[2] - e[0])];
+                let mean = (d[1] + d[2]) / 3.0;
+                d.map(|x| x - mean)
+            }
+        }
+    }
+
+    /// Sum of the squared residuals (rad²).
+    fn residual(self, e: [f64; 3]) -> f64 {
+        self.residuals(e).iter().map(|r| r * r).sum()
+    }
+}
+
 /// The choices shared by the three legs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct Geometry {
@@ -427,6 +467,17 @@ fn branch(psi: f64, gamma: f64, elbow: ElbowMode) -> f64 {
     }
 }
 
+/// A difference of two angles of $[-\pi, \pi]$ brought into $[-\pi, \pi]$.
+fn wrapped_once(x: f64) -> f64 {
+    if x > PI {
+        x - TAU
+    } else if x < -PI {
+        x + TAU
+    } else {
+        x
+    }
+}
+
 /// An angle difference brought into $[-\pi, \pi]$ (by whole turns: the differences here lie
 /// within a few turns, so this is cheaper than a division and a rounding).
 fn wrapped(mut x: f64) -> f64 {
@@ -480,14 +531,16 @@ impl Search {
     }
 }
 
-/// Fits $z_0$ for every convention to the angles `printed_deg` at task point `p`.
+/// Fits the `unknowns` for every convention to the angles `printed_deg` at task point `p`
+/// (with a free zero, only the readings that differ: [`Unknowns::readings`]).
 ///
 /// Parallel over the 144 geometries, each handled serially and collected in order, so the
 /// result does not depend on the number of threads.
-pub(super) fn search(printed_deg: [f64; 3], p: &Vector3<f64>) -> Search {
+pub(super) fn search(printed_deg: [f64; 3], p: &Vector3<f64>, unknowns: Unknowns) -> Search {
+    let printed = printed_deg.map(f64::to_radians);
     let fits = Geometry::all()
         .into_par_iter()
-        .map(|geometry| search_geometry(geometry, printed_deg.map(f64::to_radians), p))
+        .map(|geometry| search_geometry(geometry, printed, p, unknowns))
         .collect::<Vec<_>>()
         .into_iter()
         .flatten()
@@ -501,11 +554,12 @@ fn scan_heights() -> Vec<f64> {
     (0..=n).map(|k| SCAN_STEP * k as f64).collect()
 }
 
-/// Squared errors of one leg's reading over the scan, for every reading, printed angle,
-/// elbow and azimuth step: `table[index(reading, angle, elbow, step)][k]`.
+/// Errors (rad, in $[-\pi, \pi]$; NaN when unreachable) of one leg's reading over the scan,
+/// for every reading, printed angle, elbow and azimuth step:
+/// `table[index(reading, angle, elbow, step)][k]`.
 struct ScanTable {
     len: usize,
-    squares: Vec<f64>,
+    errors: Vec<f64>,
 }
 
 impl ScanTable {
@@ -515,7 +569,7 @@ impl ScanTable {
 
     fn new(legs: &[LegGeometry; AZIMUTH_STEPS], heights: &[f64], printed: [f64; 3]) -> Self {
         let len = heights.len();
-        let mut squares = vec![f64::INFINITY; Reading::ALL.len() * 3 * 2 * AZIMUTH_STEPS * len];
+        let mut errors = vec![f64::NAN; Reading::ALL.len() * 3 * 2 * AZIMUTH_STEPS * len];
         for (step, leg) in legs.iter().enumerate() {
             for (k, &h) in heights.iter().enumerate() {
                 let Some((psi, gamma)) = leg.arm_angles(h) else {
@@ -526,39 +580,38 @@ impl ScanTable {
                     for (r, reading) in Reading::ALL.into_iter().enumerate() {
                         let read = reading.apply(theta);
                         for (a, &target) in printed.iter().enumerate() {
-                            let err = wrapped(read - target);
-                            squares[Self::index(r, a, e, step) * len + k] = err * err;
+                            errors[Self::index(r, a, e, step) * len + k] = wrapped(read - target);
                         }
                     }
                 }
             }
         }
-        Self { len, squares }
+        Self { len, errors }
     }
 
     fn row(&self, reading: usize, angle: usize, elbow: usize, step: usize) -> &[f64] {
         let start = Self::index(reading, angle, elbow, step) * self.len;
-        &self.squares[start..start + self.len]
+        &self.errors[start..start + self.len]
     }
 }
 
-/// Sum of the squared angle errors (rad²) of `convention`, whose legs are `legs`, at height `h`
+/// Sum of the squared residuals (rad²) of `convention`, whose legs are `legs`, at height `h`
 /// of the motor plane above the plate; infinite when a leg cannot reach.
-fn sum_of_squares(
+fn residual_at(
     legs: &[LegGeometry; 3],
     convention: &Convention,
     printed: [f64; 3],
     h: f64,
+    unknowns: Unknowns,
 ) -> f64 {
-    let mut sum = 0.0;
+    let mut errors = [0.0; 3];
     for (i, leg) in legs.iter().enumerate() {
         let Some(theta) = leg.theta(h, convention.elbows[i]) else {
             return f64::INFINITY;
         };
-        let err = wrapped(convention.reading.apply(theta) - printed[i]);
-        sum += err * err;
+        errors[i] = wrapped(convention.reading.apply(theta) - printed[i]);
     }
-    sum
+    unknowns.residual(errors)
 }
 
 /// The least-squares fit of $z_0$ for one `convention`, every scan minimum refined.
@@ -569,11 +622,11 @@ pub(super) fn fit_convention(
 ) -> Fit {
     let printed = printed_deg.map(f64::to_radians);
     let legs = convention.legs(p);
-    let objective = |h| sum_of_squares(&legs, convention, printed, h);
+    let objective = |h| residual_at(&legs, convention, printed, h, Unknowns::Height);
     let heights = scan_heights();
     let sums: Vec<f64> = heights.iter().map(|&h| objective(h)).collect();
     let (h, sum) = minimise_over_scan(&heights, &sums, objective, f64::INFINITY);
-    fit(*convention, h, sum, p, printed)
+    fit(*convention, h, sum, p, printed, Unknowns::Height)
 }
 
 /// [`REFINE_BELOW_RMS_DEG`] as a sum of three squared errors (rad²).
@@ -581,8 +634,13 @@ fn refine_below() -> f64 {
     3.0 * REFINE_BELOW_RMS_DEG.to_radians().powi(2)
 }
 
-/// The 768 conventions of one geometry.
-fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>) -> Vec<Fit> {
+/// The 768 conventions of one geometry (384 with a free zero).
+fn search_geometry(
+    geometry: Geometry,
+    printed: [f64; 3],
+    p_task: &Vector3<f64>,
+    unknowns: Unknowns,
+) -> Vec<Fit> {
     let p = geometry.vertical.to_robot(p_task);
     let legs: [LegGeometry; AZIMUTH_STEPS] =
         std::array::from_fn(|step| LegGeometry::new(&geometry, step, &p));
@@ -602,7 +660,7 @@ fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>)
             let steps: [usize; 3] = std::array::from_fn(|i| numbering.step(motor_1_step, i));
             for bits in 0..8 {
                 let elbows = std::array::from_fn(|i| elbow_of(bits, i));
-                for (r, reading) in Reading::ALL.into_iter().enumerate() {
+                for (r, &reading) in unknowns.readings().iter().enumerate() {
                     let rows: [&[f64]; 3] =
                         std::array::from_fn(|i| table.row(r, i, elbows[i].0, steps[i]));
                     let convention = Convention {
@@ -613,9 +671,9 @@ fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>)
                         reading,
                     };
                     let three = steps.map(|step| legs[step]);
-                    let objective = |h| sum_of_squares(&three, &convention, printed, h);
-                    let (h, sum) = least_over_scan(rows, &heights, &mut sums, objective);
-                    fits.push(fit(convention, h, sum, p_task, printed));
+                    let objective = |h| residual_at(&three, &convention, printed, h, unknowns);
+                    let (h, sum) = least_over_scan(rows, &heights, &mut sums, objective, unknowns);
+                    fits.push(fit(convention, h, sum, p_task, printed, unknowns));
                 }
             }
         }
@@ -623,20 +681,24 @@ fn search_geometry(geometry: Geometry, printed: [f64; 3], p_task: &Vector3<f64>)
     fits
 }
 
-/// The least sum of squares of one convention whose scan is the sum of the three `rows`:
-/// refined near the scan's minima when it is below [`REFINE_BELOW_RMS_DEG`], the scan's least
+/// The least sum of squared residuals of one convention whose scan combines the three legs'
+/// error `rows`: refined near the scan's minima when it is below [`REFINE_BELOW_RMS_DEG`], the scan's least
 /// value otherwise. `sums` is a work buffer of the scan's length.
 fn least_over_scan(
     rows: [&[f64]; 3],
     heights: &[f64],
     sums: &mut [f64],
     objective: impl Fn(f64) -> f64,
+    unknowns: Unknowns,
 ) -> (f64, f64) {
     let scan = rows[0]
         .iter()
         .zip(rows[1])
         .zip(rows[2])
-        .map(|((a, b), c)| a + b + c);
+        .map(|((&a, &b), &c)| {
+            let sum = unknowns.residual([a, b, c]);
+            if sum.is_nan() { f64::INFINITY } else { sum }
+        });
     let least = scan.clone().fold(f64::INFINITY, f64::min);
     let refine_below = refine_below();
     if least <= refine_below {
@@ -651,16 +713,25 @@ fn least_over_scan(
 }
 
 /// The fit record of `convention` at height `h` above the task point `p` with sum of squared
-/// errors `sum` (rad²).
-fn fit(convention: Convention, h: f64, sum: f64, p: &Vector3<f64>, printed: [f64; 3]) -> Fit {
+/// residuals `sum` (rad²).
+fn fit(
+    convention: Convention,
+    h: f64,
+    sum: f64,
+    p: &Vector3<f64>,
+    printed: [f64; 3],
+    unknowns: Unknowns,
+) -> Fit {
     let vertical = convention.geometry.vertical;
     let motor_plane_z = vertical.height(vertical.to_robot(p).z + h);
     let max_deg = convention
         .printed_angles(p, motor_plane_z)
         .map_or(f64::INFINITY, |read| {
-            (0..3)
-                .map(|i| wrapped(read[i].to_radians() - printed[i]).abs())
-                .fold(0.0, f64::max)
+            let errors = std::array::from_fn(|i| wrapped(read[i].to_radians() - printed[i]));
+            unknowns
+                .residuals(errors)
+                .iter()
+                .fold(0.0, |m, r| f64::max(m, r.abs()))
                 .to_degrees()
         });
     Fit {
@@ -919,7 +990,7 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            pool.install(|| search(printed, &start()))
+            pool.install(|| search(printed, &start(), Unknowns::Height))
         };
         let (one, three) = (run(1), run(3));
         assert_eq!(one.fits.len(), three.fits.len());
@@ -954,7 +1025,11 @@ mod tests {
             .into_iter()
             .find_map(|z0| Some((z0, planted.printed_angles(&start(), z0)?)))
             .unwrap();
-        let found = search([angles[0], angles[1], angles[2]], &start());
+        let found = search(
+            [angles[0], angles[1], angles[2]],
+            &start(),
+            Unknowns::Height,
+        );
         assert_eq!(found.fits.len(), 110_592);
         let best = found.best().unwrap();
         assert!(best.rms_deg < 1e-9, "{best:?}");
@@ -975,5 +1050,17 @@ mod tests {
             .map(|f| f.convention.to_string())
             .collect();
         assert_eq!(exact.len(), 4, "{exact:#?}");
+
+        // With a free zero the same convention is found under an offset of all three angles.
+        let shifted = angles.map(|a| a + 7.3);
+        let found = search(
+            [shifted[0], shifted[1], shifted[2]],
+            &start(),
+            Unknowns::HeightAndZero,
+        );
+        assert_eq!(found.fits.len(), 110_592 / 2);
+        let own = found.fits.iter().find(|f| f.convention == planted).unwrap();
+        assert!(own.rms_deg < 1e-9 && own.max_deg < 1e-9, "{own:?}");
+        assert!(found.best().unwrap().rms_deg < 1e-9);
     }
 }

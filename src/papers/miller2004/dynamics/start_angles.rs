@@ -5,7 +5,7 @@
 //! search, computed in the run ([`start_angle_search`](super::start_angle_search)): the best
 //! least-squares fit of $z_0$ over every discrete convention of the leg model.
 
-use super::start_angle_search::{AlphaValue, Convention, Search, fit_convention, search};
+use super::start_angle_search::{AlphaValue, Convention, Search, Unknowns, fit_convention, search};
 use super::{Robot, model};
 use crate::papers::{Comparison, Context, Experiment, ExperimentError, Outcome, Paper, Source};
 use nalgebra::Vector3;
@@ -100,10 +100,52 @@ fn search_rows(source: &Source, found: &Search, evidence: bool) -> Vec<Compariso
     rows
 }
 
+/// Thresholds (deg, rms) at which the fits with a free zero are counted.
+const FREE_ZERO_THRESHOLDS_DEG: [f64; 5] = [0.003, 0.01, 0.03, 0.05, 0.1];
+
+/// The spec's two-unknown statistic: with $z_0$ and a common zero of the angles free, how many
+/// conventions fit within each threshold (a count that grows linearly with the threshold is
+/// what chance gives with one residual degree of freedom).
+fn free_zero_rows(source: &Source, found: &Search) -> Vec<Comparison> {
+    let note = "z0 and a common zero of the three angles fitted";
+    let mut rows = vec![
+        source
+            .info("free_zero_search_conventions", "", found.fits.len() as f64)
+            .with_note(note),
+    ];
+    if let Some(best) = found.best() {
+        // The fitted zero: the mean error of the convention's angles at the fitted height.
+        let zero = best
+            .convention
+            .printed_angles(&start(), best.motor_plane_z)
+            .map_or(f64::NAN, |read| (read - Vector3::from(PAPER_DEG)).mean());
+        rows.push(
+            source
+                .info("free_zero_best_fit_rms_error", "deg", best.rms_deg)
+                .with_note(format!(
+                    "{note}; best: {}, z0 = {:.5} m, zero {:.3} deg",
+                    best.convention, best.motor_plane_z, zero
+                )),
+        );
+    }
+    for threshold in FREE_ZERO_THRESHOLDS_DEG {
+        rows.push(
+            source
+                .info(
+                    &format!("free_zero_conventions_rms_within_{threshold}_deg"),
+                    "",
+                    found.count_within(threshold) as f64,
+                )
+                .with_note(note),
+        );
+    }
+    rows
+}
+
 fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let source = Source::new(EXPERIMENT.id, Paper::Miller2004, "§3.5, start point");
     let canonical = canonical_angles()?;
-    let found = search(PAPER_DEG, &start());
+    let found = search(PAPER_DEG, &start(), Unknowns::Height);
     let best_rms = found.best().map_or(f64::NAN, |b| b.rms_deg);
     // Evidence: no convention of the search fits the printed angles, with z0 free, to within
     // ten times their print precision. No reachable convention at all is no evidence.
@@ -123,6 +165,10 @@ fn run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
         })
         .collect();
     comparisons.extend(search_rows(&source, &found, evidence));
+    comparisons.extend(free_zero_rows(
+        &source,
+        &search(PAPER_DEG, &start(), Unknowns::HeightAndZero),
+    ));
     Ok(Outcome {
         comparisons,
         ..Outcome::default()
