@@ -14,7 +14,7 @@ fn study_placement() -> Placement {
     }
 }
 
-fn points(n: u64) -> Option<PointSet> {
+fn sector_points(n: u64) -> Option<PointSet> {
     let region = Region::Cylinder {
         axis_x: 0.0,
         axis_y: 0.0,
@@ -30,7 +30,7 @@ pub(crate) fn membership_kernel(c: &mut Criterion) {
     let (Ok(nuwar), Ok(below), Some(points)) = (
         RotaryDelta::nuwar(study_placement()),
         WorkspaceConstraint::below(0.0),
-        points(1 << 20),
+        sector_points(1 << 20),
     ) else {
         return;
     };
@@ -51,7 +51,7 @@ pub(crate) fn membership_kernel(c: &mut Criterion) {
     group.finish();
 
     // One α-row of the sweep: 91 designs (β = 0..90°) on 4 × 25,000 common points.
-    let Some(points) = points(100_000) else {
+    let Some(points) = sector_points(100_000) else {
         return;
     };
     let designs: Vec<RotaryDelta> = (0..=90)

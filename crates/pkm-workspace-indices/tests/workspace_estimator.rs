@@ -362,3 +362,28 @@ fn the_tsai_workspace_through_the_traits_matches_the_stamper_kernel() {
     );
     assert!((e.eta.unwrap() - stamper.gci).abs() <= 0.01 * stamper.gci);
 }
+
+#[test]
+fn a_constraint_the_mechanism_cannot_evaluate_is_a_typed_error() {
+    use pkm_mechanisms::{Elbow, Tsai3Dof};
+    use pkm_traits::ConstraintKind;
+    let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    for c in [
+        WorkspaceConstraint::passive_cone(0.5).unwrap(),
+        WorkspaceConstraint::leg_clearance(0.01).unwrap(),
+    ] {
+        let err = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[c]).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                IndexError::Constraint(ConstraintError::Unsupported {
+                    mechanism: "Tsai3Dof",
+                    kind: ConstraintKind::PassiveCone | ConstraintKind::LegClearance
+                })
+            ),
+            "{err}"
+        );
+    }
+    let range = WorkspaceConstraint::joint_range(-1.0, 1.0).unwrap();
+    assert!(Workspace::new(&tsai, &[[Elbow::Out; 3]], &[range]).is_ok());
+}
