@@ -6,6 +6,7 @@
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
 
+mod jacobian_lanes;
 mod linear_delta;
 mod linear_delta_cross_section;
 pub mod rotary_delta;
@@ -15,6 +16,7 @@ mod stewart_task;
 mod three_upu;
 mod tsai3dof;
 
+pub use jacobian_lanes::JacobianLanes;
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
 pub use rotary_delta::{ElbowMode, Leg, Placement, RotaryDelta};

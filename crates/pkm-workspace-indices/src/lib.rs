@@ -8,6 +8,7 @@
 
 mod condition;
 mod condition_3x3;
+mod condition_3x3_lanes;
 mod cross_section_indices;
 mod error;
 mod gauss_legendre;
@@ -20,6 +21,7 @@ mod volume;
 
 pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use condition_3x3::inverse_condition_number_3x3;
+pub use condition_3x3_lanes::{LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes};
 pub use cross_section_indices::{GridMean, GridRule, mean_by_grid, mean_by_quadrature};
 pub use error::IndexError;
 pub use gauss_legendre::GaussLegendre;
