@@ -1,6 +1,6 @@
-//! [`inverse_condition_number_3x3`] on [`LANES`] matrices at once, without trigonometric
-//! functions, written lane by lane so that the compiler vectorises it (no calls, no branches:
-//! every special case is a select).
+//! [`inverse_condition_number_3x3`] on `N` matrices at once, without trigonometric functions,
+//! in [`Lanes`] so that the compiler vectorises it (no calls, no branches: every special case
+//! is a select).
 //!
 //! The scalar routine finds the eigenvalues of $M = J^\top J$ as
 //! $\lambda_k = q + 2p\cos\big(\varphi + \tfrac{2\pi k}{3}\big)$, $q = \operatorname{tr}M/3$,
@@ -22,10 +22,12 @@
 
 #[cfg(doc)]
 use crate::inverse_condition_number_3x3;
+use pkm_traits::Lanes;
 
-/// The lane count the batch kernels are tuned for: four `f64` fill one AVX register, two SSE2
-/// registers.
-pub const LANES: usize = 4;
+/// The lane count the batch kernels are tuned for: eight independent lanes (four SSE2 registers)
+/// hide the latency of the dependent divisions in the Newton steps; on baseline x86-64 eight
+/// lanes ran about 1.5 times as fast as four (`docs/performance.md`).
+pub const LANES: usize = 8;
 
 /// `N` $3\times3$ matrices in structure-of-arrays form: entry $(i, j)$ of the matrix in lane `l`
 /// is `m[3 * i + j][l]` (row-major entries, lanes innermost).
@@ -57,14 +59,8 @@ const CUBE_ROOT_STEPS: usize = 4;
 /// assert!((r[2] - 0.5).abs() < 1e-14 && r[3] == 0.0);
 /// ```
 pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> [f64; N] {
-    std::array::from_fn(|l| inverse_condition_lane(std::array::from_fn(|k| j[k][l])))
-}
-
-/// One lane of [`inverse_condition_number_3x3_lanes`]; `j` row-major. Straight-line code whose
-/// conditionals are selects, so that the `N` inlined copies vectorise.
-#[inline(always)]
-fn inverse_condition_lane(j: [f64; 9]) -> f64 {
-    let finite = j.iter().all(|v| v.is_finite());
+    let j = j.map(Lanes);
+    let finite: [bool; N] = std::array::from_fn(|l| j.iter().all(|v| v.0[l].is_finite()));
     let gram = |a: usize, b: usize| j[a] * j[b] + j[3 + a] * j[3 + b] + j[6 + a] * j[6 + b];
     let (m00, m11, m22) = (gram(0, 0), gram(1, 1), gram(2, 2));
     let (m01, m02, m12) = (gram(0, 1), gram(0, 2), gram(1, 2));
@@ -72,8 +68,9 @@ fn inverse_condition_lane(j: [f64; 9]) -> f64 {
     let q = (m00 + m11 + m22) / 3.0;
     let (d0, d1, d2) = (m00 - q, m11 - q, m22 - q);
     let p = ((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * p1) / 6.0).sqrt();
-    let (b00, b11, b22) = (d0 / p, d1 / p, d2 / p);
-    let (b01, b02, b12) = (m01 / p, m02 / p, m12 / p);
+    let inv_p = p.recip();
+    let (b00, b11, b22) = (d0 * inv_p, d1 * inv_p, d2 * inv_p);
+    let (b01, b02, b12) = (m01 * inv_p, m02 * inv_p, m12 * inv_p);
     let det_b = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02)
         + b02 * (b01 * b12 - b11 * b02);
     let r = (0.5 * det_b).clamp(-1.0, 1.0);
@@ -83,26 +80,26 @@ fn inverse_condition_lane(j: [f64; 9]) -> f64 {
     let lambda_mid = 3.0 * q - lambda_max - lambda_low;
     let det = j[0] * (j[4] * j[8] - j[5] * j[7]) - j[1] * (j[3] * j[8] - j[5] * j[6])
         + j[2] * (j[3] * j[7] - j[4] * j[6]);
-    let lambda_min = if lambda_mid > 0.0 {
-        det * det / (lambda_max * lambda_mid)
-    } else {
-        0.0
-    };
+    let zero = Lanes::splat(0.0);
+    let lambda_min = lambda_mid.select_gt(zero, det * det / (lambda_max * lambda_mid), zero);
     let general = (lambda_min / lambda_max).max(0.0).sqrt().min(1.0);
-    if !finite || !(q > 0.0) {
-        0.0
-    } else if !(p > 1e-15 * q) {
-        1.0
-    } else {
-        general
-    }
+    let (q_positive, spread) = (q.gt(0.0), (p - 1e-15 * q).gt(0.0));
+    std::array::from_fn(|l| {
+        if !finite[l] || !q_positive[l] {
+            0.0
+        } else if !spread[l] {
+            1.0
+        } else {
+            general.0[l]
+        }
+    })
 }
 
 /// $(\cos\varphi, \sin\varphi)$ with $\varphi = \tfrac13\arccos r$, $r \in [-1, 1]$, by Newton's
 /// method on $w^3 = z = r + i\sqrt{(1-r)(1+r)}$ (module documentation). The factored radicand
 /// keeps $\sin 3\varphi$ accurate to rounding near $r = \pm1$.
 #[inline(always)]
-fn principal_cube_root(r: f64) -> (f64, f64) {
+fn principal_cube_root<const N: usize>(r: Lanes<N>) -> (Lanes<N>, Lanes<N>) {
     let z_im = ((1.0 - r) * (1.0 + r)).max(0.0).sqrt();
     let half_sqrt3 = 0.5 * 3f64.sqrt();
     let c0 = half_sqrt3 + 0.25 * r + (0.75 - half_sqrt3) * r * r;
@@ -110,10 +107,10 @@ fn principal_cube_root(r: f64) -> (f64, f64) {
     for _ in 0..CUBE_ROOT_STEPS {
         // z / w² = z · conj(w²) / |w²|².
         let (x, y) = (a * a - b * b, 2.0 * a * b);
-        let inv = 1.0 / (x * x + y * y);
+        let inv = (x * x + y * y).recip();
         let (qx, qy) = ((r * x + z_im * y) * inv, (z_im * x - r * y) * inv);
-        a = (2.0 * a + qx) / 3.0;
-        b = (2.0 * b + qy) / 3.0;
+        a = (2.0 * a + qx) * (1.0 / 3.0);
+        b = (2.0 * b + qy) * (1.0 / 3.0);
     }
     (a, b)
 }
@@ -126,7 +123,7 @@ mod tests {
     use nalgebra::Matrix3;
     use proptest::prelude::*;
 
-    fn lanes_of(ms: &[Matrix3<f64>; LANES]) -> Matrix3Lanes<LANES> {
+    fn lanes_of<const N: usize>(ms: &[Matrix3<f64>; N]) -> Matrix3Lanes<N> {
         std::array::from_fn(|k| std::array::from_fn(|l| ms[l][(k / 3, k % 3)]))
     }
 
@@ -144,13 +141,13 @@ mod tests {
         for k in 0..=20_000 {
             let r = -1.0 + k as f64 / 10_000.0;
             let phi = r.acos() / 3.0;
-            let (c, s) = principal_cube_root(r);
+            let (Lanes([c]), Lanes([s])) = principal_cube_root(Lanes([r]));
             worst = worst.max((c - phi.cos()).abs()).max((s - phi.sin()).abs());
         }
         for e in 1..=17 {
             for r in [1.0 - 10f64.powi(-e), -1.0 + 10f64.powi(-e)] {
                 let phi = r.acos() / 3.0;
-                let (c, s) = principal_cube_root(r);
+                let (Lanes([c]), Lanes([s])) = principal_cube_root(Lanes([r]));
                 worst = worst.max((c - phi.cos()).abs()).max((s - phi.sin()).abs());
             }
         }
@@ -160,10 +157,10 @@ mod tests {
     #[test]
     fn special_cases_match_the_scalar_routine() {
         let cases = [
-            Matrix3::identity() * 3.0,                             // p = 0: 1
-            Matrix3::zeros(),                                      // q = 0: 0
+            Matrix3::identity() * 3.0,                                 // p = 0: 1
+            Matrix3::zeros(),                                          // q = 0: 0
             Matrix3::new(1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 1.0, 1.0), // singular: 0
-            Matrix3::from_diagonal(&[1.0, 1.0, 1e-3].into()),      // double eigenvalue
+            Matrix3::from_diagonal(&[1.0, 1.0, 1e-3].into()),          // double eigenvalue
         ];
         let got = inverse_condition_number_3x3_lanes(&lanes_of(&cases));
         for (m, g) in cases.iter().zip(got) {

@@ -1,6 +1,6 @@
 //! The design-index kernel of the rotary Delta on `N` points at once: inverse kinematics and
-//! $J = -J_q^{-1}J_x$ without trigonometric functions, written lane by lane so that the
-//! compiler vectorises it (no calls, no branches; an unreachable lane is a mask bit).
+//! $J = -J_q^{-1}J_x$ without trigonometric functions, in [`Lanes`] so that the compiler
+//! vectorises it (no calls, no branches; an unreachable lane is a mask bit).
 //!
 //! Per leg, with $D = C_i - A_i$, $a = D\cdot u_i$, $b = -D\cdot w_i$, $\rho^2 = a^2 + b^2$ and
 //! $K = (|D|^2 + L_a^2 - L_b^2)/(2L_a)$ (see [`RotaryDelta`]'s inverse kinematics), the arm angle
@@ -16,9 +16,10 @@
 //! A leg is reachable when $S^2 = \rho^2 - K^2 > 0$ (the scalar test $|K/\rho| \le 1$ without
 //! its boundary, where $J_q$ is singular); a non-finite point fails that test in every leg.
 
-use super::{ElbowMode, RotaryDelta};
+use super::{ElbowMode, Leg, RotaryDelta};
 use crate::JacobianLanes;
 use nalgebra::Vector3;
+use pkm_traits::Lanes;
 
 impl RotaryDelta {
     /// $J = -J_q^{-1}J_x$ at each of the `N` points in `mode`, computed lane-parallel without
@@ -51,39 +52,47 @@ impl RotaryDelta {
             ElbowMode::Out => 1.0,
             ElbowMode::In => -1.0,
         };
+        let p = [0, 1, 2].map(|k| Lanes::from_fn(|l| points[l][k]));
         let mut out = JacobianLanes {
             jacobian: [[0.0; N]; 9],
             reachable: [true; N],
         };
-        for leg in 0..3 {
-            for (lane, p) in points.iter().enumerate() {
-                let (row, reachable) = self.jacobian_row_lane(leg, p, sign);
-                for (k, value) in row.into_iter().enumerate() {
-                    out.jacobian[3 * leg + k][lane] = value;
-                }
-                out.reachable[lane] &= reachable;
+        for (i, leg) in self.legs.iter().enumerate() {
+            let (row, reachable) = self.jacobian_row(leg, &p, sign);
+            for (k, value) in row.into_iter().enumerate() {
+                out.jacobian[3 * i + k] = value.0;
+            }
+            for (all, leg_ok) in out.reachable.iter_mut().zip(reachable) {
+                *all &= leg_ok;
             }
         }
         out
     }
 
-    /// Row `leg` of $J$ at `p` and whether that leg is reachable (module documentation);
-    /// `sign` is $+1$ for [`ElbowMode::Out`], $-1$ for [`ElbowMode::In`]. Straight-line code.
+    /// Row of $J$ for `leg` at the points `p` (coordinates in lanes) and which lanes that leg
+    /// reaches (module documentation); `sign` is $+1$ for [`ElbowMode::Out`], $-1$ for
+    /// [`ElbowMode::In`].
     #[inline(always)]
-    fn jacobian_row_lane(&self, leg: usize, p: &Vector3<f64>, sign: f64) -> ([f64; 3], bool) {
-        let l = &self.legs[leg];
+    fn jacobian_row<const N: usize>(
+        &self,
+        leg: &Leg,
+        p: &[Lanes<N>; 3],
+        sign: f64,
+    ) -> ([Lanes<N>; 3], [bool; N]) {
         let (la, lb) = (self.arm, self.forearm);
-        let d = p + l.plate_offset - l.motor;
-        let (a, b) = (d.dot(&l.u), -d.dot(&l.w));
+        let offset = leg.plate_offset - leg.motor;
+        let d = [0, 1, 2].map(|k| p[k] + offset[k]);
+        let dot = |v: &Vector3<f64>| d[0] * v.x + d[1] * v.y + d[2] * v.z;
+        let (a, b) = (dot(&leg.u), -dot(&leg.w));
         let rho2 = a * a + b * b;
-        let k = (d.norm_squared() + la * la - lb * lb) / (2.0 * la);
+        let k = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + (la * la - lb * lb)) * (0.5 / la);
         let s2 = rho2 - k * k;
-        let s = sign * s2.max(0.0).sqrt();
-        let inv_rho2 = 1.0 / rho2;
+        let s = s2.max(0.0).sqrt() * sign;
+        let inv_rho2 = rho2.recip();
         let (cos_t, sin_t) = ((a * k + b * s) * inv_rho2, (b * k - a * s) * inv_rho2);
-        let v = d - (l.u * cos_t - l.w * sin_t) * la;
-        let inv = 1.0 / (la * s);
-        ([v.x * inv, v.y * inv, v.z * inv], s2 > 0.0)
+        let inv = (la * s).recip();
+        let row = [0, 1, 2].map(|c| (d[c] - (cos_t * leg.u[c] - sin_t * leg.w[c]) * la) * inv);
+        (row, s2.gt(0.0))
     }
 }
 
@@ -116,8 +125,8 @@ mod tests {
             .iter()
             .map(|l| {
                 let d = p + l.plate_offset - l.motor;
-                let k = (d.norm_squared() + m.arm().powi(2) - m.forearm().powi(2))
-                    / (2.0 * m.arm());
+                let k =
+                    (d.norm_squared() + m.arm().powi(2) - m.forearm().powi(2)) / (2.0 * m.arm());
                 1.0 - (k / d.dot(&l.u).hypot(d.dot(&l.w))).abs()
             })
             .fold(f64::INFINITY, f64::min)

@@ -1,4 +1,4 @@
-//! [`Tsai3Dof::jacobian_eq7`] on `N` points at once, written lane by lane so that the compiler
+//! [`Tsai3Dof::jacobian_eq7`] on `N` points at once, in [`Lanes`] so that the compiler
 //! vectorises it: the same trigonometry-free formulas, with every early return replaced by a
 //! mask bit and $\rho = \sqrt{p_u^2 + p_w^2}$ instead of `hypot` (a library call, which would
 //! not vectorise). Lanes are independent: NaN or infinity in one lane stays in that lane.
@@ -6,6 +6,7 @@
 use super::Tsai3Dof;
 use crate::JacobianLanes;
 use nalgebra::Vector3;
+use pkm_traits::Lanes;
 
 impl Tsai3Dof {
     /// Eq. 7 at each of the `N` points on the principal, elbow-out branch (see
@@ -25,51 +26,58 @@ impl Tsai3Dof {
     /// assert!((lanes.matrix(0).unwrap() - scalar).norm() < 1e-13 * scalar.norm());
     /// assert_eq!(lanes.reachable, [true, false]);
     /// ```
-    pub fn jacobian_eq7_lanes<const N: usize>(&self, points: &[Vector3<f64>; N]) -> JacobianLanes<N> {
+    pub fn jacobian_eq7_lanes<const N: usize>(
+        &self,
+        points: &[Vector3<f64>; N],
+    ) -> JacobianLanes<N> {
+        let p = [0, 1, 2].map(|k| Lanes::from_fn(|l| points[l][k]));
         let mut out = JacobianLanes {
             jacobian: [[0.0; N]; 9],
             reachable: [true; N],
         };
         for leg in 0..3 {
-            for (lane, p) in points.iter().enumerate() {
-                let (row, reachable) = self.eq7_row_lane(leg, p);
-                for (k, value) in row.into_iter().enumerate() {
-                    out.jacobian[3 * leg + k][lane] = value;
-                }
-                out.reachable[lane] &= reachable;
+            let (row, reachable) = self.eq7_row(leg, &p);
+            for (k, value) in row.into_iter().enumerate() {
+                out.jacobian[3 * leg + k] = value.0;
+            }
+            for (all, leg_ok) in out.reachable.iter_mut().zip(reachable) {
+                *all &= leg_ok;
             }
         }
         out
     }
 
-    /// Row `leg` of eq. 7 at `p` and whether that leg is reachable; straight-line code.
+    /// Row `leg` of eq. 7 at the points `p` (coordinates in lanes) and which lanes that leg
+    /// reaches: [`Tsai3Dof::jacobian_eq7`]'s formulas with divisions by $b$, $\rho$, $2a$ and
+    /// $L$ turned into products with reciprocals computed once (a lane division is slow).
     #[inline(always)]
-    fn eq7_row_lane(&self, leg: usize, p: &Vector3<f64>) -> ([f64; 3], bool) {
-        let (pu, pv, pw) = self.leg_coordinates(leg, p);
-        let c3 = pv / self.b;
+    fn eq7_row<const N: usize>(&self, leg: usize, p: &[Lanes<N>; 3]) -> ([Lanes<N>; 3], [bool; N]) {
+        let (cp, sp) = self.trig[leg];
+        let a = self.a;
+        let (pu, pv, pw) = (p[0] * cp + p[1] * sp + self.h, p[1] * cp - p[0] * sp, p[2]);
+        let c3 = pv * self.b.recip();
         let s3_sq = 1.0 - c3 * c3;
         let s3 = s3_sq.max(0.0).sqrt();
         let l = self.s + self.b * s3;
         let rho2 = pu * pu + pw * pw;
-        let rho = rho2.sqrt();
-        let k = (rho2 + self.a * self.a - l * l) / (2.0 * self.a * rho);
+        let inv_rho = rho2.sqrt().recip();
+        let k = (rho2 + a * a - l * l) * inv_rho * (0.5 / a);
         let sb = (1.0 - k * k).max(0.0).sqrt();
-        let inv_rho = 1.0 / rho;
         let (ca, sa) = (pu * inv_rho, pw * inv_rho);
         let c1 = ca * k + sa.abs() * sb;
         let s1 = sa * k - sa.signum() * ca * sb;
-        let inv_l = 1.0 / l;
-        let c2 = (pu - self.a * c1) * inv_l;
-        let s2 = (pw - self.a * s1) * inv_l;
-        let a_sin12 = self.a * (s1 * c2 - c1 * s2);
-        let inv_den = 1.0 / (a_sin12 * s3);
-        let (cp, sp) = self.trig[leg];
+        let inv_l = l.recip();
+        let c2 = (pu - a * c1) * inv_l;
+        let s2 = (pw - a * s1) * inv_l;
+        let a_sin12 = a * (s1 * c2 - c1 * s2);
+        let inv_den = (a_sin12 * s3).recip();
         let row = [
             (c3 * sp - c2 * cp * s3) * inv_den,
-            (-c3 * cp - c2 * sp * s3) * inv_den,
+            (-(c3 * cp) - c2 * sp * s3) * inv_den,
             -s2 / a_sin12,
         ];
-        (row, s3_sq >= 0.0 && k.abs() <= 1.0)
+        let reachable = std::array::from_fn(|l| s3_sq.0[l] >= 0.0 && k.0[l].abs() <= 1.0);
+        (row, reachable)
     }
 }
 
