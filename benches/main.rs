@@ -11,6 +11,7 @@ mod linear_delta;
 mod screw;
 mod stamper;
 mod wolf;
+mod workspace;
 
 criterion_group!(
     benches,
@@ -24,5 +25,6 @@ criterion_group!(
     dynamics::inverse_dynamics,
     dynamics::forward_cycle,
     wolf::section_4_1,
+    workspace::membership_kernel,
 );
 criterion_main!(benches);

@@ -31,6 +31,24 @@ pub enum FigureKind {
     Lines(LinePlot),
     /// A scalar field on a regular grid, as colours.
     Heatmap(Heatmap),
+    /// A heatmap with labelled points marked on it (designs, optima).
+    AnnotatedHeatmap {
+        /// The field.
+        map: Heatmap,
+        /// The marked points, in the map's coordinates.
+        markers: Vec<Marker>,
+    },
+}
+
+/// A labelled point drawn on a figure.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Marker {
+    /// The label written beside the point.
+    pub label: String,
+    /// Horizontal coordinate.
+    pub x: f64,
+    /// Vertical coordinate.
+    pub y: f64,
 }
 
 /// Curves or point clouds over shared axes.

@@ -15,7 +15,7 @@ pub mod stamper1997;
 pub mod wolf2006;
 
 pub use comparison::{Comparison, Source, Verdict};
-pub use figure::{Figure, FigureKind, Heatmap, LinePlot, LineSeries, SeriesStyle, Table};
+pub use figure::{Figure, FigureKind, Heatmap, LinePlot, LineSeries, Marker, SeriesStyle, Table};
 
 use pkm_traits::Progress;
 use serde::Serialize;
@@ -132,6 +132,9 @@ pub enum ExperimentError {
     /// An objective failed.
     #[error(transparent)]
     Objective(#[from] pkm_traits::ObjectiveError),
+    /// A workspace constraint was rejected.
+    #[error(transparent)]
+    Constraint(#[from] pkm_traits::ConstraintError),
     /// An index computation failed.
     #[error(transparent)]
     Index(#[from] pkm_workspace_indices::IndexError),

@@ -88,6 +88,11 @@ fn miller2004_linear_delta_reproduces_in_quick_mode() {
 }
 
 #[test]
+fn miller2004_workspace_reproduces_in_quick_mode() {
+    run_quick("miller2004.workspace")
+}
+
+#[test]
 fn miller2004_dynamics_reproduces_in_quick_mode() {
     run_quick("miller2004.dynamics")
 }

@@ -3,7 +3,7 @@
 //! plotters is built without its `ttf` feature: text sizes are estimated and text is written as
 //! SVG `<text>`, so rendering needs no system font library.
 
-use pkm::papers::{Figure, FigureKind, Heatmap, LinePlot, SeriesStyle};
+use pkm::papers::{Figure, FigureKind, Heatmap, LinePlot, Marker, SeriesStyle};
 use plotters::prelude::*;
 use std::ops::Range;
 use std::path::Path;
@@ -25,7 +25,8 @@ pub(crate) fn render(figure: &Figure, path: &Path) -> anyhow::Result<()> {
     let area = root.titled(&figure.title, (FONT, TITLE))?;
     match &figure.kind {
         FigureKind::Lines(plot) => lines(&area, plot)?,
-        FigureKind::Heatmap(map) => heatmap(&area, map)?,
+        FigureKind::Heatmap(map) => heatmap(&area, map, &[])?,
+        FigureKind::AnnotatedHeatmap { map, markers } => heatmap(&area, map, markers)?,
     }
     root.present()?;
     Ok(())
@@ -135,7 +136,7 @@ fn colour(t: f64) -> RGBColor {
     ViridisRGB.get_color(t)
 }
 
-fn heatmap(area: &Area<'_>, map: &Heatmap) -> anyhow::Result<()> {
+fn heatmap(area: &Area<'_>, map: &Heatmap, markers: &[Marker]) -> anyhow::Result<()> {
     let (plot_area, bar_area) = area.split_horizontally(SIZE.0 - 130);
     let (xe, ye) = (edges(&map.x), edges(&map.y));
     let mut chart = ChartBuilder::on(&plot_area)
@@ -176,6 +177,15 @@ fn heatmap(area: &Area<'_>, map: &Heatmap) -> anyhow::Result<()> {
         ))
     });
     chart.draw_series(cells)?;
+    for m in markers {
+        let point = (m.x, m.y);
+        chart.draw_series(std::iter::once(Circle::new(point, 6, RED.stroke_width(2))))?;
+        chart.draw_series(std::iter::once(Text::new(
+            m.label.clone(),
+            point,
+            (FONT, LABEL).into_font().color(&RED),
+        )))?;
+    }
     colour_bar(&bar_area, &map.z_label, lo, hi)
 }
 

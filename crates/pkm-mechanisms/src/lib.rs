@@ -15,11 +15,12 @@ mod stewart_layout;
 mod stewart_task;
 mod three_upu;
 mod tsai3dof;
+mod workspace_models;
 
 pub use jacobian_lanes::JacobianLanes;
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
-pub use rotary_delta::{ElbowMode, Leg, Placement, RotaryDelta};
+pub use rotary_delta::{ElbowMode, FOREARM_CLEARANCE_SPAN, Leg, Placement, RotaryDelta};
 pub use stewart_gough::{StewartGough, platform_pose, pose_from_task};
 pub use stewart_layout::{AngleMode, JointLayout, Pairing};
 pub use stewart_task::StewartTaskProblem;

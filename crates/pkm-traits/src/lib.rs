@@ -9,6 +9,7 @@
 //! | [`objective`] | objectives, residuals and inequality constraints for optimisers |
 //! | [`dynamics`] | vector fields $\dot z = f(t, z)$, integrator steps, extended-space inertia models |
 //! | [`region`] | planar regions by vertical slices (workspace cross-sections) |
+//! | [`workspace`] | workspace constraints (half-spaces, joint ranges, cone limits, clearance) |
 //! | [`progress`] | progress reporting and cooperative cancellation |
 //! | [`error`] | typed errors that carry the offending numbers |
 //!
@@ -41,6 +42,7 @@ pub mod progress;
 pub mod region;
 #[cfg(feature = "testkit")]
 pub mod testkit;
+pub mod workspace;
 
 pub use dynamics::{
     ExtendedInertia, IntegrationError, Integrator, RhsError, StepReport, VectorField,
@@ -54,3 +56,4 @@ pub use lanes::Lanes;
 pub use objective::{Bounds, Constraints, Objective, Residuals};
 pub use progress::{Cancelled, Progress, Silent};
 pub use region::{Extents, SlicedRegion};
+pub use workspace::{ConstrainedWorkspace, ConstraintError, ConstraintKind, WorkspaceConstraint};

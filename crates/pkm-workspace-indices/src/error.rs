@@ -1,4 +1,4 @@
-use pkm_traits::{Cancelled, DesignError};
+use pkm_traits::{Cancelled, ConstraintError, DesignError};
 use thiserror::Error;
 
 /// Failures of index computations.
@@ -21,6 +21,19 @@ pub enum IndexError {
         /// What it must satisfy.
         requirement: &'static str,
     },
+    /// A count that cannot be allocated or computed in reasonable time.
+    #[error("too many {what}: {requested} (at most {limit})")]
+    TooLarge {
+        /// Which count.
+        what: &'static str,
+        /// The count asked for.
+        requested: u64,
+        /// The largest accepted.
+        limit: u64,
+    },
+    /// A workspace constraint that cannot be applied.
+    #[error(transparent)]
+    Constraint(#[from] ConstraintError),
     /// The design itself is invalid.
     #[error(transparent)]
     Design(#[from] DesignError),

@@ -1,6 +1,15 @@
 //! Workspace and performance indices of parallel mechanisms: samplers, workspace volume with its
 //! standard error, local and global condition indices, manipulability and space utilisation.
 //!
+//! The workspace-volume estimator works for any translational mechanism with closed-form
+//! inverse kinematics: a bounding [`Region`] (box, cylinder, hemisphere, ball; optionally one
+//! sector of an $n$-fold symmetric robot) as a [`Domain`], a [`Sampler`] (midpoint grid,
+//! randomly shifted Sobol in replicates, Monte Carlo) filling a [`PointSet`] that every design of
+//! a study shares (common random points), and a membership test, either a closure
+//! ([`workspace_volume`]) or a mechanism with its working modes and
+//! [`pkm_traits::WorkspaceConstraint`]s ([`Workspace`]). It returns the volume with its standard
+//! error ([`VolumeEstimate`]) and, on request, $\eta = \int 1/\kappa\, dW$.
+//!
 //! Every estimator is deterministic: sample $i$ is a pure function of `(seed, i)` and parallel
 //! sums use fixed-size chunks reduced serially in order ([`chunked_reduce`]), so results are
 //! bit-for-bit identical whatever the number of rayon threads.
@@ -11,22 +20,32 @@ mod condition_3x3;
 mod condition_3x3_lanes;
 mod cross_section_indices;
 mod error;
+mod estimator;
 mod gauss_legendre;
 mod parallel;
+mod points;
+mod region;
 mod sampler;
 mod slice;
 mod sobol;
 mod space_utilization;
+mod sweep;
 mod volume;
+mod workspace;
 
 pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use condition_3x3::inverse_condition_number_3x3;
 pub use condition_3x3_lanes::{LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes};
 pub use cross_section_indices::{GridMean, GridRule, mean_by_grid, mean_by_quadrature};
 pub use error::IndexError;
+pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volume_and_eta};
 pub use gauss_legendre::GaussLegendre;
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
+pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
+pub use region::{Domain, Region};
 pub use sampler::Sampler;
 pub use slice::Slice;
 pub use space_utilization::space_utilization;
+pub use sweep::{ratio_standard_error, sweep_volumes};
 pub use volume::{HemisphereEstimate, hemisphere_estimate};
+pub use workspace::Workspace;

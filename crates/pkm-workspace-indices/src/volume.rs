@@ -1,11 +1,14 @@
 //! Monte Carlo workspace volume (eq. 3) and global condition index (eqs. 4, 8) over the
-//! hemisphere of radius $R$ (Stamper, Tsai & Walsh 1997):
+//! hemisphere of radius $R$ (Stamper, Tsai & Walsh 1997): the general estimator
+//! ([`crate::workspace_volume_and_eta`]) on a [`crate::Region::Hemisphere`] whose unit points are
+//! scaled by each design's radius,
 //! $$ W = V_h \frac{n_{in}}{n}, \qquad \eta = \frac{V_h}{n}\sum_k f_k, \qquad
 //!    V_h = \tfrac{2}{3}\pi R^3, $$
 //! with $f_k$ the local index (e.g. $1/\kappa$) inside and 0 outside. Standard errors:
 //! $V_h\sqrt{p(1-p)/n}$ and $V_h\,\mathrm{sd}(f)/\sqrt{n}$.
 
-use crate::{Accumulator, IndexError, chunked_reduce};
+use crate::IndexError;
+use crate::estimator::integrate_slice;
 use nalgebra::Vector3;
 use pkm_traits::Progress;
 use std::f64::consts::PI;
@@ -25,21 +28,6 @@ pub struct HemisphereEstimate {
     pub gci: f64,
     /// Standard error of $\eta$.
     pub gci_se: f64,
-}
-
-#[derive(Default)]
-struct Sums {
-    inside: u64,
-    f: f64,
-    f2: f64,
-}
-
-impl Accumulator for Sums {
-    fn merge(&mut self, later: Self) {
-        self.inside += later.inside;
-        self.f += later.f;
-        self.f2 += later.f2;
-    }
 }
 
 /// Estimates $W$ and $\eta$ from `unit_points` (in the unit hemisphere, see
@@ -80,26 +68,14 @@ where
             requirement: "must be finite and > 0",
         });
     }
-    let n = unit_points.len() as u64;
-    let sums = chunked_reduce(n, progress, |acc: &mut Sums, i| {
-        if let Some(f) = local(&(unit_points[i as usize] * radius)) {
-            let f = if f.is_finite() { f } else { 0.0 };
-            acc.inside += 1;
-            acc.f += f;
-            acc.f2 += f * f;
-        }
-    })?;
     let v_h = 2.0 * PI * radius.powi(3) / 3.0;
-    let nf = n as f64;
-    let p = sums.inside as f64 / nf;
-    let mean = sums.f / nf;
-    let variance = (sums.f2 / nf - mean * mean).max(0.0);
+    let e = integrate_slice(unit_points, 1, v_h, progress, |p| local(&(p * radius)))?;
     Ok(HemisphereEstimate {
-        n,
-        n_inside: sums.inside,
-        volume: v_h * p,
-        volume_se: v_h * (p * (1.0 - p) / nf).sqrt(),
-        gci: v_h * mean,
-        gci_se: v_h * (variance / nf).sqrt(),
+        n: e.n_points,
+        n_inside: e.n_inside,
+        volume: e.volume,
+        volume_se: e.volume_se,
+        gci: e.eta.unwrap_or(0.0),
+        gci_se: e.eta_se.unwrap_or(0.0),
     })
 }

@@ -15,8 +15,10 @@
 
 mod batch;
 mod kinematics;
+mod workspace;
 
 pub use kinematics::ElbowMode;
+pub use workspace::FOREARM_CLEARANCE_SPAN;
 
 use nalgebra::{Rotation3, Vector3};
 use pkm_traits::DesignError;
@@ -82,6 +84,8 @@ impl Leg {
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct RotaryDelta {
+    base_radius: f64,
+    plate_offset: f64,
     arm: f64,
     forearm: f64,
     alpha: f64,
@@ -125,6 +129,8 @@ impl RotaryDelta {
             }
         });
         Ok(Self {
+            base_radius,
+            plate_offset: r,
             arm,
             forearm,
             alpha,
@@ -133,12 +139,22 @@ impl RotaryDelta {
         })
     }
 
+    /// The §3.5 prototype's dimensions ($R = 0.194$ m, $r = 0.03$ m, $L_a = 0.26$ m,
+    /// $L_b = 0.48$ m) with motor inclination and turn `(alpha, beta)` (rad): the design family
+    /// of the §2.1 workspace study.
+    ///
+    /// # Errors
+    /// [`DesignError`] for a non-finite angle or placement.
+    pub fn prototype(angles: (f64, f64), placement: Placement) -> Result<Self, DesignError> {
+        Self::new(0.194, 0.03, 0.26, 0.48, angles, placement)
+    }
+
     /// The paper's Delta (§3.5 dimensions, $\alpha = \beta = 0$).
     ///
     /// # Errors
     /// [`DesignError`] for a non-finite placement.
     pub fn delta(placement: Placement) -> Result<Self, DesignError> {
-        Self::new(0.194, 0.03, 0.26, 0.48, (0.0, 0.0), placement)
+        Self::prototype((0.0, 0.0), placement)
     }
 
     /// The paper's NUWAR (§3.5 dimensions, $\alpha = 35.26°$, $\beta = 60°$).
@@ -146,8 +162,49 @@ impl RotaryDelta {
     /// # Errors
     /// [`DesignError`] for a non-finite placement.
     pub fn nuwar(placement: Placement) -> Result<Self, DesignError> {
-        let angles = (35.26f64.to_radians(), 60f64.to_radians());
-        Self::new(0.194, 0.03, 0.26, 0.48, angles, placement)
+        Self::prototype((35.26f64.to_radians(), 60f64.to_radians()), placement)
+    }
+
+    /// Base radius $R$ (radial distance of the motor points from the centreline).
+    pub fn base_radius(&self) -> f64 {
+        self.base_radius
+    }
+
+    /// Radial plate offset $r$ of the joint-pair mid-points.
+    pub fn plate_offset(&self) -> f64 {
+        self.plate_offset
+    }
+
+    /// A vertical cylinder about the centreline that holds every reachable plate position, as
+    /// (radius, half-height about the motor plane): $|C_i - A_i| \le L_a + L_b$ gives
+    /// $\rho \le \max_i |(c_i - A_i)_{xy}| + L_a + L_b$ (that is $|R - r| + L_a + L_b$ for radial
+    /// plate offsets) and $|z - z_0| \le L_a + L_b$, whatever $\alpha, \beta$.
+    pub fn reach_cylinder(&self) -> (f64, f64) {
+        let reach = self.arm + self.forearm;
+        let offset = self
+            .legs
+            .iter()
+            .map(|l| (l.plate_offset - l.motor).xy().norm())
+            .fold(0.0, f64::max);
+        (offset + reach, reach)
+    }
+
+    /// Height $z_0$ of the motor plane.
+    pub fn motor_plane_z(&self) -> f64 {
+        self.legs[0].motor.z
+    }
+
+    /// The same design with each plate joint-pair mid-point turned with its motor by $\beta$
+    /// about the vertical, $c_i = r(\cos(\varphi_i + \beta), \sin(\varphi_i + \beta), 0)$: the
+    /// plate built to match turned motors (a reading of Miller 2004 §2.1; the default keeps
+    /// $c_i$ radial).
+    #[must_use]
+    pub fn with_turned_plate_offsets(mut self) -> Self {
+        let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), self.beta);
+        for leg in &mut self.legs {
+            leg.plate_offset = turn * leg.plate_offset;
+        }
+        self
     }
 
     /// Arm length $L_a$.

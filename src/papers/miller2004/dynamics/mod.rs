@@ -6,6 +6,7 @@
 //! beside it. Evidence for every erratum: `docs/conventions.md`, "Miller 2004 §3: dynamics".
 
 mod forward;
+mod start_angle_search;
 mod start_angles;
 mod torques;
 

@@ -1,0 +1,82 @@
+//! Points per second of the §2.1 membership kernel (NUWAR, plate below the motors, every leg
+//! reachable: `Workspace::contains` through the trigonometry-free `RotaryDelta::reachable`), on
+//! one core and on two, and of one row of the (α, β) sweep (`sweep_volumes`).
+
+use criterion::{Criterion, Throughput};
+use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta};
+use pkm::workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, sweep_volumes};
+use pkm_traits::{Silent, WorkspaceConstraint};
+
+fn study_placement() -> Placement {
+    Placement {
+        motor_plane_z: 0.0,
+        azimuth_motor_1: 0.0,
+    }
+}
+
+fn points(n: u64) -> Option<PointSet> {
+    let region = Region::Cylinder {
+        axis_x: 0.0,
+        axis_y: 0.0,
+        radius: 0.904,
+        z_min: -0.74,
+        z_max: 0.0,
+    };
+    let domain = Domain::new(region).ok()?.with_sector(3, 0.0).ok()?;
+    PointSet::new(domain, Sampler::Sobol { seed: 1 }, n / 4, 4).ok()
+}
+
+pub(crate) fn membership_kernel(c: &mut Criterion) {
+    let (Ok(nuwar), Ok(below), Some(points)) = (
+        RotaryDelta::nuwar(study_placement()),
+        WorkspaceConstraint::below(0.0),
+        points(1 << 20),
+    ) else {
+        return;
+    };
+    let Ok(workspace) = Workspace::new(&nuwar, &[ElbowMode::Out, ElbowMode::In], &[below]) else {
+        return;
+    };
+    let mut group = c.benchmark_group("workspace/membership");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(points.points().len() as u64));
+    for threads in [1, 2] {
+        let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(threads).build() else {
+            return;
+        };
+        group.bench_function(format!("{threads}_threads"), |b| {
+            b.iter(|| pool.install(|| workspace.volume(&points, &Silent)))
+        });
+    }
+    group.finish();
+
+    // One α-row of the sweep: 91 designs (β = 0..90°) on 4 × 25,000 common points.
+    let Some(points) = points(100_000) else {
+        return;
+    };
+    let designs: Vec<RotaryDelta> = (0..=90)
+        .filter_map(|b| {
+            RotaryDelta::prototype((0.6, f64::from(b).to_radians()), study_placement()).ok()
+        })
+        .collect();
+    let workspaces: Vec<_> = designs
+        .iter()
+        .filter_map(|d| Workspace::new(d, &[ElbowMode::Out, ElbowMode::In], &[below]).ok())
+        .collect();
+    let mut group = c.benchmark_group("workspace/sweep_row");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(
+        workspaces.len() as u64 * points.points().len() as u64,
+    ));
+    for threads in [1, 2] {
+        let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(threads).build() else {
+            return;
+        };
+        group.bench_function(format!("91_designs_{threads}_threads"), |b| {
+            b.iter(|| {
+                pool.install(|| sweep_volumes(&workspaces, &points, &Silent, |w, x| w.contains(x)))
+            })
+        });
+    }
+    group.finish();
+}

@@ -1,0 +1,201 @@
+//! What the rotary Delta says about its workspace: a trigonometry-free reachability test, the
+//! bend of its ball joints, and the clearance between neighbouring legs.
+
+use super::{ElbowMode, RotaryDelta};
+use nalgebra::Vector3;
+use pkm_traits::{ConstrainedWorkspace, ConstraintKind, Joints, Task};
+
+/// The part of a forearm, from the elbow, on which leg clearance is measured.
+pub const FOREARM_CLEARANCE_SPAN: f64 = 0.75;
+
+impl ConstrainedWorkspace<3, 3> for RotaryDelta {
+    fn name(&self) -> &'static str {
+        "RotaryDelta"
+    }
+
+    /// Every kind: half-spaces, arm-angle ranges, ball-joint cones and leg clearance.
+    fn supports(&self, _kind: ConstraintKind) -> bool {
+        true
+    }
+
+    /// Leg $i$ reaches $x$ iff $K^2 \le a^2 + b^2$ (the arc cosine of the inverse kinematics
+    /// exists), in either elbow mode: $D = x + c_i - A_i$, $K = (|D|^2 + L_a^2 - L_b^2)/(2L_a)$,
+    /// $a = D\cdot u_i$, $b = -D\cdot w_i$; tested as $(|D|^2 + L_a^2 - L_b^2)^2 \le
+    /// 4L_a^2 (a^2 + b^2)$, with no division, square root or trigonometry.
+    fn reachable(&self, x: &Task<3>, _mode: ElbowMode) -> bool {
+        let offset = self.arm * self.arm - self.forearm * self.forearm;
+        let scale = 4.0 * self.arm * self.arm;
+        self.legs.iter().all(|leg| {
+            let d = x + (leg.plate_offset - leg.motor);
+            let s = d.norm_squared() + offset;
+            let (a, b) = (d.dot(&leg.u), d.dot(&leg.w));
+            let rho2 = a * a + b * b;
+            s * s <= scale * rho2 && rho2 > 0.0
+        })
+    }
+
+    /// Reachability does not depend on the elbow mode: one test for any non-empty list.
+    fn reachable_in_any(&self, x: &Task<3>, modes: &[ElbowMode]) -> bool {
+        !modes.is_empty() && self.reachable(x, ElbowMode::Out)
+    }
+
+    /// The ball joints at both ends of forearm $i$ have their studs along the motor axis $e_i$
+    /// (the parallelogram's pins), so a joint is unbent when the forearm lies in the plane
+    /// normal to $e_i$; its bend is the forearm's angle out of that plane,
+    /// $\gamma_i = \arcsin(|\hat v_i \cdot e_i|)$ with $v_i = C_i - B_i$.
+    fn passive_joint_angles(&self, x: &Task<3>, q: &Joints<3>) -> Option<Joints<3>> {
+        let mut out = Joints::<3>::zeros();
+        for (i, leg) in self.legs.iter().enumerate() {
+            let v = self.forearm_vector(i, x, q[i]);
+            let sine = (v.dot(&leg.e) / v.norm()).abs().min(1.0);
+            out[i] = sine.asin();
+        }
+        out.iter().all(|a| a.is_finite()).then_some(out)
+    }
+
+    /// The smallest distance between the links of neighbouring legs $i$, $i + 1$: the arms
+    /// $A_iB_i$ and the forearm mid-lines from $B_i$ over the first
+    /// [`FOREARM_CLEARANCE_SPAN`] of the way to $C_i$ (forearms converge on the plate by design,
+    /// their ends only $r\sqrt3$ apart, so the stretch next to the plate is not a collision).
+    fn leg_clearance(&self, x: &Task<3>, q: &Joints<3>) -> Option<f64> {
+        let links = |i: usize| {
+            let leg = &self.legs[i];
+            let elbow = self.elbow(i, q[i]);
+            let plate = x + leg.plate_offset;
+            let reach = elbow + (plate - elbow) * FOREARM_CLEARANCE_SPAN;
+            [(leg.motor, elbow), (elbow, reach)]
+        };
+        let mut clearance = f64::INFINITY;
+        for i in 0..3 {
+            for a in links(i) {
+                for b in links((i + 1) % 3) {
+                    clearance = clearance.min(segment_distance(a, b));
+                }
+            }
+        }
+        clearance.is_finite().then_some(clearance)
+    }
+}
+
+/// The distance between segments $[p_0, p_1]$ and $[q_0, q_1]$ (Ericson, *Real-Time Collision
+/// Detection*, §5.1.9: the closest points by clamped parameters).
+fn segment_distance(
+    (p0, p1): (Vector3<f64>, Vector3<f64>),
+    (q0, q1): (Vector3<f64>, Vector3<f64>),
+) -> f64 {
+    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
+    let (a, e, f) = (d1.norm_squared(), d2.norm_squared(), d2.dot(&r));
+    const TINY: f64 = 1e-30;
+    let (s, t) = if a <= TINY && e <= TINY {
+        (0.0, 0.0)
+    } else if a <= TINY {
+        (0.0, (f / e).clamp(0.0, 1.0))
+    } else {
+        let c = d1.dot(&r);
+        if e <= TINY {
+            ((-c / a).clamp(0.0, 1.0), 0.0)
+        } else {
+            let b = d1.dot(&d2);
+            let denom = a * e - b * b;
+            let mut s = if denom > TINY * a * e {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let mut t = (b * s + f) / e;
+            if t < 0.0 {
+                t = 0.0;
+                s = (-c / a).clamp(0.0, 1.0);
+            } else if t > 1.0 {
+                t = 1.0;
+                s = ((b - c) / a).clamp(0.0, 1.0);
+            }
+            (s, t)
+        }
+    };
+    ((p0 + d1 * s) - (q0 + d2 * t)).norm()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotary_delta::Placement;
+    use pkm_traits::InverseKinematics;
+    use proptest::prelude::*;
+
+    fn nuwar() -> RotaryDelta {
+        RotaryDelta::nuwar(Placement::canonical()).unwrap()
+    }
+
+    /// Brute force: the minimum over a fine grid of both parameters.
+    fn brute(a: (Vector3<f64>, Vector3<f64>), b: (Vector3<f64>, Vector3<f64>)) -> f64 {
+        let n = 400;
+        let mut best = f64::INFINITY;
+        for i in 0..=n {
+            for j in 0..=n {
+                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+                let d = (a.0 + (a.1 - a.0) * s) - (b.0 + (b.1 - b.0) * t);
+                best = best.min(d.norm());
+            }
+        }
+        best
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+        #[test]
+        fn segment_distance_matches_brute_force(
+            c in proptest::array::uniform12(-1.0f64..1.0)
+        ) {
+            let v = |k: usize| Vector3::new(c[k], c[k + 1], c[k + 2]);
+            let (a, b) = ((v(0), v(3)), (v(6), v(9)));
+            let exact = segment_distance(a, b);
+            // The grid step is 1/400 of segments of length < 3.5.
+            prop_assert!(exact <= brute(a, b) + 1e-12);
+            prop_assert!(brute(a, b) - exact < 0.01);
+        }
+
+        #[test]
+        fn reachability_agrees_with_inverse_kinematics(
+            x in -0.8f64..0.8, y in -0.8f64..0.8, z in -1.2f64..0.6
+        ) {
+            let m = nuwar();
+            let p = Vector3::new(x, y, z);
+            let ik = m.inverse_kinematics(&p, ElbowMode::Out).is_ok();
+            prop_assert_eq!(m.reachable(&p, ElbowMode::In), ik);
+        }
+    }
+
+    #[test]
+    fn parallel_segments_and_points() {
+        let o = Vector3::zeros();
+        let x = Vector3::x();
+        let up = Vector3::new(0.0, 0.0, 2.0);
+        assert!((segment_distance((o, x), (up, up + x)) - 2.0).abs() < 1e-15);
+        assert!((segment_distance((o, o), (up, up)) - 2.0).abs() < 1e-15);
+        assert!((segment_distance((o, o), (up, up + x)) - 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn ball_joints_of_the_delta_are_unbent_in_the_symmetric_plane() {
+        // The Delta's forearm i lies in the plane normal to e_i when the plate is on the
+        // centreline, so every bend is zero there.
+        let m = RotaryDelta::delta(Placement::canonical()).unwrap();
+        let p = Vector3::new(0.0, 0.0, -0.8);
+        let q = m.inverse_kinematics(&p, ElbowMode::Out).unwrap();
+        let bend = m.passive_joint_angles(&p, &q).unwrap();
+        assert!(bend.amax() < 1e-12, "{bend}");
+        let off = Vector3::new(0.1, 0.05, -0.8);
+        let q = m.inverse_kinematics(&off, ElbowMode::Out).unwrap();
+        assert!(m.passive_joint_angles(&off, &q).unwrap().amax() > 1e-3);
+    }
+
+    #[test]
+    fn legs_are_apart_at_the_home_pose() {
+        let m = nuwar();
+        let p = Vector3::new(0.0, 0.0, -0.8);
+        let q = m.inverse_kinematics(&p, ElbowMode::Out).unwrap();
+        let c = m.leg_clearance(&p, &q).unwrap();
+        assert!(c > 0.01 && c.is_finite(), "{c}");
+    }
+}

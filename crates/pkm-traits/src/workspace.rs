@@ -1,0 +1,300 @@
+//! Workspace constraints: the limits a real robot adds to pure reachability.
+//!
+//! A translational mechanism's workspace is the set of platform positions $x$ at which some
+//! working mode assembles ($q = \mathrm{IK}(x)$ exists) **and** every stated constraint holds:
+//!
+//! | constraint | holds when | depends on |
+//! |---|---|---|
+//! | [`WorkspaceConstraint::half_space`] | $n \cdot x \le c$ (e.g. the plate below the motor plane) | $x$ |
+//! | [`WorkspaceConstraint::joint_range`] | $q_{lo} \le q_i \le q_{hi}$ for every (or one) actuated joint | $q$ |
+//! | [`WorkspaceConstraint::passive_cone`] | every passive spherical joint is bent by at most $\gamma_{max}$ | mechanism |
+//! | [`WorkspaceConstraint::leg_clearance`] | neighbouring legs' links stay at least $d$ apart | mechanism |
+//!
+//! Constraints are values a user states for their own robot; each mechanism says through
+//! [`ConstrainedWorkspace::supports`] which ones it can evaluate, so a cone limit on a
+//! mechanism without spherical joints is a typed error ([`ConstraintError::Unsupported`]),
+//! never a silently ignored limit.
+
+use crate::kinematics::{InverseKinematics, Joints, Task};
+use nalgebra::Vector3;
+use thiserror::Error;
+
+/// Which kind of limit a [`WorkspaceConstraint`] states.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ConstraintKind {
+    /// A half-space of task positions.
+    HalfSpace,
+    /// A range of actuated-joint coordinates.
+    JointRange,
+    /// A cone limit of the passive spherical joints.
+    PassiveCone,
+    /// A minimum distance between neighbouring legs.
+    LegClearance,
+}
+
+/// One validated workspace constraint (construct with the named functions).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorkspaceConstraint(Limit);
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Limit {
+    HalfSpace {
+        normal: Vector3<f64>,
+        offset: f64,
+    },
+    JointRange {
+        joint: Option<usize>,
+        lower: f64,
+        upper: f64,
+    },
+    PassiveCone {
+        max_angle: f64,
+    },
+    LegClearance {
+        distance: f64,
+    },
+}
+
+/// A constraint that cannot be built or cannot be applied to a mechanism.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum ConstraintError {
+    /// A parameter violates its requirement.
+    #[error("invalid constraint: {name} = {value} ({requirement})")]
+    Invalid {
+        /// Which parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What it must satisfy.
+        requirement: &'static str,
+    },
+    /// The mechanism cannot evaluate this kind of constraint.
+    #[error("{mechanism} does not support {kind:?} constraints")]
+    Unsupported {
+        /// The mechanism's name.
+        mechanism: &'static str,
+        /// The unsupported kind.
+        kind: ConstraintKind,
+    },
+    /// A joint range names a joint the mechanism does not have.
+    #[error("joint {joint} does not exist (the mechanism has {joints})")]
+    NoSuchJoint {
+        /// The joint index given.
+        joint: usize,
+        /// How many actuated joints there are.
+        joints: usize,
+    },
+}
+
+fn invalid(name: &'static str, value: f64, requirement: &'static str) -> ConstraintError {
+    ConstraintError::Invalid {
+        name,
+        value,
+        requirement,
+    }
+}
+
+impl WorkspaceConstraint {
+    /// The half-space $n \cdot x \le c$ of task positions; `normal` need not be unit length.
+    ///
+    /// # Errors
+    /// [`ConstraintError::Invalid`] for a non-finite or zero normal or a non-finite offset.
+    pub fn half_space(normal: Vector3<f64>, offset: f64) -> Result<Self, ConstraintError> {
+        if let Some(v) = normal.iter().copied().find(|v| !v.is_finite()) {
+            return Err(invalid("normal", v, "must be finite"));
+        }
+        let length = normal.amax();
+        if !(length > 0.0) {
+            return Err(invalid("normal", length, "must not be zero"));
+        }
+        if !offset.is_finite() {
+            return Err(invalid("offset", offset, "must be finite"));
+        }
+        // Scaled by the largest component, so that 1e300-sized normals neither overflow nor
+        // change the half-space.
+        Ok(Self(Limit::HalfSpace {
+            normal: normal / length,
+            offset: offset / length,
+        }))
+    }
+
+    /// Positions at or below height `z`: the half-space $x_3 \le z$.
+    ///
+    /// # Errors
+    /// [`ConstraintError::Invalid`] for a non-finite `z`.
+    pub fn below(z: f64) -> Result<Self, ConstraintError> {
+        Self::half_space(Vector3::z(), z)
+    }
+
+    /// Every actuated joint within `[lower, upper]` (rad or m, the joint's own unit).
+    ///
+    /// # Errors
+    /// [`ConstraintError::Invalid`] for a NaN bound or `lower > upper`.
+    pub fn joint_range(lower: f64, upper: f64) -> Result<Self, ConstraintError> {
+        Self::range(None, lower, upper)
+    }
+
+    /// Actuated joint `joint` (from 0) within `[lower, upper]`.
+    ///
+    /// # Errors
+    /// As [`WorkspaceConstraint::joint_range`].
+    pub fn joint_range_of(joint: usize, lower: f64, upper: f64) -> Result<Self, ConstraintError> {
+        Self::range(Some(joint), lower, upper)
+    }
+
+    fn range(joint: Option<usize>, lower: f64, upper: f64) -> Result<Self, ConstraintError> {
+        if lower.is_nan() {
+            return Err(invalid("lower", lower, "must not be NaN"));
+        }
+        if upper.is_nan() {
+            return Err(invalid("upper", upper, "must not be NaN"));
+        }
+        if !(lower <= upper) {
+            return Err(invalid("lower", lower, "must not exceed upper"));
+        }
+        Ok(Self(Limit::JointRange {
+            joint,
+            lower,
+            upper,
+        }))
+    }
+
+    /// Every passive spherical joint bent by at most `max_angle` (rad, in $(0, \pi]$); what
+    /// "bent" means is the mechanism's [`ConstrainedWorkspace::passive_joint_angles`].
+    ///
+    /// # Errors
+    /// [`ConstraintError::Invalid`] outside $(0, \pi]$ or NaN.
+    pub fn passive_cone(max_angle: f64) -> Result<Self, ConstraintError> {
+        if !(max_angle > 0.0 && max_angle <= std::f64::consts::PI) {
+            return Err(invalid("max_angle", max_angle, "must lie in (0, π]"));
+        }
+        Ok(Self(Limit::PassiveCone { max_angle }))
+    }
+
+    /// Neighbouring legs' links at least `distance` apart (m, finite and ≥ 0): a collision
+    /// test with links modelled as segments of diameter `distance`.
+    ///
+    /// # Errors
+    /// [`ConstraintError::Invalid`] for a negative or non-finite distance.
+    pub fn leg_clearance(distance: f64) -> Result<Self, ConstraintError> {
+        if !(distance.is_finite() && distance >= 0.0) {
+            return Err(invalid("distance", distance, "must be finite and ≥ 0"));
+        }
+        Ok(Self(Limit::LegClearance { distance }))
+    }
+
+    /// The kind of limit.
+    pub fn kind(&self) -> ConstraintKind {
+        match self.0 {
+            Limit::HalfSpace { .. } => ConstraintKind::HalfSpace,
+            Limit::JointRange { .. } => ConstraintKind::JointRange,
+            Limit::PassiveCone { .. } => ConstraintKind::PassiveCone,
+            Limit::LegClearance { .. } => ConstraintKind::LegClearance,
+        }
+    }
+
+    /// Whether the constraint needs the joint coordinates (all but the half-space).
+    pub fn needs_joints(&self) -> bool {
+        self.kind() != ConstraintKind::HalfSpace
+    }
+
+    /// Checks that `mechanism` can evaluate this constraint.
+    ///
+    /// # Errors
+    /// [`ConstraintError::Unsupported`] or [`ConstraintError::NoSuchJoint`].
+    pub fn check_applies<M, const NQ: usize>(&self, mechanism: &M) -> Result<(), ConstraintError>
+    where
+        M: ConstrainedWorkspace<3, NQ> + ?Sized,
+    {
+        if let Limit::JointRange {
+            joint: Some(joint), ..
+        } = self.0
+            && joint >= NQ
+        {
+            return Err(ConstraintError::NoSuchJoint { joint, joints: NQ });
+        }
+        if mechanism.supports(self.kind()) {
+            Ok(())
+        } else {
+            Err(ConstraintError::Unsupported {
+                mechanism: mechanism.name(),
+                kind: self.kind(),
+            })
+        }
+    }
+
+    /// Whether the position alone satisfies the constraint (`true` for constraints on joints).
+    pub fn holds_at_position(&self, x: &Vector3<f64>) -> bool {
+        match self.0 {
+            Limit::HalfSpace { normal, offset } => normal.dot(x) <= offset,
+            _ => true,
+        }
+    }
+
+    /// Whether the assembled configuration `(x, q)` satisfies the constraint. NaN angles or
+    /// distances fail it.
+    pub fn holds<M, const NQ: usize>(&self, mechanism: &M, x: &Task<3>, q: &Joints<NQ>) -> bool
+    where
+        M: ConstrainedWorkspace<3, NQ> + ?Sized,
+    {
+        match self.0 {
+            Limit::HalfSpace { .. } => self.holds_at_position(x),
+            Limit::JointRange {
+                joint,
+                lower,
+                upper,
+            } => match joint {
+                Some(j) => q.get(j).is_some_and(|v| lower <= *v && *v <= upper),
+                None => q.iter().all(|v| lower <= *v && *v <= upper),
+            },
+            Limit::PassiveCone { max_angle } => mechanism
+                .passive_joint_angles(x, q)
+                .is_some_and(|a| a.iter().all(|v| *v <= max_angle)),
+            Limit::LegClearance { distance } => {
+                mechanism.leg_clearance(x, q).is_some_and(|d| d >= distance)
+            }
+        }
+    }
+}
+
+/// What a translational mechanism ($x$ = platform position) can say about its workspace.
+///
+/// Half-spaces and joint ranges need nothing from the mechanism; it opts into the others by
+/// overriding [`ConstrainedWorkspace::supports`] and the matching method.
+pub trait ConstrainedWorkspace<const NX: usize, const NQ: usize>:
+    InverseKinematics<NX, NQ>
+{
+    /// A short name for error messages (`"RotaryDelta"`).
+    fn name(&self) -> &'static str;
+
+    /// Whether [`WorkspaceConstraint`]s of `kind` can be evaluated.
+    fn supports(&self, kind: ConstraintKind) -> bool {
+        matches!(kind, ConstraintKind::HalfSpace | ConstraintKind::JointRange)
+    }
+
+    /// Whether the mechanism assembles at `x` in `mode`. The default asks the inverse
+    /// kinematics; a mechanism may override it with a cheaper test (no trigonometry).
+    fn reachable(&self, x: &Task<NX>, mode: Self::WorkingMode) -> bool {
+        self.inverse_kinematics(x, mode).is_ok()
+    }
+
+    /// Whether the mechanism assembles at `x` in at least one of `modes` (default: asks
+    /// [`ConstrainedWorkspace::reachable`] for each). A mechanism whose reachability does not
+    /// depend on the mode overrides it to test once.
+    fn reachable_in_any(&self, x: &Task<NX>, modes: &[Self::WorkingMode]) -> bool {
+        modes.iter().any(|m| self.reachable(x, *m))
+    }
+
+    /// The bend of each passive spherical joint (rad) at an assembled configuration; `None`
+    /// when the mechanism has none (the default).
+    fn passive_joint_angles(&self, _x: &Task<NX>, _q: &Joints<NQ>) -> Option<Joints<NQ>> {
+        None
+    }
+
+    /// The smallest distance between links of neighbouring legs (m); `None` when not modelled
+    /// (the default).
+    fn leg_clearance(&self, _x: &Task<NX>, _q: &Joints<NQ>) -> Option<f64> {
+        None
+    }
+}

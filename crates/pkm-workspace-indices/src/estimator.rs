@@ -1,0 +1,236 @@
+//! Workspace volume and condition integral over a [`PointSet`]:
+//! $$ W = V_D\,\frac{n_{in}}{n}, \qquad \eta = \int_W f\,dW \approx \frac{V_D}{n}\sum_k f_k, $$
+//! with $V_D$ the volume of the whole domain (all symmetry sectors: by symmetry the sector's
+//! fraction is the region's), $f_k$ the local index (e.g. $1/\kappa$) inside and 0 outside.
+//!
+//! Standard errors: with one replicate the i.i.d. formulas $V_D\sqrt{p(1-p)/n}$ and
+//! $V_D\,\mathrm{sd}(f)/\sqrt n$ (exact for Monte Carlo, conservative for quasi-Monte Carlo);
+//! with $R > 1$ replicates the spread of the replicate estimates, $\mathrm{sd}_r/\sqrt R$.
+
+use crate::points::MAX_REPLICATES;
+use crate::{Accumulator, IndexError, PointSet, chunked_reduce};
+use nalgebra::Vector3;
+use pkm_traits::Progress;
+
+/// How a standard error was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorModel {
+    /// The i.i.d. (binomial) formula on one replicate.
+    Iid,
+    /// The spread of this many independent replicates.
+    Replicates(u32),
+}
+
+/// A workspace volume, optionally with $\eta = \int 1/\kappa\, dW$, and their standard errors.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VolumeEstimate {
+    /// Points sampled.
+    pub n_points: u64,
+    /// Points inside the workspace.
+    pub n_inside: u64,
+    /// Workspace volume $W$.
+    pub volume: f64,
+    /// Standard error of $W$.
+    pub volume_se: f64,
+    /// $\eta = \int f\, dW$ (volume units), when a local index was integrated.
+    pub eta: Option<f64>,
+    /// Standard error of $\eta$.
+    pub eta_se: Option<f64>,
+    /// How the standard errors were obtained.
+    pub error_model: ErrorModel,
+    /// $W$ of each replicate (one entry with one replicate).
+    pub replicate_volumes: Vec<f64>,
+}
+
+impl VolumeEstimate {
+    /// The global condition index of Gosselin & Angeles, $\mathrm{GCI} = \eta / W$; `None`
+    /// without $\eta$ or for an empty workspace.
+    pub fn gci(&self) -> Option<f64> {
+        self.eta
+            .filter(|_| self.volume > 0.0)
+            .map(|e| e / self.volume)
+    }
+}
+
+/// Per-replicate sums of the indicator, of $f$ and of $f^2$.
+#[derive(Clone)]
+pub(crate) struct Sums {
+    pub(crate) inside: [u64; MAX_REPLICATES as usize],
+    pub(crate) f: [f64; MAX_REPLICATES as usize],
+    pub(crate) f2: [f64; MAX_REPLICATES as usize],
+}
+
+impl Default for Sums {
+    fn default() -> Self {
+        Self {
+            inside: [0; MAX_REPLICATES as usize],
+            f: [0.0; MAX_REPLICATES as usize],
+            f2: [0.0; MAX_REPLICATES as usize],
+        }
+    }
+}
+
+impl Accumulator for Sums {
+    fn merge(&mut self, later: Self) {
+        for r in 0..MAX_REPLICATES as usize {
+            self.inside[r] += later.inside[r];
+            self.f[r] += later.f[r];
+            self.f2[r] += later.f2[r];
+        }
+    }
+}
+
+/// The volume of $\{x : \texttt{contains}(x)\}$ over `points`.
+///
+/// Parallel over fixed chunks ([`chunked_reduce`]): bit-identical for any thread count.
+///
+/// # Errors
+/// [`IndexError::Cancelled`].
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_traits::Silent;
+/// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, workspace_volume};
+/// // The unit ball inside a cylinder, in 4 randomly shifted Sobol replicates.
+/// let domain = Domain::new(Region::Cylinder { axis_x: 0.0, axis_y: 0.0, radius: 1.0, z_min: -1.0, z_max: 1.0 })?;
+/// let points = PointSet::new(domain, Sampler::Sobol { seed: 3 }, 1 << 14, 4)?;
+/// let e = workspace_volume(&points, &Silent, |p| p.norm() <= 1.0)?;
+/// assert!((e.volume - 4.0 * std::f64::consts::PI / 3.0).abs() < 5.0 * e.volume_se.max(1e-3));
+/// # Ok::<(), pkm_workspace_indices::IndexError>(())
+/// ```
+pub fn workspace_volume<F>(
+    points: &PointSet,
+    progress: &dyn Progress,
+    contains: F,
+) -> Result<VolumeEstimate, IndexError>
+where
+    F: Fn(&Vector3<f64>) -> bool + Sync,
+{
+    let mut e = integrate(points, progress, |p| contains(p).then_some(1.0))?;
+    e.eta = None;
+    e.eta_se = None;
+    Ok(e)
+}
+
+/// The volume of $\{x : \texttt{local}(x) \ne \text{None}\}$ and $\eta = \int f\, dW$ with
+/// $f$ = `local(x)` (a non-finite $f$ counts as 0 and the point as inside).
+///
+/// # Errors
+/// [`IndexError::Cancelled`].
+pub fn workspace_volume_and_eta<F>(
+    points: &PointSet,
+    progress: &dyn Progress,
+    local: F,
+) -> Result<VolumeEstimate, IndexError>
+where
+    F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
+{
+    integrate(points, progress, local)
+}
+
+fn integrate<F>(
+    points: &PointSet,
+    progress: &dyn Progress,
+    local: F,
+) -> Result<VolumeEstimate, IndexError>
+where
+    F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
+{
+    integrate_slice(
+        points.points(),
+        points.replicates() as usize,
+        points.domain().volume(),
+        progress,
+        local,
+    )
+}
+
+/// The estimator on `points` (`replicates` equal consecutive blocks) of a domain of volume
+/// `v_domain`; the one loop behind [`workspace_volume`], [`workspace_volume_and_eta`] and
+/// [`crate::hemisphere_estimate`].
+pub(crate) fn integrate_slice<F>(
+    points: &[Vector3<f64>],
+    replicates: usize,
+    v_domain: f64,
+    progress: &dyn Progress,
+    local: F,
+) -> Result<VolumeEstimate, IndexError>
+where
+    F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
+{
+    if replicates > MAX_REPLICATES as usize {
+        return Err(IndexError::TooLarge {
+            what: "replicates",
+            requested: replicates as u64,
+            limit: u64::from(MAX_REPLICATES),
+        });
+    }
+    if points.is_empty() || replicates == 0 || !points.len().is_multiple_of(replicates) {
+        return Err(IndexError::EmptySample {
+            n_samples: points.len() as u64,
+        });
+    }
+    let m = (points.len() / replicates) as u64;
+    let sums = chunked_reduce(points.len() as u64, progress, |acc: &mut Sums, i| {
+        if let Some(f) = local(&points[i as usize]) {
+            let f = if f.is_finite() { f } else { 0.0 };
+            let r = (i / m) as usize;
+            acc.inside[r] += 1;
+            acc.f[r] += f;
+            acc.f2[r] += f * f;
+        }
+    })?;
+    Ok(summarise(&sums, replicates, m, v_domain))
+}
+
+/// Mean and standard error from per-replicate sums.
+pub(crate) fn summarise(sums: &Sums, replicates: usize, m: u64, v_domain: f64) -> VolumeEstimate {
+    let mf = m as f64;
+    let volumes: Vec<f64> = (0..replicates)
+        .map(|r| v_domain * (sums.inside[r] as f64 / mf))
+        .collect();
+    let etas: Vec<f64> = (0..replicates)
+        .map(|r| v_domain * (sums.f[r] / mf))
+        .collect();
+    let n_inside: u64 = sums.inside[..replicates].iter().sum();
+    let (volume, eta) = (mean(&volumes), mean(&etas));
+    let (volume_se, eta_se, error_model) = if replicates == 1 {
+        let p = sums.inside[0] as f64 / mf;
+        let f_mean = sums.f[0] / mf;
+        let variance = (sums.f2[0] / mf - f_mean * f_mean).max(0.0);
+        (
+            v_domain * (p * (1.0 - p) / mf).sqrt(),
+            v_domain * (variance / mf).sqrt(),
+            ErrorModel::Iid,
+        )
+    } else {
+        (
+            standard_error(&volumes),
+            standard_error(&etas),
+            ErrorModel::Replicates(replicates as u32),
+        )
+    };
+    VolumeEstimate {
+        n_points: m * replicates as u64,
+        n_inside,
+        volume,
+        volume_se,
+        eta: Some(eta),
+        eta_se: Some(eta_se),
+        error_model,
+        replicate_volumes: volumes,
+    }
+}
+
+fn mean(values: &[f64]) -> f64 {
+    values.iter().sum::<f64>() / values.len() as f64
+}
+
+/// $\mathrm{sd}/\sqrt R$ of replicate estimates ($R \ge 2$).
+pub(crate) fn standard_error(values: &[f64]) -> f64 {
+    let r = values.len() as f64;
+    let mu = mean(values);
+    let ss: f64 = values.iter().map(|v| (v - mu) * (v - mu)).sum();
+    (ss / (r - 1.0) / r).sqrt()
+}

@@ -1,0 +1,138 @@
+//! The workspace of any translational mechanism with closed-form inverse kinematics: the
+//! positions at which one of the allowed working modes assembles and every
+//! [`WorkspaceConstraint`] holds; its volume and $\eta = \int 1/\kappa\, dW$ over a [`PointSet`].
+//!
+//! The local index is $1/\kappa(J)$ of the velocity Jacobian $J = -J_q^{-1} J_x$
+//! ([`pkm_traits::ClosedChain::jacobian`], which a mechanism may override with a closed form), 0 at an
+//! inverse-kinematic singularity.
+
+use crate::{
+    IndexError, PointSet, VolumeEstimate, inverse_condition_number_3x3, workspace_volume,
+    workspace_volume_and_eta,
+};
+use nalgebra::Vector3;
+use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
+
+/// A mechanism, the working modes it may use and the constraints of its workspace.
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_traits::{Silent, WorkspaceConstraint};
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+/// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
+/// let delta = RotaryDelta::delta(Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.0 })?;
+/// let below = WorkspaceConstraint::below(0.0)?;
+/// let arm_limits = WorkspaceConstraint::joint_range(-0.5, 1.5)?;
+/// let ws = Workspace::new(&delta, &[ElbowMode::Out], &[below, arm_limits])?;
+/// let domain = Domain::new(Region::Cylinder { axis_x: 0.0, axis_y: 0.0, radius: 0.9, z_min: -0.8, z_max: 0.0 })?
+///     .with_sector(3, 0.0)?;
+/// let points = PointSet::new(domain, Sampler::Sobol { seed: 1 }, 4096, 4)?;
+/// let v = ws.volume(&points, &Silent)?;
+/// assert!(v.volume > 0.0 && v.volume_se < 0.05 * v.volume);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Workspace<'m, M: ConstrainedWorkspace<3, 3>> {
+    mechanism: &'m M,
+    modes: Vec<M::WorkingMode>,
+    on_position: Vec<WorkspaceConstraint>,
+    on_joints: Vec<WorkspaceConstraint>,
+}
+
+impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
+    /// The workspace of `mechanism` in any of `modes` under `constraints`.
+    ///
+    /// # Errors
+    /// [`IndexError::Invalid`] for no mode; [`IndexError::Constraint`] for a constraint the
+    /// mechanism cannot evaluate.
+    pub fn new(
+        mechanism: &'m M,
+        modes: &[M::WorkingMode],
+        constraints: &[WorkspaceConstraint],
+    ) -> Result<Self, IndexError> {
+        if modes.is_empty() {
+            return Err(IndexError::Invalid {
+                what: "working modes",
+                value: 0.0,
+                requirement: "at least one mode",
+            });
+        }
+        for c in constraints {
+            c.check_applies(mechanism)?;
+        }
+        let (on_joints, on_position) = constraints.iter().partition(|c| c.needs_joints());
+        Ok(Self {
+            mechanism,
+            modes: modes.to_vec(),
+            on_position,
+            on_joints,
+        })
+    }
+
+    /// The mechanism.
+    pub fn mechanism(&self) -> &M {
+        self.mechanism
+    }
+
+    /// Whether `x` belongs to the workspace.
+    pub fn contains(&self, x: &Vector3<f64>) -> bool {
+        if !self.on_position.iter().all(|c| c.holds_at_position(x)) {
+            return false;
+        }
+        if self.on_joints.is_empty() {
+            self.mechanism.reachable_in_any(x, &self.modes)
+        } else {
+            self.assembly(x).is_some()
+        }
+    }
+
+    /// The joints of the first listed mode that assembles at `x` within every constraint.
+    pub fn assembly(&self, x: &Vector3<f64>) -> Option<Joints<3>> {
+        if !self.on_position.iter().all(|c| c.holds_at_position(x)) {
+            return None;
+        }
+        self.modes.iter().find_map(|mode| {
+            let q = self.mechanism.inverse_kinematics(x, *mode).ok()?;
+            self.on_joints
+                .iter()
+                .all(|c| c.holds(self.mechanism, x, &q))
+                .then_some(q)
+        })
+    }
+
+    /// $1/\kappa(J)$ at `x` (0 at a singular $J_q$), `None` outside the workspace.
+    pub fn inverse_condition(&self, x: &Vector3<f64>) -> Option<f64> {
+        let q = self.assembly(x)?;
+        Some(
+            self.mechanism
+                .jacobian(x, &q)
+                .map_or(0.0, |j| inverse_condition_number_3x3(&j)),
+        )
+    }
+
+    /// The workspace volume over `points`.
+    ///
+    /// # Errors
+    /// [`IndexError::Cancelled`].
+    pub fn volume(
+        &self,
+        points: &PointSet,
+        progress: &dyn Progress,
+    ) -> Result<VolumeEstimate, IndexError> {
+        workspace_volume(points, progress, |x| self.contains(x))
+    }
+
+    /// The workspace volume and $\eta = \int 1/\kappa\, dW$ over `points` (GCI = η/W by
+    /// [`VolumeEstimate::gci`]).
+    ///
+    /// # Errors
+    /// [`IndexError::Cancelled`].
+    pub fn volume_and_eta(
+        &self,
+        points: &PointSet,
+        progress: &dyn Progress,
+    ) -> Result<VolumeEstimate, IndexError> {
+        workspace_volume_and_eta(points, progress, |x| self.inverse_condition(x))
+    }
+}

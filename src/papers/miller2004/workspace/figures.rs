@@ -1,0 +1,145 @@
+//! Figures of §2.1: the map of $V(\alpha, \beta)/V_{Delta}$ per reading with the Delta, NUWAR
+//! and the arg-max marked, and cross-sections of the Delta's and NUWAR's workspaces.
+
+use super::readings::SweepResult;
+use super::{ALPHA_PRINTED_DEG, BETA_NUWAR_DEG, design};
+use crate::papers::{Context, ExperimentError, Figure, FigureKind, Heatmap, Marker, Table};
+use nalgebra::Vector3;
+use pkm_mechanisms::{ElbowMode, RotaryDelta};
+use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
+use pkm_workspace_indices::Workspace;
+
+/// One annotated map per reading.
+pub(super) fn maps(results: &[SweepResult]) -> Vec<Figure> {
+    results
+        .iter()
+        .map(|r| {
+            let map = Heatmap {
+                x_label: "β (deg)".into(),
+                y_label: "α (deg)".into(),
+                z_label: "V / V_Delta".into(),
+                x: r.beta_deg.clone(),
+                y: r.alpha_deg.clone(),
+                values: r.ratios.iter().map(|(v, _)| Some(*v)).collect(),
+            };
+            let markers = vec![
+                marker("Delta", 0.0, 0.0),
+                marker("NUWAR", BETA_NUWAR_DEG, ALPHA_PRINTED_DEG),
+                marker(&format!("max {:.4}", r.max_ratio), r.beta_opt, r.alpha_opt),
+            ];
+            Figure {
+                name: format!("map_{}", r.reading.name),
+                title: format!("§2.1 workspace volume / Delta's: {}", r.reading.name),
+                kind: FigureKind::AnnotatedHeatmap { map, markers },
+            }
+        })
+        .collect()
+}
+
+fn marker(label: &str, x: f64, y: f64) -> Marker {
+    Marker {
+        label: label.to_owned(),
+        x,
+        y,
+    }
+}
+
+/// Cells per axis of a cross-section.
+fn cells(ctx: &Context<'_>) -> usize {
+    ctx.mode.pick(41, 161)
+}
+
+/// The Delta's and NUWAR's workspaces on the vertical plane $y = 0$ through the centreline and
+/// on the horizontal plane 0.6 m below the motors: 2 where the plate is below the motor plane
+/// and every leg reaches, 1 where every leg reaches above it, empty elsewhere.
+pub(super) fn cross_sections(
+    ctx: &Context<'_>,
+) -> Result<(Vec<Figure>, Vec<Table>), ExperimentError> {
+    let (mut figures, mut tables) = (Vec::new(), Vec::new());
+    for (name, robot) in [
+        ("delta", design(0.0, 0.0)?),
+        ("nuwar", design(ALPHA_PRINTED_DEG, BETA_NUWAR_DEG)?),
+    ] {
+        let (radius, depth) = robot.reach_cylinder();
+        let n = cells(ctx);
+        let axis = |lo: f64, hi: f64| -> Vec<f64> {
+            (0..n)
+                .map(|k| lo + (hi - lo) * (k as f64 + 0.5) / n as f64)
+                .collect()
+        };
+        let (xs, zs) = (axis(-radius, radius), axis(-depth, depth));
+        let vertical = classify(&robot, &xs, &zs, |x, z| Vector3::new(x, 0.0, z))?;
+        let horizontal = classify(&robot, &xs, &xs, |x, y| Vector3::new(x, y, -0.6))?;
+        for (plane, (a, b), values, labels) in [
+            ("xz", (&xs, &zs), vertical, ("x (m)", "z − z0 (m)")),
+            ("xy", (&xs, &xs), horizontal, ("x (m)", "y (m)")),
+        ] {
+            tables.push(section_table(
+                &format!("section_{plane}_{name}"),
+                a,
+                b,
+                &values,
+            ));
+            figures.push(Figure {
+                name: format!("section_{plane}_{name}"),
+                title: format!(
+                    "{} workspace, {} (2: below the motors, 1: above)",
+                    name.to_uppercase(),
+                    if plane == "xz" {
+                        "plane y = 0"
+                    } else {
+                        "plane z − z0 = −0.6 m"
+                    }
+                ),
+                kind: FigureKind::Heatmap(Heatmap {
+                    x_label: labels.0.into(),
+                    y_label: labels.1.into(),
+                    z_label: "region".into(),
+                    x: a.clone(),
+                    y: b.clone(),
+                    values,
+                }),
+            });
+        }
+    }
+    Ok((figures, tables))
+}
+
+fn classify(
+    robot: &RotaryDelta,
+    a: &[f64],
+    b: &[f64],
+    at: impl Fn(f64, f64) -> Vector3<f64>,
+) -> Result<Vec<Option<f64>>, ExperimentError> {
+    let below = Workspace::new(
+        robot,
+        &[ElbowMode::Out, ElbowMode::In],
+        &[WorkspaceConstraint::below(robot.motor_plane_z())?],
+    )?;
+    Ok(b.iter()
+        .flat_map(|v| a.iter().map(move |u| (*u, *v)))
+        .map(|(u, v)| {
+            let p = at(u, v);
+            if below.contains(&p) {
+                Some(2.0)
+            } else if robot.reachable(&p, ElbowMode::Out) {
+                Some(1.0)
+            } else {
+                None
+            }
+        })
+        .collect())
+}
+
+fn section_table(name: &str, a: &[f64], b: &[f64], values: &[Option<f64>]) -> Table {
+    Table {
+        name: name.to_owned(),
+        columns: ["u_m", "v_m", "region"].map(String::from).to_vec(),
+        rows: b
+            .iter()
+            .flat_map(|v| a.iter().map(move |u| (*u, *v)))
+            .zip(values)
+            .map(|((u, v), z)| vec![u, v, z.unwrap_or(0.0)])
+            .collect(),
+    }
+}
