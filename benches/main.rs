@@ -3,6 +3,7 @@
 
 use criterion::{criterion_group, criterion_main};
 
+mod delta_kernel;
 mod dynamics;
 mod indices;
 mod integrators;
@@ -19,6 +20,8 @@ criterion_group!(
     linear_delta::eta_of_one_design,
     screw::screw,
     stamper::gci_kernel,
+    stamper::gci_kernel_batch,
+    delta_kernel::delta_kernel,
     dynamics::inverse_dynamics,
     dynamics::forward_cycle,
     wolf::section_4_1,

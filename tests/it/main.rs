@@ -2,6 +2,7 @@
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)]
 
 mod cross_checks;
+mod design_index_kernels;
 mod determinism;
 mod reproduce_quick;
 mod tidy;

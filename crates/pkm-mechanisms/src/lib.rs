@@ -6,6 +6,7 @@
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
 
+mod jacobian_lanes;
 mod linear_delta;
 mod linear_delta_cross_section;
 pub mod rotary_delta;
@@ -16,6 +17,7 @@ mod three_upu;
 mod tsai3dof;
 mod workspace_models;
 
+pub use jacobian_lanes::JacobianLanes;
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
 pub use rotary_delta::{ElbowMode, FOREARM_CLEARANCE_SPAN, Leg, Placement, RotaryDelta};

@@ -36,6 +36,7 @@
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;
+pub mod lanes;
 pub mod objective;
 pub mod progress;
 pub mod region;
@@ -51,6 +52,7 @@ pub use kinematics::{
     ClosedChain, ForwardKinematics, InverseKinematics, Joints, NewtonSettings, Task,
     newton_forward_kinematics,
 };
+pub use lanes::Lanes;
 pub use objective::{Bounds, Constraints, Objective, Residuals};
 pub use progress::{Cancelled, Progress, Silent};
 pub use region::{Extents, SlicedRegion};

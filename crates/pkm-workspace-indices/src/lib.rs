@@ -17,6 +17,7 @@
 
 mod condition;
 mod condition_3x3;
+mod condition_3x3_lanes;
 mod cross_section_indices;
 mod error;
 mod estimator;
@@ -34,6 +35,7 @@ mod workspace;
 
 pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use condition_3x3::inverse_condition_number_3x3;
+pub use condition_3x3_lanes::{LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes};
 pub use cross_section_indices::{GridMean, GridRule, mean_by_grid, mean_by_quadrature};
 pub use error::IndexError;
 pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volume_and_eta};

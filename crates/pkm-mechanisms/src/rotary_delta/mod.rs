@@ -13,6 +13,7 @@
 //! $c_i = r(\cos\varphi_i, \sin\varphi_i, 0)$, and the loop closure is
 //! $\Phi_i = |C_i - B_i|^2 - L_b^2$.
 
+mod batch;
 mod kinematics;
 mod workspace;
 

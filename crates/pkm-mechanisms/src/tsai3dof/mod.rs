@@ -6,6 +6,7 @@
 //! at angle $\phi_i$ about $Z$ with $\phi_1 = 0$; $\theta_{1i}$ (actuated) and $\theta_{2i}$
 //! are measured from $u_i$ towards $w_i = Z$, $\theta_{3i}$ from $v_i$ to $C_iD_i$.
 
+mod batch;
 mod jacobian;
 mod leg;
 mod volume;

@@ -1,0 +1,182 @@
+//! [`Tsai3Dof::jacobian_eq7`] on `N` points at once, in [`Lanes`] so that the compiler
+//! vectorises it: the same trigonometry-free formulas, with every early return replaced by a
+//! mask bit and $\rho = \sqrt{p_u^2 + p_w^2}$ instead of `hypot` (a library call, which would
+//! not vectorise). Lanes are independent: NaN or infinity in one lane stays in that lane.
+
+use super::Tsai3Dof;
+use crate::JacobianLanes;
+use nalgebra::Vector3;
+use pkm_traits::Lanes;
+
+impl Tsai3Dof {
+    /// Eq. 7 at each of the `N` points on the principal, elbow-out branch (see
+    /// [`Tsai3Dof::jacobian_eq7`] for the formulas), lane-parallel. A lane is reachable exactly
+    /// where `jacobian_eq7` returns `Some` (up to rounding at the workspace boundary), with the
+    /// same matrix to rounding; like `jacobian_eq7` it may hold infinite entries where eq. 7
+    /// is singular ($\sin\theta_3 = 0$ or $\sin(\theta_1 - \theta_2) = 0$).
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Vector3;
+    /// use pkm_mechanisms::Tsai3Dof;
+    /// let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    /// let p = Vector3::new(0.1, -0.2, 0.5);
+    /// let lanes = design.jacobian_eq7_lanes(&[p, Vector3::new(0.0, 0.0, 5.0)]);
+    /// let scalar = design.jacobian_eq7(&p).unwrap();
+    /// assert!((lanes.matrix(0).unwrap() - scalar).norm() < 1e-13 * scalar.norm());
+    /// assert_eq!(lanes.reachable, [true, false]);
+    /// ```
+    pub fn jacobian_eq7_lanes<const N: usize>(
+        &self,
+        points: &[Vector3<f64>; N],
+    ) -> JacobianLanes<N> {
+        let p = [0, 1, 2].map(|k| Lanes::from_fn(|l| points[l][k]));
+        let mut out = JacobianLanes {
+            jacobian: [[0.0; N]; 9],
+            reachable: [true; N],
+        };
+        for leg in 0..3 {
+            let (row, reachable) = self.eq7_row(leg, &p);
+            for (k, value) in row.into_iter().enumerate() {
+                out.jacobian[3 * leg + k] = value.0;
+            }
+            for (all, leg_ok) in out.reachable.iter_mut().zip(reachable) {
+                *all &= leg_ok;
+            }
+        }
+        out
+    }
+
+    /// Row `leg` of eq. 7 at the points `p` (coordinates in lanes) and which lanes that leg
+    /// reaches: [`Tsai3Dof::jacobian_eq7`]'s formulas with divisions by $b$, $\rho$, $2a$ and
+    /// $L$ turned into products with reciprocals computed once (a lane division is slow).
+    #[inline(always)]
+    fn eq7_row<const N: usize>(&self, leg: usize, p: &[Lanes<N>; 3]) -> ([Lanes<N>; 3], [bool; N]) {
+        let (cp, sp) = self.trig[leg];
+        let a = self.a;
+        let (pu, pv, pw) = (p[0] * cp + p[1] * sp + self.h, p[1] * cp - p[0] * sp, p[2]);
+        let c3 = pv * self.b.recip();
+        let s3_sq = 1.0 - c3 * c3;
+        let s3 = s3_sq.max(0.0).sqrt();
+        let l = self.s + self.b * s3;
+        let rho2 = pu * pu + pw * pw;
+        let inv_rho = rho2.sqrt().recip();
+        let k = (rho2 + a * a - l * l) * inv_rho * (0.5 / a);
+        let sb = (1.0 - k * k).max(0.0).sqrt();
+        let (ca, sa) = (pu * inv_rho, pw * inv_rho);
+        let c1 = ca * k + sa.abs() * sb;
+        let s1 = sa * k - sa.signum() * ca * sb;
+        let inv_l = l.recip();
+        let c2 = (pu - a * c1) * inv_l;
+        let s2 = (pw - a * s1) * inv_l;
+        let a_sin12 = a * (s1 * c2 - c1 * s2);
+        let inv_den = (a_sin12 * s3).recip();
+        let row = [
+            (c3 * sp - c2 * cp * s3) * inv_den,
+            (-(c3 * cp) - c2 * sp * s3) * inv_den,
+            -s2 / a_sin12,
+        ];
+        let reachable = std::array::from_fn(|l| s3_sq.0[l] >= 0.0 && k.0[l].abs() <= 1.0);
+        (row, reachable)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::float_cmp)]
+    use super::*;
+    use proptest::prelude::*;
+
+    fn designs() -> [Tsai3Dof; 2] {
+        [
+            Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap(),
+            Tsai3Dof::from_degrees(0.3, 0.5, 0.1, -0.05, 100.0, 230.0).unwrap(),
+        ]
+    }
+
+    /// How far `p` is from the boundary of the workspace: the smallest of $1 - |c_3|$ and
+    /// $1 - |k|$ over the legs (as computed by the scalar formulas).
+    fn margin(m: &Tsai3Dof, p: &Vector3<f64>) -> f64 {
+        (0..3)
+            .map(|i| {
+                let (pu, pv, pw) = m.leg_coordinates(i, p);
+                let c3 = pv / m.b;
+                let l = m.s + m.b * (1.0 - c3 * c3).max(0.0).sqrt();
+                let rho = pu.hypot(pw);
+                let k = (rho * rho + m.a * m.a - l * l) / (2.0 * m.a * rho);
+                (1.0 - c3.abs()).min(1.0 - k.abs())
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    fn check_lanes(points: &[Vector3<f64>; 4]) -> Result<(), TestCaseError> {
+        for m in designs() {
+            let lanes = m.jacobian_eq7_lanes(points);
+            for (lane, p) in points.iter().enumerate() {
+                let want = m.jacobian_eq7(p);
+                let got = lanes.matrix(lane);
+                let margin = margin(&m, p);
+                match (got, want) {
+                    (Some(g), Some(w)) if w.iter().all(|v| v.is_finite()) => {
+                        // sqrt(1 - k²) and sqrt(1 - c3²) amplify rounding near the boundary.
+                        let tol = 1e-14 / margin.max(1e-300) + 1e-13;
+                        for i in 0..3 {
+                            let (gr, wr) = (g.row(i), w.row(i));
+                            prop_assert!(
+                                (gr - wr).norm() <= tol * wr.norm(),
+                                "{p} lane {lane}: {g} vs {w}"
+                            );
+                        }
+                    }
+                    (Some(_), Some(_)) | (None, None) => {}
+                    _ => prop_assert!(
+                        !(margin.abs() > 1e-12),
+                        "{p}: batch {got:?} scalar {want:?}"
+                    ),
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            20 => -1.0..1.0_f64,
+            1 => Just(f64::NAN),
+            1 => Just(f64::INFINITY),
+            1 => Just(-1e300),
+            1 => Just(1e160),
+            1 => Just(0.0),
+        ]
+    }
+
+    fn point() -> impl Strategy<Value = Vector3<f64>> {
+        (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vector3::new(x, y, z))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+        #[test]
+        fn each_lane_equals_the_scalar_kernel(points in [point(), point(), point(), point()]) {
+            check_lanes(&points)?;
+        }
+    }
+
+    #[test]
+    fn a_grid_is_mostly_reachable_and_matches() {
+        let mut reachable = 0;
+        let mut total = 0;
+        for ix in -5..=5 {
+            for iy in -5..=5 {
+                let pts: [Vector3<f64>; 4] = std::array::from_fn(|k| {
+                    Vector3::new(0.1 * ix as f64, 0.1 * iy as f64, 0.1 + 0.2 * k as f64)
+                });
+                check_lanes(&pts).unwrap();
+                let lanes = designs()[0].jacobian_eq7_lanes(&pts);
+                reachable += lanes.reachable.iter().filter(|r| **r).count();
+                total += 4;
+            }
+        }
+        assert!(reachable * 3 > total, "{reachable}/{total}");
+    }
+}
