@@ -3,5 +3,6 @@
 
 mod cross_checks;
 mod determinism;
+mod hostile;
 mod reproduce_quick;
 mod tidy;
