@@ -21,7 +21,12 @@ impl SlicedRegion for Square {
         &[0.0, 1.0]
     }
     fn extents(&self) -> Extents {
-        Extents { y_min: 0.0, y_max: 1.0, z_min: 0.0, z_max: 1.0 }
+        Extents {
+            y_min: 0.0,
+            y_max: 1.0,
+            z_min: 0.0,
+            z_max: 1.0,
+        }
     }
     fn area(&self) -> f64 {
         1.0
@@ -85,10 +90,22 @@ proptest! {
 #[test]
 fn huge_counts_are_refused_before_allocating() {
     for n in [usize::MAX, 1 << 40, 1 << 33] {
-        super::expect(judge_err("mean_by_quadrature (huge)", || mean_by_quadrature(&Square, |y, z| y + z, n)));
-        super::expect(judge_err("Slice::square (huge)", || Slice::square(0.5, 1.0, n, |_, _, _| Some(1.0))));
-        let rule = GridRule { min_points: n, target_points: n, shrink: 0.95 };
-        super::expect(judge_err("mean_by_grid (huge)", || mean_by_grid(&Square, |y, z| y + z, &rule)));
-        super::expect(judge_err("GaussLegendre::new (huge)", || Ok::<GaussLegendre, ()>(GaussLegendre::new(n))));
+        super::expect(judge_err("mean_by_quadrature (huge)", || {
+            mean_by_quadrature(&Square, |y, z| y + z, n)
+        }));
+        super::expect(judge_err("Slice::square (huge)", || {
+            Slice::square(0.5, 1.0, n, |_, _, _| Some(1.0))
+        }));
+        let rule = GridRule {
+            min_points: n,
+            target_points: n,
+            shrink: 0.95,
+        };
+        super::expect(judge_err("mean_by_grid (huge)", || {
+            mean_by_grid(&Square, |y, z| y + z, &rule)
+        }));
+        super::expect(judge_err("GaussLegendre::new (huge)", || {
+            GaussLegendre::new(n)
+        }));
     }
 }

@@ -2,7 +2,9 @@
 
 use super::{all_finite, config, hostile_f64, judge, judge_err};
 use nalgebra::Vector2;
-use pkm_integrators::test_problems::{ExponentialDecay, HarmonicOscillator, Pendulum, RotatingDecay};
+use pkm_integrators::test_problems::{
+    ExponentialDecay, HarmonicOscillator, Pendulum, RotatingDecay,
+};
 use pkm_integrators::{
     AdaptiveSettings, DormandPrince54, ImplicitMidpoint, OutputTimes, Rk4, Scheme, Solution,
     integrate,
@@ -26,7 +28,11 @@ fn drive<S: Scheme<2>>(
     output: &OutputTimes,
 ) -> Result<(), TestCaseError> {
     let field = HarmonicOscillator::new(3.0).unwrap();
-    judge(entry, || integrate(&field, scheme, span, z0, output, &Silent), |run| run_is_checked(run, span))
+    judge(
+        entry,
+        || integrate(&field, scheme, span, z0, output, &Silent),
+        |run| run_is_checked(run, span),
+    )
 }
 
 /// Spans: ordinary, inverted, empty, non-finite, and far from zero (where `t + h == t`).
@@ -128,11 +134,28 @@ fn runs_that_cannot_end_are_refused() {
     ];
     for (h, span, output) in cases {
         super::expect(judge_err("integrate (Rk4, cannot end)", || {
-            integrate(&field, &mut Rk4::new(h).unwrap(), span, &z0, &output, &Silent)
+            integrate(
+                &field,
+                &mut Rk4::new(h).unwrap(),
+                span,
+                &z0,
+                &output,
+                &Silent,
+            )
         }));
-        super::expect(judge_err("integrate (ImplicitMidpoint, cannot end)", || {
-            integrate(&field, &mut ImplicitMidpoint::new(h).unwrap(), span, &z0, &output, &Silent)
-        }));
+        super::expect(judge_err(
+            "integrate (ImplicitMidpoint, cannot end)",
+            || {
+                integrate(
+                    &field,
+                    &mut ImplicitMidpoint::new(h).unwrap(),
+                    span,
+                    &z0,
+                    &output,
+                    &Silent,
+                )
+            },
+        ));
     }
 }
 
@@ -142,8 +165,20 @@ fn runs_that_cannot_end_are_refused() {
 fn fixed_step_times_do_not_accumulate_round_off() {
     let z0 = Vector2::new(1.0, 0.0);
     let field = HarmonicOscillator::new(3.0).unwrap();
-    let run = integrate(&field, &mut Rk4::new(0.1).unwrap(), (0.0, 100.0), &z0, &OutputTimes::Steps, &Silent).unwrap();
+    let run = integrate(
+        &field,
+        &mut Rk4::new(0.1).unwrap(),
+        (0.0, 100.0),
+        &z0,
+        &OutputTimes::Steps,
+        &Silent,
+    )
+    .unwrap();
     for (k, t) in run.times.iter().enumerate() {
-        assert_eq!(t.to_bits(), (0.1 * k as f64).min(100.0).to_bits(), "step {k}: t = {t}");
+        assert_eq!(
+            t.to_bits(),
+            (0.1 * k as f64).min(100.0).to_bits(),
+            "step {k}: t = {t}"
+        );
     }
 }

@@ -1,6 +1,8 @@
 //! `pkm-mechanisms`: every constructor, and IK, FK and Jacobians of every mechanism.
 
-use super::{all_finite, config, hostile_count, hostile_f64, hostile_vec3, judge, judge_err, judge_value};
+use super::{
+    all_finite, config, hostile_count, hostile_f64, hostile_vec3, judge, judge_err, judge_value,
+};
 use nalgebra::{Isometry3, SVector, Vector3};
 use pkm_mechanisms::{
     Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaMode, LinearDeltaRatios,
@@ -9,8 +11,7 @@ use pkm_mechanisms::{
 };
 use pkm_screw_theory::Twist;
 use pkm_traits::{
-    Bounds, ForwardKinematics, InverseKinematics, NewtonSettings, Objective,
-    SlicedRegion,
+    Bounds, ForwardKinematics, InverseKinematics, NewtonSettings, Objective, SlicedRegion,
 };
 use proptest::prelude::*;
 
@@ -27,26 +28,49 @@ where
     M: InverseKinematics<N, N> + ForwardKinematics<N>,
 {
     let ik = m.inverse_kinematics(x, mode);
-    judge(name, || m.inverse_kinematics(x, mode), |q| {
-        all_finite(q.iter()) && m.closure(x, q).amax() <= 1e-6 * (1.0 + x.amax())
-    })?;
+    judge(
+        name,
+        || m.inverse_kinematics(x, mode),
+        |q| all_finite(q.iter()) && m.closure(x, q).amax() <= 1e-6 * (1.0 + x.amax()),
+    )?;
     let q = match ik {
         Ok(q) => q,
         Err(_) => *x,
     };
-    judge("ClosedChain::jacobian", || m.jacobian(x, &q), |j| all_finite(j.iter()))?;
-    let settings = NewtonSettings { tolerance: 1e-10, max_iterations: 30 };
-    judge("ForwardKinematics::forward_kinematics", || m.forward_kinematics(&q, guess, &settings), |x| {
-        all_finite(x.iter()) && m.closure(x, &q).amax() <= 1e-9
-    })
+    judge(
+        "ClosedChain::jacobian",
+        || m.jacobian(x, &q),
+        |j| all_finite(j.iter()),
+    )?;
+    let settings = NewtonSettings {
+        tolerance: 1e-10,
+        max_iterations: 30,
+    };
+    judge(
+        "ForwardKinematics::forward_kinematics",
+        || m.forward_kinematics(&q, guess, &settings),
+        |x| all_finite(x.iter()) && m.closure(x, &q).amax() <= 1e-9,
+    )
 }
 
 fn tsai_design() -> impl Strategy<Value = (f64, f64, f64, f64, f64, f64)> {
-    (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64())
+    (
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+    )
 }
 
 fn valid_tsai() -> impl Strategy<Value = Tsai3Dof> {
-    (0.1..1.0f64, 0.1..1.0f64, prop_oneof![Just(0.0), 0.0..0.3f64], -0.2..0.2f64)
+    (
+        0.1..1.0f64,
+        0.1..1.0f64,
+        prop_oneof![Just(0.0), 0.0..0.3f64],
+        -0.2..0.2f64,
+    )
         .prop_map(|(a, b, s, h)| Tsai3Dof::from_degrees(a, b, s, h, 120.0, 240.0).unwrap())
 }
 
@@ -185,7 +209,13 @@ proptest! {
 fn tsai_column_volume_refuses_huge_grids() {
     let d = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
     for ngrid in [0, usize::MAX, 1 << 40] {
-        super::expect(judge_err("Tsai3Dof::column_volume (huge)", || Ok::<f64, ()>(d.column_volume(ngrid))));
+        super::expect(judge_err("Tsai3Dof::column_volume (huge)", || {
+            d.column_volume(ngrid)
+        }));
     }
-    super::expect(judge("Tsai3Dof::column_volume", || Ok::<f64, ()>(d.column_volume(50)), |v| v.is_finite() && *v > 0.0));
+    super::expect(judge(
+        "Tsai3Dof::column_volume",
+        || d.column_volume(50),
+        |v| v.is_finite() && *v > 0.0,
+    ));
 }

@@ -70,7 +70,8 @@ pub(crate) fn hostile_count() -> impl Strategy<Value = usize> {
 }
 
 pub(crate) fn hostile_vec3() -> impl Strategy<Value = nalgebra::Vector3<f64>> {
-    (hostile_f64(), hostile_f64(), hostile_f64()).prop_map(|(x, y, z)| nalgebra::Vector3::new(x, y, z))
+    (hostile_f64(), hostile_f64(), hostile_f64())
+        .prop_map(|(x, y, z)| nalgebra::Vector3::new(x, y, z))
 }
 
 pub(crate) fn all_finite<'a>(values: impl IntoIterator<Item = &'a f64>) -> bool {
@@ -79,7 +80,10 @@ pub(crate) fn all_finite<'a>(values: impl IntoIterator<Item = &'a f64>) -> bool 
 
 fn tally(entry: &str, outcome: &str) {
     if let Some(path) = std::env::var_os("HOSTILE_TALLY")
-        && let Ok(mut file) = std::fs::OpenOptions::new().create(true).append(true).open(path)
+        && let Ok(mut file) = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
     {
         let _ = writeln!(file, "{entry}\t{outcome}");
     }

@@ -35,7 +35,10 @@ impl Objective for Bowl {
     }
     fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
         self.check_dimension(p)?;
-        Ok(p.iter().zip(&self.centre).map(|(x, c)| (x - c).powi(2)).sum())
+        Ok(p.iter()
+            .zip(&self.centre)
+            .map(|(x, c)| (x - c).powi(2))
+            .sum())
     }
 }
 
@@ -65,8 +68,13 @@ impl Constraints for Bowl {
 
 fn axis_is_checked(a: &GridAxis) -> bool {
     let first = a.node(0);
-    let last = a.node(a.n.saturating_sub(1));
-    a.n >= 1 && a.step().is_finite() && a.step() >= 0.0 && first.is_finite() && last.is_finite() && first <= last
+    let last = a.node(a.n().saturating_sub(1));
+    a.n() >= 1
+        && a.step().is_finite()
+        && a.step() >= 0.0
+        && first.is_finite()
+        && last.is_finite()
+        && first <= last
 }
 
 fn design_inside(bounds: &[Bounds], p: &[f64]) -> bool {
@@ -125,7 +133,7 @@ proptest! {
         };
         judge("levenberg_marquardt", || levenberg_marquardt(&bowl, sense, &start, &settings), checked)?;
         let small = n_starts.min(4);
-        judge("multistart_levenberg_marquardt", || multistart_levenberg_marquardt(&bowl, sense, &[start.clone()], small, seed, &settings), checked)?;
+        judge("multistart_levenberg_marquardt", || multistart_levenberg_marquardt(&bowl, sense, std::slice::from_ref(&start), small, seed, &settings), checked)?;
     }
 
     #[test]
@@ -154,14 +162,40 @@ proptest! {
 #[test]
 fn huge_counts_are_refused_before_allocating() {
     let bowl = Bowl::new(2);
-    let huge = GridAxis::new(0.0, 1.0, usize::MAX).unwrap();
-    let wide = GridAxis::new(0.0, 1.0, 1 << 33).unwrap();
-    let fixed = GridAxis::new(0.0, 1.0, 1).unwrap();
-    for keep in [false, true] {
-        super::expect(judge_err("grid_search (huge)", || grid_search(&bowl, &[huge, fixed], keep, &Silent)));
-        super::expect(judge_err("grid_search (huge)", || grid_search(&bowl, &[wide, fixed], keep, &Silent)));
+    for n in [usize::MAX, 1 << 33] {
+        super::expect(judge_err("GridAxis::new (huge)", || {
+            GridAxis::new(0.0, 1.0, n)
+        }));
     }
-    let settings = LmSettings { max_iterations: 5, ..LmSettings::default() };
+    super::expect(judge_err("GridAxis::with_step (huge)", || {
+        GridAxis::with_step(0.0, 1.0, 1e-300)
+    }));
+    // Each axis is admissible, their product is not.
+    let wide = GridAxis::new(0.0, 1.0, 1 << 13).unwrap();
+    for keep in [false, true] {
+        super::expect(judge_err("grid_search (huge)", || {
+            grid_search(&bowl, &[wide, wide], keep, &Silent)
+        }));
+    }
+    let coarse = [GridAxis::new(-2.0, 2.0, 5).unwrap(); 2];
+    let levels = [LatticeLevel {
+        step: 1e-300,
+        half_width: usize::MAX,
+    }];
+    super::expect(judge_err("lattice_refined_search (huge)", || {
+        lattice_refined_search(&bowl, &coarse, &levels, false, &Silent)
+    }));
+    let settings = RefinementSettings {
+        nodes_per_axis: 1 << 20,
+        max_levels: 3,
+    };
+    super::expect(judge_err("refined_grid_search (huge)", || {
+        refined_grid_search(&bowl, &coarse, &[1e-3; 2], &settings, false, &Silent)
+    }));
+    let settings = LmSettings {
+        max_iterations: 5,
+        ..LmSettings::default()
+    };
     for n in [usize::MAX, 1 << 40] {
         super::expect(judge_err("multistart_levenberg_marquardt (huge)", || {
             multistart_levenberg_marquardt(&bowl, Sense::Minimise, &[], n, 1, &settings)
