@@ -4,5 +4,6 @@
 mod cross_checks;
 mod design_index_kernels;
 mod determinism;
+mod hostile;
 mod reproduce_quick;
 mod tidy;

@@ -71,12 +71,46 @@ pub(crate) fn git_commit(root: &Path) -> String {
     }
 }
 
+/// Creates `dir` if needed and checks that a report can be written there, before anything
+/// runs: `--out` must name a directory (not a file) that can be created and written.
+///
+/// # Errors
+/// When `dir` is a file, lies below a file, or cannot be created or written.
+pub(crate) fn prepare_output_dir(dir: &Path) -> anyhow::Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!("--out {} is not a directory", dir.display());
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("--out {}: cannot create the directory", dir.display()))?;
+    let probe = dir.join(format!(".write-check-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .with_context(|| format!("--out {}: the directory is not writable", dir.display()))?;
+    std::fs::remove_file(&probe)
+        .with_context(|| format!("--out {}: cannot remove {}", dir.display(), probe.display()))
+}
+
+/// Writes `contents` to `path` atomically: into a temporary file of the same directory, then
+/// renamed over `path`, so a reader (or a crash, or Ctrl-C) never sees a half-written file.
+fn write_atomically(path: &Path, contents: &[u8]) -> anyhow::Result<()> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let temporary = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
+    std::fs::write(&temporary, contents).with_context(|| temporary.display().to_string())?;
+    std::fs::rename(&temporary, path).with_context(|| {
+        let _ = std::fs::remove_file(&temporary);
+        format!("renaming {} to {}", temporary.display(), path.display())
+    })
+}
+
 /// Everything a run writes.
 #[derive(Debug)]
 pub(crate) struct Report<'a> {
     mode: Mode,
     git_commit: String,
     runs: &'a [ExperimentRun],
+    cancelled: bool,
 }
 
 impl<'a> Report<'a> {
@@ -86,7 +120,13 @@ impl<'a> Report<'a> {
             mode,
             git_commit,
             runs,
+            cancelled: false,
         }
+    }
+
+    /// Marks the report as that of a run cancelled by Ctrl-C.
+    pub(crate) fn cancelled(self, cancelled: bool) -> Self {
+        Self { cancelled, ..self }
     }
 
     fn rows(&self) -> Vec<Comparison> {
@@ -96,12 +136,23 @@ impl<'a> Report<'a> {
             .collect()
     }
 
-    /// Writes `results.json`, `report.md`, the CSVs and the SVGs into `dir` (created if needed).
+    /// Writes `results.json`, `report.md`, the CSVs and the SVGs into `dir` (created if needed)
+    /// and returns the path of the report.
+    ///
+    /// `results.json` and `report.md` are written atomically (temporary file, then rename). A
+    /// cancelled run writes only `results.cancelled.json` and `report.cancelled.md`, both with
+    /// `cancelled: true`, and leaves every file of the previous complete report as it was.
     ///
     /// # Errors
     /// When a file cannot be written or a figure cannot be rendered.
-    pub(crate) fn write(&self, dir: &Path) -> anyhow::Result<()> {
+    pub(crate) fn write(&self, dir: &Path) -> anyhow::Result<std::path::PathBuf> {
         std::fs::create_dir_all(dir)?;
+        if self.cancelled {
+            write_atomically(&dir.join("results.cancelled.json"), self.json()?.as_bytes())?;
+            let report = dir.join("report.cancelled.md");
+            write_atomically(&report, self.markdown().as_bytes())?;
+            return Ok(report);
+        }
         for run in self.runs {
             let Ok(outcome) = &run.outcome else { continue };
             let id = run.experiment.id;
@@ -114,23 +165,26 @@ impl<'a> Report<'a> {
                 plot::render(figure, &path).with_context(|| path.display().to_string())?;
             }
         }
-        std::fs::write(dir.join("results.json"), self.json()?)?;
-        std::fs::write(dir.join("report.md"), self.markdown())?;
-        Ok(())
+        write_atomically(&dir.join("results.json"), self.json()?.as_bytes())?;
+        let report = dir.join("report.md");
+        write_atomically(&report, self.markdown().as_bytes())?;
+        Ok(report)
     }
 
-    /// `results.json`: `{"mode", "git_commit", "results": [Comparison…]}`.
+    /// `results.json`: `{"mode", "git_commit", "cancelled", "results": [Comparison…]}`.
     fn json(&self) -> serde_json::Result<String> {
         /// The schema of `results.json`, fields in this order.
         #[derive(Serialize)]
         struct Results<'a> {
             mode: Mode,
             git_commit: &'a str,
+            cancelled: bool,
             results: Vec<Comparison>,
         }
         serde_json::to_string_pretty(&Results {
             mode: self.mode,
             git_commit: &self.git_commit,
+            cancelled: self.cancelled,
             results: self.rows(),
         })
     }
@@ -141,8 +195,13 @@ impl<'a> Report<'a> {
             .ok()
             .and_then(|v| v.as_str().map(str::to_owned))
             .unwrap_or_default();
+        let cancelled = if self.cancelled {
+            " **Cancelled** (Ctrl-C): only the experiments below ran."
+        } else {
+            ""
+        };
         let mut md = format!(
-            "# Reproduction report\n\nMode `{mode}`, commit `{}`.\n\n{}\n\n## Results\n\n{}",
+            "# Reproduction report\n\nMode `{mode}`, commit `{}`.{cancelled}\n\n{}\n\n## Results\n\n{}",
             self.git_commit,
             Summary::of(self.runs),
             table::markdown(&self.rows())
@@ -382,6 +441,45 @@ mod tests {
         for text in ["Figure 5: GCI landscape", "a (m)", "b (m)", "GCI"] {
             assert!(heat.contains(text), "heatmap lacks {text}");
         }
+    }
+
+    #[test]
+    fn a_cancelled_run_keeps_the_previous_complete_report() {
+        let dir = tempfile::tempdir().unwrap();
+        let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap();
+        let complete = [synthetic_run("test.synthetic", Ok(outcome()))];
+        let written = Report::new(Mode::Full, "abc".into(), &complete)
+            .write(dir.path())
+            .unwrap();
+        assert_eq!(written, dir.path().join("report.md"));
+        let (json, md, csv) = (
+            read("results.json"),
+            read("report.md"),
+            read("test.synthetic.volume.csv"),
+        );
+        assert_eq!(
+            serde_json::from_str::<Value>(&json).unwrap()["cancelled"],
+            false
+        );
+        let partial = [synthetic_run("test.other", Ok(Outcome::default()))];
+        let written = Report::new(Mode::Quick, "def".into(), &partial)
+            .cancelled(true)
+            .write(dir.path())
+            .unwrap();
+        assert_eq!(written, dir.path().join("report.cancelled.md"));
+        assert_eq!(read("results.json"), json);
+        assert_eq!(read("report.md"), md);
+        assert_eq!(read("test.synthetic.volume.csv"), csv);
+        let cancelled: Value = serde_json::from_str(&read("results.cancelled.json")).unwrap();
+        assert_eq!(cancelled["cancelled"], true);
+        assert_eq!(cancelled["git_commit"], "def");
+        assert!(read("report.cancelled.md").contains("**Cancelled**"));
+        let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(Result::ok)
+            .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+            .collect();
+        assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
     }
 
     #[test]

@@ -57,8 +57,9 @@ pub(crate) fn workspace_root() -> PathBuf {
 /// the run is cancelled.
 ///
 /// # Errors
-/// When `--only` selects nothing, the options contradict each other, or a report file cannot be
-/// written.
+/// When `--only` is empty or selects nothing, the options contradict each other, `--out` is
+/// not a creatable, writable directory (checked before anything runs), or a report file cannot
+/// be written.
 pub(crate) fn run(args: &ReproduceArgs) -> anyhow::Result<ExitCode> {
     run_registry(args, papers::all())
 }
@@ -83,6 +84,11 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
         println!("no experiments registered: nothing to reproduce");
         return Ok(ExitCode::SUCCESS);
     }
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| workspace_root().join("target/reproduce"));
+    report::prepare_output_dir(&out)?;
     let cancel = CancelFlag::on_ctrl_c()?;
     let runs = run_all(&experiments, mode, &cancel);
     let cancelled = cancel.is_set();
@@ -93,12 +99,9 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
     } else {
         print!("{}", table::plain(&rows, console::colors_enabled()));
     }
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| workspace_root().join("target/reproduce"));
-    let report = report::Report::new(mode, report::git_commit(&workspace_root()), &runs);
-    report
+    let report = report::Report::new(mode, report::git_commit(&workspace_root()), &runs)
+        .cancelled(cancelled);
+    let written = report
         .write(&out)
         .with_context(|| format!("writing {}", out.display()))?;
     if args.update_readme && !cancelled {
@@ -108,7 +111,7 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
     }
     let summary = report::Summary::of(&runs);
     println!("\n{summary}");
-    println!("report: {}", out.join("report.md").display());
+    println!("report: {}", written.display());
     if cancelled {
         println!(
             "cancelled: {} of {} experiments completed",
@@ -126,10 +129,14 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
 /// The experiments `--only` selects (all without `--only`).
 ///
 /// # Errors
-/// When a prefix is given and none matches.
+/// When a prefix is empty (it would select everything), or prefixes are given and none
+/// matches.
 fn select(all: Vec<Experiment>, only: &[String]) -> anyhow::Result<Vec<Experiment>> {
     if only.is_empty() {
         return Ok(all);
+    }
+    if only.iter().any(|p| p.trim().is_empty()) {
+        bail!("--only needs a non-empty experiment id prefix (run without --only to run all)");
     }
     let selected: Vec<Experiment> = all
         .into_iter()
@@ -191,6 +198,10 @@ pub(crate) mod tests {
 
     fn passing(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
         Ok(Outcome::default())
+    }
+
+    fn must_not_run(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
+        panic!("an experiment ran before --out was checked");
     }
 
     fn failing(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
@@ -277,12 +288,43 @@ pub(crate) mod tests {
             ids(select(all.clone(), &["wolf2006.b.row1".into(), "stamper".into()]).unwrap()),
             ["wolf2006.b", "stamper1997.c"]
         );
-        let error = select(all, &["miller".into()]).unwrap_err();
+        let error = select(all.clone(), &["miller".into()]).unwrap_err();
         assert!(
             error
                 .to_string()
                 .contains("no experiment matches --only miller")
         );
+        for empty in ["", "  "] {
+            let error = select(all.clone(), &["wolf2006".into(), empty.into()]).unwrap_err();
+            assert!(error.to_string().contains("non-empty"), "{error}");
+        }
+    }
+
+    #[test]
+    fn out_must_be_a_creatable_directory_before_anything_runs() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("a-file");
+        std::fs::write(&file, "not a directory").unwrap();
+        let registry = vec![experiment("test.must_not_run", must_not_run)];
+        for out in [file.clone(), file.join("below")] {
+            let args = ReproduceArgs {
+                quick: true,
+                out: Some(out.clone()),
+                ..ReproduceArgs::default()
+            };
+            let error = run_registry(&args, registry.clone()).unwrap_err();
+            assert!(format!("{error:#}").contains("--out"), "{error:#}");
+        }
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "not a directory");
+        let fresh = dir.path().join("new/nested");
+        let args = ReproduceArgs {
+            quick: true,
+            out: Some(fresh.clone()),
+            ..ReproduceArgs::default()
+        };
+        let registry = vec![experiment("test.passing", passing)];
+        assert_eq!(run_registry(&args, registry).unwrap(), ExitCode::SUCCESS);
+        assert!(fresh.join("results.json").is_file());
     }
 
     #[test]

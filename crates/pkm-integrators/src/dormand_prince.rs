@@ -176,12 +176,13 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
     /// until the weighted local error is at most 1.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] for a zero or non-finite `h`;
+    /// [`IntegrationError::InvalidSetting`] for a non-finite `t`, or an `h` that is zero, not
+    /// finite or too small to move `t`;
     /// [`IntegrationError::Rhs`] when the field fails; [`IntegrationError::NonFinite`] when the
     /// state is not finite, or when attempts stay non-finite down to the smallest step (a
     /// non-finite attempt is otherwise rejected and the step shrunk by 5);
     /// [`IntegrationError::StepSizeUnderflow`] when a rejected step would have to shrink below
-    /// `max(h_min, 16 ε |t|)`.
+    /// `max(h_min, 16 ε |t|)` (and never below the smallest normal `f64`).
     fn step<F: VectorField<M> + ?Sized>(
         &mut self,
         field: &F,
@@ -189,20 +190,19 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
         z: &mut SVector<f64, M>,
         h: f64,
     ) -> Result<StepReport, IntegrationError> {
+        crate::require_step(t, h)?;
         require_finite_state(t, z)?;
-        if !(h.is_finite() && h != 0.0) {
-            return Err(IntegrationError::InvalidSetting {
-                setting: "h",
-                value: h,
-                requirement: "the trial step must be finite and non-zero",
-            });
-        }
         let mut evaluations = 0;
         let k1 = self.first_stage(field, t, z, &mut evaluations)?;
         require_finite_state(t, &k1)?;
         let direction = if h < 0.0 { -1.0 } else { 1.0 };
         let mut h_abs = h.abs().min(self.settings.h_max());
-        let h_floor = self.settings.h_min().max(16.0 * f64::EPSILON * t.abs());
+        // At least the smallest normal step, so that shrinking by 0.2 always reaches the floor.
+        let h_floor = self
+            .settings
+            .h_min()
+            .max(16.0 * f64::EPSILON * t.abs())
+            .max(f64::MIN_POSITIVE);
         let mut rejections = 0;
         loop {
             let attempt = self.attempt(field, t, z, &k1, direction * h_abs)?;

@@ -18,8 +18,11 @@ const CHECK_EVERY: usize = 64;
 /// sample and is checked for cancellation every 64 steps.
 ///
 /// # Errors
-/// [`IntegrationError::InvalidSetting`] for a span that is not finite and increasing or invalid
-/// output times; [`IntegrationError::TooManySteps`] when the method's step budget runs out;
+/// [`IntegrationError::InvalidSetting`] for a span that is not finite and increasing, invalid
+/// output times, a first step that is not finite and positive, or a fixed step so small that
+/// the span needs more steps than the method's budget (refused before the run starts);
+/// [`IntegrationError::TooManySteps`] when the method's step budget runs out;
+/// [`IntegrationError::StepSizeUnderflow`] when a step does not move `t` (`t + h == t`);
 /// [`IntegrationError::Cancelled`] when `progress` asks to stop; any error of the method's
 /// steps (vector field failure, non-finite state, step-size underflow).
 pub fn integrate<const M: usize, F, S>(
@@ -35,11 +38,11 @@ where
     S: Scheme<M>,
 {
     let (t0, t1) = t_span;
-    if !(t0.is_finite() && t1.is_finite() && t1 > t0) {
+    if !(t0.is_finite() && t1.is_finite() && t1 > t0 && (t1 - t0).is_finite()) {
         return Err(IntegrationError::InvalidSetting {
             setting: "t1",
             value: t1,
-            requirement: "t0 and t1 must be finite with t1 > t0",
+            requirement: "t0 and t1 must be finite with t1 > t0 and a finite span t1 - t0",
         });
     }
     require_finite_state(t0, z0)?;
@@ -47,13 +50,25 @@ where
     let mut recorder = Recorder::new(targets);
     progress.start("integrate", recorder.expected() as u64);
     let start = scheme.start(field, t0, z0, t1)?;
+    let dense = scheme.has_dense_output();
+    check_start(
+        start.h,
+        t0,
+        t1,
+        dense,
+        scheme.max_steps(),
+        recorder.expected(),
+    )?;
     let mut stats = Stats {
         evaluations: start.evaluations,
         ..Stats::default()
     };
     let (mut t, mut z, mut h) = (t0, *z0, start.h);
+    // Fixed-step times are `anchor + k·h` from the last time landed on exactly (t0, a sample
+    // time, or where the step size changed), not a running sum, so round-off does not
+    // accumulate over long runs.
+    let (mut anchor, mut k, mut anchor_h) = (t0, 0.0_f64, start.h);
     recorder.record_up_to(t, &z, None, progress);
-    let dense = scheme.has_dense_output();
     while t < t1 {
         if stats.steps >= scheme.max_steps() {
             return Err(IntegrationError::TooManySteps {
@@ -74,16 +89,61 @@ where
         let h_try = if clipped { stop - t } else { h };
         let report = scheme.step(field, t, &mut z, h_try)?;
         stats.record(&report);
-        t = if clipped && report.h_taken.to_bits() == h_try.to_bits() {
+        let t_next = if clipped && report.h_taken.to_bits() == h_try.to_bits() {
+            (anchor, k) = (stop, 0.0);
             stop
+        } else if !dense && report.h_taken.to_bits() == h.to_bits() {
+            if h.to_bits() != anchor_h.to_bits() {
+                (anchor, k, anchor_h) = (t, 0.0, h);
+            }
+            k += 1.0;
+            anchor + k * h
         } else {
             t + report.h_taken
         };
+        if !(t_next > t) {
+            // A step that does not move t (t + h == t far from 0, or h <= 0) would never end.
+            return Err(IntegrationError::StepSizeUnderflow {
+                t,
+                h: report.h_taken,
+                h_min: t.abs() * f64::EPSILON,
+            });
+        }
+        t = t_next;
         h = report.h_next;
         recorder.record_up_to(t, &z, scheme.dense_output(), progress);
     }
     progress.finish();
     Ok(recorder.finish(stats))
+}
+
+/// Refuses a run that cannot end: a first step that is not finite and positive, or, for a
+/// fixed-step method, a span that needs more than `max_steps` steps (counting the shortened
+/// steps that land on the `samples` output times).
+fn check_start(
+    h: f64,
+    t0: f64,
+    t1: f64,
+    dense: bool,
+    max_steps: usize,
+    samples: usize,
+) -> Result<(), IntegrationError> {
+    if !(h.is_finite() && h > 0.0) {
+        return Err(IntegrationError::InvalidSetting {
+            setting: "h",
+            value: h,
+            requirement: "the first step must be finite and > 0",
+        });
+    }
+    let needed = ((t1 - t0) / h).ceil() + samples as f64;
+    if !dense && !(needed <= max_steps as f64) {
+        return Err(IntegrationError::InvalidSetting {
+            setting: "h",
+            value: h,
+            requirement: "the span needs more fixed steps than the method's max_steps",
+        });
+    }
+    Ok(())
 }
 
 /// Collects samples as the run passes their times.

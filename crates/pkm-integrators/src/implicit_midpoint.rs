@@ -3,7 +3,7 @@
 use nalgebra::SVector;
 use pkm_traits::{IntegrationError, Integrator, StepReport, VectorField};
 
-use crate::{Scheme, Start, require_finite_state, require_positive};
+use crate::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start, require_finite_state, require_positive};
 
 /// The implicit midpoint rule with a fixed step,
 /// $$ z_1 = z_0 + h\, f\!\left(t_0 + \tfrac h2,\ \tfrac{z_0 + z_1}{2}\right), $$
@@ -40,6 +40,7 @@ pub struct ImplicitMidpoint {
     h: f64,
     tolerance: f64,
     max_iterations: usize,
+    max_steps: usize,
 }
 
 impl ImplicitMidpoint {
@@ -52,6 +53,19 @@ impl ImplicitMidpoint {
             h: require_positive("h", h)?,
             tolerance: 1e-13,
             max_iterations: 50,
+            max_steps: DEFAULT_MAX_FIXED_STEPS,
+        })
+    }
+
+    /// Budget of steps per run (default [`DEFAULT_MAX_FIXED_STEPS`]): the driver refuses a run
+    /// that needs more before it starts.
+    ///
+    /// # Errors
+    /// [`IntegrationError::InvalidSetting`] when 0.
+    pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
+        Ok(Self {
+            max_steps: crate::require_nonzero("max_steps", max_steps)?,
+            ..self
         })
     }
 
@@ -102,6 +116,7 @@ impl<const M: usize> Integrator<M> for ImplicitMidpoint {
     /// One implicit midpoint step of size `h` (negative `h` integrates backwards).
     ///
     /// # Errors
+    /// [`IntegrationError::InvalidSetting`] for a zero or non-finite `h` or `t`;
     /// [`IntegrationError::Rhs`] when the field fails, [`IntegrationError::NonFinite`] when the
     /// state or a stage is not finite, [`IntegrationError::NotConverged`] when the stage solve
     /// exceeds its iteration budget (reduce `h`).
@@ -112,6 +127,7 @@ impl<const M: usize> Integrator<M> for ImplicitMidpoint {
         z: &mut SVector<f64, M>,
         h: f64,
     ) -> Result<StepReport, IntegrationError> {
+        crate::require_step(t, h)?;
         require_finite_state(t, z)?;
         let half = 0.5 * h;
         let t_mid = t + half;
@@ -156,5 +172,9 @@ impl<const M: usize> Scheme<M> for ImplicitMidpoint {
             h: self.h,
             evaluations: 0,
         })
+    }
+
+    fn max_steps(&self) -> usize {
+        self.max_steps
     }
 }

@@ -56,9 +56,9 @@ pub use dense::DenseSegment;
 pub use dormand_prince::DormandPrince54;
 pub use driver::integrate;
 pub use implicit_midpoint::ImplicitMidpoint;
-pub use output::{OutputTimes, Solution, Stats};
+pub use output::{MAX_SAMPLES, OutputTimes, Solution, Stats};
 pub use rk4::Rk4;
-pub use scheme::{Scheme, Start};
+pub use scheme::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start};
 pub use settings::AdaptiveSettings;
 
 use nalgebra::SVector;
@@ -87,4 +87,38 @@ fn require_positive(setting: &'static str, value: f64) -> Result<f64, Integratio
             requirement: "must be finite and > 0",
         })
     }
+}
+
+/// `Ok(value)` when the count is at least 1, else `InvalidSetting`.
+fn require_nonzero(setting: &'static str, value: usize) -> Result<usize, IntegrationError> {
+    if value > 0 {
+        Ok(value)
+    } else {
+        Err(IntegrationError::InvalidSetting {
+            setting,
+            value: 0.0,
+            requirement: "must be >= 1",
+        })
+    }
+}
+
+/// A step of `h` from `t` must be finite, non-zero and move `t` (`t + h != t`); `h < 0`
+/// integrates backwards.
+fn require_step(t: f64, h: f64) -> Result<(), IntegrationError> {
+    if !t.is_finite() {
+        return Err(IntegrationError::InvalidSetting {
+            setting: "t",
+            value: t,
+            requirement: "must be finite",
+        });
+    }
+    let advance = (t + h) - t;
+    if !(h.is_finite() && advance.abs() > 0.0) {
+        return Err(IntegrationError::InvalidSetting {
+            setting: "h",
+            value: h,
+            requirement: "must be finite and large enough that t + h != t",
+        });
+    }
+    Ok(())
 }

@@ -3,6 +3,10 @@
 use nalgebra::SVector;
 use pkm_traits::{IntegrationError, StepReport};
 
+/// Most samples one run records: they are allocated up front, so more are refused (a typed
+/// error) before the run starts. 2²³ states of 12 components take 800 MB.
+pub const MAX_SAMPLES: usize = 1 << 23;
+
 /// Where [`crate::integrate`] records the state.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OutputTimes {
@@ -21,27 +25,35 @@ impl OutputTimes {
     ///
     /// # Errors
     /// [`IntegrationError::InvalidSetting`] for a `Uniform` step that is not finite and positive,
-    /// or `Times` that are not finite, not sorted or outside the span.
+    /// `Times` that are not finite, not sorted or outside the span, or more than [`MAX_SAMPLES`]
+    /// samples.
     pub fn resolve(&self, t0: f64, t1: f64) -> Result<Option<Vec<f64>>, IntegrationError> {
         match self {
             Self::Steps => Ok(None),
             Self::Uniform(dt) => {
                 let dt = crate::require_positive("output dt", *dt)?;
                 let count = ((t1 - t0) / dt + 1e-9).floor();
-                if !(count < 1e9) {
+                if !(count < MAX_SAMPLES as f64) {
                     return Err(IntegrationError::InvalidSetting {
                         setting: "output dt",
                         value: dt,
-                        requirement: "must give at most 1e9 samples over the span",
+                        requirement: "must give at most MAX_SAMPLES samples over the span",
                     });
                 }
-                // `count` is a non-negative integer below 1e9, so the cast is exact.
+                // `count` is a non-negative integer below MAX_SAMPLES, so the cast is exact.
                 let n = count as usize;
                 Ok(Some(
                     (0..=n).map(|i| (t0 + i as f64 * dt).min(t1)).collect(),
                 ))
             }
             Self::Times(times) => {
+                if times.len() > MAX_SAMPLES {
+                    return Err(IntegrationError::InvalidSetting {
+                        setting: "output times",
+                        value: times.len() as f64,
+                        requirement: "at most MAX_SAMPLES output times",
+                    });
+                }
                 let mut previous = t0;
                 for &t in times {
                     if !(t >= previous && t <= t1) {

@@ -3,7 +3,7 @@
 use nalgebra::SVector;
 use pkm_traits::{IntegrationError, Integrator, StepReport, VectorField};
 
-use crate::{Scheme, Start, require_finite_state, require_positive};
+use crate::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start, require_finite_state, require_positive};
 
 /// Classical Runge–Kutta method of order 4 with a fixed step (Hairer, Nørsett & Wanner,
 /// *Solving ODEs I*, §II.1, Table 1.2, "the" Runge–Kutta method):
@@ -27,16 +27,29 @@ use crate::{Scheme, Start, require_finite_state, require_positive};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rk4 {
     h: f64,
+    max_steps: usize,
 }
 
 impl Rk4 {
-    /// RK4 with step size `h` for the driver.
+    /// RK4 with step size `h` for the driver and a budget of [`DEFAULT_MAX_FIXED_STEPS`] steps.
     ///
     /// # Errors
     /// [`IntegrationError::InvalidSetting`] unless `h` is finite and `> 0`.
     pub fn new(h: f64) -> Result<Self, IntegrationError> {
         Ok(Self {
             h: require_positive("h", h)?,
+            max_steps: DEFAULT_MAX_FIXED_STEPS,
+        })
+    }
+
+    /// Budget of steps per run: the driver refuses a run that needs more before it starts.
+    ///
+    /// # Errors
+    /// [`IntegrationError::InvalidSetting`] when 0.
+    pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
+        Ok(Self {
+            max_steps: crate::require_nonzero("max_steps", max_steps)?,
+            ..self
         })
     }
 
@@ -51,6 +64,7 @@ impl<const M: usize> Integrator<M> for Rk4 {
     /// the configured step size.
     ///
     /// # Errors
+    /// [`IntegrationError::InvalidSetting`] for a zero or non-finite `h` or `t`;
     /// [`IntegrationError::Rhs`] when the field fails, [`IntegrationError::NonFinite`] when the
     /// state or a stage is not finite.
     fn step<F: VectorField<M> + ?Sized>(
@@ -60,6 +74,7 @@ impl<const M: usize> Integrator<M> for Rk4 {
         z: &mut SVector<f64, M>,
         h: f64,
     ) -> Result<StepReport, IntegrationError> {
+        crate::require_step(t, h)?;
         require_finite_state(t, z)?;
         let half = 0.5 * h;
         let mut k1 = SVector::zeros();
@@ -95,5 +110,9 @@ impl<const M: usize> Scheme<M> for Rk4 {
             h: self.h,
             evaluations: 0,
         })
+    }
+
+    fn max_steps(&self) -> usize {
+        self.max_steps
     }
 }

@@ -5,6 +5,11 @@ use pkm_traits::{IntegrationError, Integrator, VectorField};
 
 use crate::DenseSegment;
 
+/// Step budget of the fixed-step methods ([`crate::Rk4`], [`crate::ImplicitMidpoint`]) unless
+/// set otherwise: a run that would need more steps is refused before it starts, so a tiny step
+/// cannot turn into a hang.
+pub const DEFAULT_MAX_FIXED_STEPS: usize = 100_000_000;
+
 /// The first step of a run and what choosing it cost.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Start {

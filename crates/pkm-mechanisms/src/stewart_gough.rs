@@ -16,7 +16,7 @@
 //! about the world origin.
 
 use crate::stewart_layout::JointLayout;
-use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, Vector3, Vector6};
+use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, Unit, Vector3, Vector6};
 use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{
     ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
@@ -208,15 +208,30 @@ pub fn platform_pose(
 /// The pose of the task coordinates $x = (p, w)$, rotation vector $w = \alpha n$.
 ///
 /// # Errors
-/// [`KinematicsError::NonFinite`] for a non-finite coordinate.
+/// [`KinematicsError::NonFinite`] for a non-finite coordinate, or a rotation angle $|w|$ that
+/// overflows.
 pub fn pose_from_task(x: &Task<6>) -> Result<Isometry3<f64>, KinematicsError> {
     if let Some(value) = x.iter().copied().find(|v| !v.is_finite()) {
         return Err(KinematicsError::NonFinite { what: "x", value });
     }
     let w = Vector3::new(x[3], x[4], x[5]);
+    let mut rotation = Rotation3::new(w);
+    if !rotation.matrix().iter().all(|v| v.is_finite()) {
+        // |w|² overflowed: the angle |w| with a scaled norm, about the axis w / |w|.
+        let largest = w.amax();
+        let scaled = w / largest;
+        let angle = largest * scaled.norm();
+        if !angle.is_finite() {
+            return Err(KinematicsError::NonFinite {
+                what: "rotation angle |w|",
+                value: angle,
+            });
+        }
+        rotation = Rotation3::from_axis_angle(&Unit::new_normalize(scaled), angle);
+    }
     Ok(Isometry3::from_parts(
         Translation3::new(x[0], x[1], x[2]),
-        Rotation3::new(w).into(),
+        rotation.into(),
     ))
 }
 
@@ -279,7 +294,8 @@ impl InverseKinematics<6, 6> for StewartGough {
         let pose = pose_from_task(x)?;
         let lengths = self.leg_lengths(&pose);
         for (leg, l) in lengths.iter().enumerate() {
-            if !(*l > 1e-12) {
+            // A length that overflows (a pose near 1e308) is as unreachable as a zero one.
+            if !(*l > 1e-12 && l.is_finite()) {
                 return Err(KinematicsError::Unreachable {
                     leg,
                     discriminant: *l,

@@ -121,7 +121,7 @@ impl StewartTaskProblem {
     /// # Errors
     /// [`DesignError`] for `k` out of range.
     pub fn free_position(self, k: usize, bounds: Bounds) -> Result<Self, DesignError> {
-        self.free(Slot::Position(k), k + 1, bounds)
+        self.free(Slot::Position(k), k.saturating_add(1), bounds)
     }
 
     /// Frees the orientation within $|\alpha| \le$ `max_angle` (radians): three variables
@@ -131,10 +131,7 @@ impl StewartTaskProblem {
     /// [`DesignError`] for a `max_angle` that is not finite and positive.
     pub fn free_rotation(mut self, max_angle: f64) -> Result<Self, DesignError> {
         self.max_angle = DesignError::require_positive("max_angle", max_angle)?;
-        let unit = Bounds {
-            lower: -1.0,
-            upper: 1.0,
-        };
+        let unit = Bounds::SYMMETRIC_UNIT;
         for k in 0..3 {
             self.slots.push(Slot::Rotation(k));
             self.bounds.push(unit);

@@ -58,7 +58,8 @@ pub struct ConstrainedResult {
 /// [`OptimizeError::InvalidSetting`] for a start of the wrong length or non-positive settings;
 /// [`OptimizeError::NoFeasibleDesign`] when the final design still violates a constraint by
 /// more than `settings.feasibility` (an infeasible constraint set: no design is returned);
-/// [`OptimizeError::Objective`] for an objective failure other than infeasibility.
+/// [`OptimizeError::Objective`] for an objective failure other than infeasibility, and for a
+/// constraint or final value that is NaN or infinite.
 ///
 /// # Example
 /// ```
@@ -116,6 +117,10 @@ pub fn augmented_lagrangian<P: Constraints>(
             settings.max_inner,
         )?;
         problem.inequalities(&x, &mut g)?;
+        // `f64::max` drops a NaN: a NaN constraint must not read as satisfied.
+        if let Some(&value) = g.iter().find(|gi| !gi.is_finite()) {
+            return Err(ObjectiveError::NonFinite { value }.into());
+        }
         let new_violation = g.iter().fold(0.0_f64, |v, gi| v.max(*gi));
         let step: f64 = mu
             .iter_mut()
@@ -146,8 +151,12 @@ pub fn augmented_lagrangian<P: Constraints>(
             ),
         });
     }
+    let value = problem.value(&x)?;
+    if !value.is_finite() {
+        return Err(ObjectiveError::NonFinite { value }.into());
+    }
     Ok(ConstrainedResult {
-        value: problem.value(&x)?,
+        value,
         design: x,
         constraints: g,
         multipliers: mu,

@@ -26,6 +26,13 @@ pub enum OptimizeError {
         /// Why the last one was infeasible.
         last_reason: String,
     },
+    /// A numerical step failed on valid settings (a damped normal matrix that is not positive
+    /// definite, an eigen-decomposition that did not converge).
+    #[error("numerical failure: {what}")]
+    Numerical {
+        /// What failed, in words.
+        what: &'static str,
+    },
     /// The computation was cancelled through [`pkm_traits::Progress`].
     #[error("cancelled")]
     Cancelled,

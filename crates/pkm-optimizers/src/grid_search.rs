@@ -9,22 +9,26 @@ use pkm_traits::{Objective, ObjectiveError, Progress};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Evenly spaced nodes `lower, lower + step, …, upper` of one design variable.
+/// Most nodes of one grid search: the values of every node are collected (in order, for
+/// determinism) before the minimum is taken, so larger grids are refused before allocating.
+pub const MAX_GRID_NODES: usize = 1 << 24;
+
+/// Evenly spaced nodes `lower, lower + step, …, upper` of one design variable: finite bounds,
+/// `lower <= upper`, a finite spacing and at least one node (private fields, so every axis went
+/// through [`GridAxis::new`] or [`GridAxis::with_step`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct GridAxis {
-    /// First node.
-    pub lower: f64,
-    /// Last node.
-    pub upper: f64,
-    /// Number of nodes (1 gives the single node `lower`).
-    pub n: usize,
+    lower: f64,
+    upper: f64,
+    n: usize,
 }
 
 impl GridAxis {
     /// `n` nodes from `lower` to `upper`.
     ///
     /// # Errors
-    /// [`OptimizeError::InvalidSetting`] when `n = 0`, a bound is not finite or `lower > upper`.
+    /// [`OptimizeError::InvalidSetting`] when `n = 0` or `n >` [`MAX_GRID_NODES`], a bound is not
+    /// finite, `lower > upper` or the width `upper − lower` overflows.
     pub fn new(lower: f64, upper: f64, n: usize) -> Result<Self, OptimizeError> {
         if n == 0 {
             return Err(invalid("n", 0.0, "a grid axis needs at least one node"));
@@ -36,7 +40,32 @@ impl GridAxis {
                 "bounds must be finite with lower <= upper",
             ));
         }
+        if !(upper - lower).is_finite() {
+            return Err(invalid(
+                "upper",
+                upper,
+                "the width upper - lower must be finite",
+            ));
+        }
+        if n > MAX_GRID_NODES {
+            return Err(invalid("n", n as f64, "at most MAX_GRID_NODES nodes"));
+        }
         Ok(Self { lower, upper, n })
+    }
+
+    /// First node.
+    pub fn lower(&self) -> f64 {
+        self.lower
+    }
+
+    /// Last node.
+    pub fn upper(&self) -> f64 {
+        self.upper
+    }
+
+    /// Number of nodes (1 gives the single node `lower`).
+    pub fn n(&self) -> usize {
+        self.n
     }
 
     /// Nodes from `lower` to `upper` spaced by `step` (the count is rounded to the nearest whole
@@ -56,6 +85,14 @@ impl GridAxis {
                 "bounds must be finite with lower <= upper",
             ));
         }
+        if !(intervals < MAX_GRID_NODES as f64) {
+            return Err(invalid(
+                "step",
+                step,
+                "must give at most MAX_GRID_NODES nodes over [lower, upper]",
+            ));
+        }
+        // `intervals` is a whole number in [0, MAX_GRID_NODES): the cast is exact.
         Self::new(lower, upper, intervals as usize + 1)
     }
 
@@ -138,7 +175,7 @@ fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
 ///
 /// # Errors
 /// [`OptimizeError::InvalidSetting`] when `axes` does not match the objective's dimension or the
-/// grid is too large to index; [`OptimizeError::NoFeasibleDesign`] when every node is infeasible;
+/// grid has more than [`MAX_GRID_NODES`] nodes (refused before anything is allocated); [`OptimizeError::NoFeasibleDesign`] when every node is infeasible;
 /// [`OptimizeError::Objective`] for an objective failure other than infeasibility;
 /// [`OptimizeError::Cancelled`].
 ///
@@ -175,7 +212,11 @@ pub fn grid_search<O: Objective + ?Sized>(
     let n_nodes = axes
         .iter()
         .try_fold(1usize, |acc, a| acc.checked_mul(a.n))
-        .ok_or_else(|| invalid("nodes", f64::INFINITY, "grid too large to index"))?;
+        .filter(|&n| n <= MAX_GRID_NODES)
+        .ok_or_else(|| {
+            let nodes = axes.iter().map(|a| a.n as f64).product();
+            invalid("nodes", nodes, "a grid has at most MAX_GRID_NODES nodes")
+        })?;
     progress.start("grid search", n_nodes as u64);
     let values = (0..n_nodes)
         .into_par_iter()
@@ -289,7 +330,7 @@ pub fn refined_grid_search<O: Objective + ?Sized>(
             &result.best,
             resolution,
             settings.nodes_per_axis,
-        );
+        )?;
         let level = grid_search(objective, &axes, false, progress)?;
         result.evaluations += level.evaluations;
         result.infeasible += level.infeasible;
@@ -307,7 +348,7 @@ fn refined_axes<O: Objective + ?Sized>(
     centre: &[f64],
     resolution: &[f64],
     nodes: usize,
-) -> Vec<GridAxis> {
+) -> Result<Vec<GridAxis>, OptimizeError> {
     axes.iter()
         .zip(centre)
         .zip(resolution)
@@ -315,19 +356,9 @@ fn refined_axes<O: Objective + ?Sized>(
         .map(|(((axis, &c), &r), bounds)| {
             let step = axis.step();
             if step <= r {
-                return GridAxis {
-                    lower: c,
-                    upper: c,
-                    n: 1,
-                };
+                return GridAxis::new(c, c, 1);
             }
-            let lower = bounds.clamp(c - step);
-            let upper = bounds.clamp(c + step);
-            GridAxis {
-                lower,
-                upper,
-                n: nodes,
-            }
+            GridAxis::new(bounds.clamp(c - step), bounds.clamp(c + step), nodes)
         })
         .collect()
 }

@@ -43,7 +43,7 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
             });
         }
         for _ in 0..MAX_REPEATS {
-            let axes = lattice_window(objective.bounds(), coarse, &result.best, level);
+            let axes = lattice_window(objective.bounds(), coarse, &result.best, level)?;
             let local = grid_search(objective, &axes, false, progress)?;
             result.evaluations += local.evaluations;
             result.infeasible += local.infeasible;
@@ -65,39 +65,55 @@ const MAX_REPEATS: usize = 8;
 
 /// The window of `level` around `centre`: `2·half_width + 1` lattice nodes per axis, clipped to
 /// `bounds`; axes of `axes` with a single node are kept as they are.
+///
+/// # Errors
+/// [`OptimizeError::InvalidSetting`] for a step that is not finite and positive, a centre that
+/// is not finite, or a window of more than [`crate::MAX_GRID_NODES`] nodes on one axis.
 pub fn lattice_window(
     bounds: &[Bounds],
     axes: &[GridAxis],
     centre: &[f64],
     level: &LatticeLevel,
-) -> Vec<GridAxis> {
+) -> Result<Vec<GridAxis>, OptimizeError> {
+    if !(level.step > 0.0 && level.step.is_finite()) {
+        return Err(invalid("step", level.step, "must be finite and > 0"));
+    }
+    // At most this many steps either side, so that `below + above + 1` cannot overflow.
+    let half_width = level.half_width.min(crate::MAX_GRID_NODES);
     axes.iter()
         .zip(bounds)
         .zip(centre)
         .map(|((axis, b), &c)| {
-            if axis.n == 1 {
-                return *axis;
+            if axis.n() == 1 {
+                return Ok(*axis);
             }
-            let room =
-                |d: f64| ((d / level.step + 1e-9).floor().max(0.0) as usize).min(level.half_width);
-            let below = room(c - b.lower);
-            let above = room(b.upper - c);
+            if !c.is_finite() {
+                return Err(invalid("centre", c, "must be finite"));
+            }
+            // The float-to-usize cast saturates; the `min` keeps the count small.
+            let room = |d: f64| ((d / level.step + 1e-9).floor().max(0.0) as usize).min(half_width);
+            let below = room(c - b.lower());
+            let above = room(b.upper() - c);
             let lower = c - below as f64 * level.step;
             let upper = c + above as f64 * level.step;
-            GridAxis {
-                lower,
-                upper,
-                n: below + above + 1,
-            }
+            GridAxis::new(lower, upper, below + above + 1)
         })
         .collect()
+}
+
+fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
+    OptimizeError::InvalidSetting {
+        setting,
+        value,
+        requirement,
+    }
 }
 
 fn on_open_edge(axes: &[GridAxis], best: &[f64], bounds: &[Bounds], step: f64) -> bool {
     let near = |a: f64, b: f64| (a - b).abs() < 1e-9 * (1.0 + step);
     axes.iter().zip(best).zip(bounds).any(|((axis, &x), b)| {
-        axis.n > 1
-            && ((near(x, axis.lower) && x - step >= b.lower - 1e-12)
-                || (near(x, axis.upper) && x + step <= b.upper + 1e-12))
+        axis.n() > 1
+            && ((near(x, axis.lower()) && x - step >= b.lower() - 1e-12)
+                || (near(x, axis.upper()) && x + step <= b.upper() + 1e-12))
     })
 }

@@ -110,7 +110,9 @@ impl LocalOptimum {
 ///
 /// # Errors
 /// [`OptimizeError::InvalidSetting`] for a non-positive tolerance or step, or a start of the
-/// wrong length; [`OptimizeError::Objective`] when the residuals fail.
+/// wrong length; [`OptimizeError::Objective`] when the residuals fail;
+/// [`OptimizeError::Numerical`] when the damped normal matrix is not positive definite or the
+/// eigenvalues of the reduced Hessian do not converge.
 ///
 /// # Example
 /// ```
@@ -195,7 +197,8 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
 /// (ties broken by start order, so the result is independent of the thread count).
 ///
 /// # Errors
-/// As [`levenberg_marquardt`]; [`OptimizeError::NoFeasibleDesign`] when every start fails.
+/// As [`levenberg_marquardt`]; [`OptimizeError::NoFeasibleDesign`] when every start fails;
+/// [`OptimizeError::InvalidSetting`] for more than [`crate::MAX_STARTS`] starts.
 pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
     problem: &P,
     sense: Sense,
@@ -205,7 +208,7 @@ pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
     settings: &LmSettings,
 ) -> Result<LocalOptimum, OptimizeError> {
     let mut starts = extra_starts.to_vec();
-    starts.extend(uniform_start_points(problem.bounds(), n_starts, seed));
+    starts.extend(uniform_start_points(problem.bounds(), n_starts, seed)?);
     let outcomes = run_multistart(&starts, |s| {
         levenberg_marquardt(problem, sense, s, settings)
     });
@@ -316,9 +319,9 @@ fn gradient_from(r: &[f64], a: &Mat<f64>) -> Vec<f64> {
 
 fn at_bound(b: &Bounds, x: f64) -> ActiveBound {
     let eps = 1e-12 * (1.0 + b.width());
-    if x <= b.lower + eps {
+    if x <= b.lower() + eps {
         ActiveBound::Lower
-    } else if x >= b.upper - eps {
+    } else if x >= b.upper() - eps {
         ActiveBound::Upper
     } else {
         ActiveBound::Free
@@ -359,10 +362,8 @@ fn solve_damped(
     let damped = Mat::from_fn(n, n, |k, l| ata[(k, l)] + if k == l { mu } else { 0.0 });
     let llt = damped
         .llt(Side::Lower)
-        .map_err(|_| OptimizeError::InvalidSetting {
-            setting: "damping",
-            value: mu,
-            requirement: "the damped normal matrix must be positive definite",
+        .map_err(|_| OptimizeError::Numerical {
+            what: "the damped normal matrix is not positive definite",
         })?;
     let x = llt.solve(atr);
     Ok((0..n).map(|k| sign * x[(k, 0)]).collect())
@@ -390,13 +391,11 @@ fn report<P: Residuals + ?Sized>(
     let reduced_hessian_eigenvalues = if free.is_empty() {
         Vec::new()
     } else {
-        hessian.self_adjoint_eigenvalues(Side::Lower).map_err(|_| {
-            OptimizeError::InvalidSetting {
-                setting: "hessian",
-                value: f64::NAN,
-                requirement: "eigenvalues must converge",
-            }
-        })?
+        hessian
+            .self_adjoint_eigenvalues(Side::Lower)
+            .map_err(|_| OptimizeError::Numerical {
+                what: "the eigenvalues of the reduced Hessian did not converge",
+            })?
     };
     Ok(LocalOptimum {
         design,

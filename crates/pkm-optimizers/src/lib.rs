@@ -22,12 +22,13 @@ pub use augmented_lagrangian::{
 };
 pub use error::OptimizeError;
 pub use grid_search::{
-    GridAxis, GridResult, Landscape, RefinementSettings, grid_search, refined_grid_search,
+    GridAxis, GridResult, Landscape, MAX_GRID_NODES, RefinementSettings, grid_search,
+    refined_grid_search,
 };
 pub use lattice_refinement::{LatticeLevel, lattice_refined_search, lattice_window};
 pub use levenberg_marquardt::{
     ActiveBound, LmSettings, LocalOptimum, Sense, levenberg_marquardt,
     multistart_levenberg_marquardt,
 };
-pub use multistart::{run_multistart, uniform_start_points};
+pub use multistart::{MAX_STARTS, run_multistart, uniform_start_points};
 pub use weighted_combination::{WeightedMean, weighted_combination};

@@ -26,8 +26,8 @@ where
     let f0 = f(x)?;
     for k in 0..x.len() {
         let step = h * bounds[k].width().max(1e-12);
-        let hi = (x[k] + step).min(bounds[k].upper);
-        let lo = (x[k] - step).max(bounds[k].lower);
+        let hi = bounds[k].clamp(x[k] + step);
+        let lo = bounds[k].clamp(x[k] - step);
         let mut at = |v: f64| {
             probe[k] = v;
             let r = if (v - x[k]).abs() > 0.0 {

@@ -15,7 +15,8 @@ pub enum WeightedMean {
 ///
 /// # Errors
 /// [`OptimizeError::InvalidSetting`] when there are no tasks, the lengths differ, a weight is
-/// negative or not finite, or the weights sum to zero.
+/// negative or not finite, an optimum is not finite, the weights sum to zero, or the weighted
+/// sum overflows.
 ///
 /// # Example
 /// ```
@@ -56,6 +57,9 @@ pub fn weighted_combination(
     if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
         return Err(invalid("weight", *w, "must be finite and >= 0"));
     }
+    if let Some(v) = optima.iter().flatten().find(|v| !v.is_finite()) {
+        return Err(invalid("optimum", *v, "must be finite"));
+    }
     let denominator = match form {
         WeightedMean::NormalisedByWeights => weights.iter().sum(),
         WeightedMean::AsPrinted => optima.len() as f64,
@@ -63,7 +67,36 @@ pub fn weighted_combination(
     if !(denominator > 0.0) {
         return Err(invalid("sum of weights", denominator, "must be > 0"));
     }
-    Ok((0..first.len())
+    let mean = combine(optima, weights, denominator, first.len());
+    if denominator.is_finite() && mean.iter().all(|v| v.is_finite()) {
+        return Ok(mean);
+    }
+    // An overflow of Σ w_i or of a product w_i q_i: the same sum with weights scaled by the
+    // largest, exact in exponent; what still overflows has no finite value.
+    let w_max = weights.iter().fold(0.0_f64, |m, w| m.max(*w));
+    let scaled: Vec<f64> = weights.iter().map(|w| w / w_max).collect();
+    let mean = match form {
+        WeightedMean::NormalisedByWeights => {
+            combine(optima, &scaled, scaled.iter().sum(), first.len())
+        }
+        WeightedMean::AsPrinted => combine(optima, &scaled, denominator, first.len())
+            .into_iter()
+            .map(|v| v * w_max)
+            .collect(),
+    };
+    match mean.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(invalid(
+            "weighted sum",
+            *v,
+            "must be representable (it overflows)",
+        )),
+        None => Ok(mean),
+    }
+}
+
+/// $\sum_i w_i q_{ij} / d$ for every component $j$.
+fn combine(optima: &[Vec<f64>], weights: &[f64], denominator: f64, len: usize) -> Vec<f64> {
+    (0..len)
         .map(|j| {
             optima
                 .iter()
@@ -72,5 +105,5 @@ pub fn weighted_combination(
                 .sum::<f64>()
                 / denominator
         })
-        .collect())
+        .collect()
 }

@@ -65,15 +65,38 @@ pub(crate) fn require_finite<'a>(
 }
 
 /// Returns `v / |v|`, or an error for a zero or non-finite `v`.
+///
+/// When $|v|$ overflows or underflows (components near 1e±300), `v` is first divided by its
+/// largest component, so every finite non-zero `v` has a unit direction.
 pub(crate) fn unit(
     what: &'static str,
     v: &nalgebra::Vector3<f64>,
 ) -> Result<nalgebra::Vector3<f64>, ScrewError> {
     require_finite(what, v.iter())?;
     let norm = v.norm();
-    if norm > 0.0 {
-        Ok(v / norm)
+    if norm.is_normal() {
+        return Ok(v / norm);
+    }
+    let largest = v.amax();
+    if largest > 0.0 {
+        let w = v / largest;
+        Ok(w / w.norm())
     } else {
         Err(ScrewError::ZeroDirection { norm })
+    }
+}
+
+/// $|v|$ without overflow or underflow of $v \cdot v$: the plain norm when it is a normal
+/// number, else $\max_i |v_i| \cdot |v / \max_i |v_i||$ (infinite only when $|v|$ itself is).
+pub(crate) fn scaled_norm(v: &nalgebra::Vector3<f64>) -> f64 {
+    let norm = v.norm();
+    if norm.is_normal() {
+        return norm;
+    }
+    let largest = v.amax();
+    if largest > 0.0 {
+        largest * (v / largest).norm()
+    } else {
+        norm
     }
 }

@@ -2,7 +2,7 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::error::{ScrewError, require_finite, unit};
+use crate::error::{ScrewError, require_finite, scaled_norm, unit};
 use crate::ray;
 
 /// A line in Plücker ray coordinates $L = [d; m]$: a direction $d \ne 0$ and its moment
@@ -32,19 +32,16 @@ impl PluckerLine {
     /// $Y - X$, not normalised (use [`PluckerLine::normalized`]).
     ///
     /// # Errors
-    /// [`ScrewError::NonFinite`] for a non-finite coordinate,
-    /// [`ScrewError::CoincidentPoints`] when $X = Y$.
+    /// [`ScrewError::NonFinite`] for a non-finite coordinate or one that overflows ($Y - X$ or
+    /// $X \times Y$ beyond `f64`), [`ScrewError::CoincidentPoints`] when $X = Y$.
     pub fn from_points(x: &Vector3<f64>, y: &Vector3<f64>) -> Result<Self, ScrewError> {
         require_finite("line point", x.iter().chain(y.iter()))?;
         let direction = y - x;
         let distance = direction.norm();
-        if !(distance > 0.0) {
+        if !(direction.amax() > 0.0) {
             return Err(ScrewError::CoincidentPoints { distance });
         }
-        Ok(Self {
-            direction,
-            moment: x.cross(y),
-        })
+        Self::checked(direction, x.cross(y))
     }
 
     /// The line through `p` with direction `d`: $L = (d;\; p \times d)$, `d` kept as given.
@@ -58,10 +55,14 @@ impl PluckerLine {
     ) -> Result<Self, ScrewError> {
         require_finite("line point", p.iter())?;
         unit("line direction", d)?;
-        Ok(Self {
-            direction: *d,
-            moment: p.cross(d),
-        })
+        Self::checked(*d, p.cross(d))
+    }
+
+    /// The line `[direction; moment]`, or [`ScrewError::NonFinite`] when a coordinate overflowed.
+    fn checked(direction: Vector3<f64>, moment: Vector3<f64>) -> Result<Self, ScrewError> {
+        require_finite("line direction (overflows)", direction.iter())?;
+        require_finite("line moment (overflows)", moment.iter())?;
+        Ok(Self { direction, moment })
     }
 
     /// The direction $d$ (the first three ray coordinates $p_{01}, p_{02}, p_{03}$).
@@ -87,7 +88,7 @@ impl PluckerLine {
 
     /// The same line scaled so that $|d| = 1$; then $|m|$ is the distance from the origin.
     pub fn normalized(&self) -> Self {
-        let scale = self.direction.norm();
+        let scale = scaled_norm(&self.direction);
         Self {
             direction: self.direction / scale,
             moment: self.moment / scale,
@@ -96,6 +97,12 @@ impl PluckerLine {
 
     /// The point of the line closest to the world origin, $d \times m / |d|^2$.
     pub fn closest_point_to_origin(&self) -> Vector3<f64> {
-        self.direction.cross(&self.moment) / self.direction.norm_squared()
+        let norm_squared = self.direction.norm_squared();
+        if norm_squared.is_normal() {
+            return self.direction.cross(&self.moment) / norm_squared;
+        }
+        // |d|² overflows or underflows: (d/|d|) × m / |d| with a scaled norm.
+        let norm = scaled_norm(&self.direction);
+        (self.direction / norm).cross(&self.moment) / norm
     }
 }

@@ -29,13 +29,32 @@ pub(crate) fn transform(iso: &Isometry3<f64>, v: &Vector6<f64>) -> Vector6<f64> 
 }
 
 /// The pitch $(u \cdot v)/(u \cdot u)$ of `[u; v]`, `+∞` when `u = 0` and `v ≠ 0`.
+///
+/// Where $u \cdot u$ would overflow or underflow, the pitch is computed as
+/// $(\hat u \cdot v) / |u|$ with a scaled norm; a pitch too large for `f64` is an error.
 pub(crate) fn pitch(v: &Vector6<f64>) -> Result<f64, crate::ScrewError> {
     crate::error::require_finite("screw", v.iter())?;
     let (top, bottom) = halves(v);
     let top_sq = top.norm_squared();
-    if top_sq > 0.0 {
-        Ok(top.dot(&bottom) / top_sq)
-    } else if bottom.norm_squared() > 0.0 {
+    let plain = top.dot(&bottom) / top_sq;
+    if top_sq.is_normal() && plain.is_finite() {
+        return Ok(plain);
+    }
+    if top.amax() > 0.0 {
+        let norm = crate::error::scaled_norm(&top);
+        let largest = top.amax();
+        let direction = (top / largest) / (norm / largest);
+        let pitch = direction.dot(&bottom) / norm;
+        return if pitch.is_finite() {
+            Ok(pitch)
+        } else {
+            Err(crate::ScrewError::NonFinite {
+                what: "pitch (overflows)",
+                value: pitch,
+            })
+        };
+    }
+    if bottom.amax() > 0.0 {
         Ok(f64::INFINITY)
     } else {
         Err(crate::ScrewError::ZeroScrew { norm: 0.0 })

@@ -30,8 +30,8 @@ macro_rules! ray_screw {
             /// `direction` (normalised) with pitch `pitch` (eq. 3/4/12).
             ///
             /// # Errors
-            /// [`ScrewError::NonFinite`] for a non-finite input, [`ScrewError::ZeroDirection`] for a
-            /// zero direction.
+            /// [`ScrewError::NonFinite`] for a non-finite input or a screw that overflows,
+            /// [`ScrewError::ZeroDirection`] for a zero direction.
             pub fn from_screw(
                 direction: &Vector3<f64>,
                 point_on_axis: &Vector3<f64>,
@@ -39,10 +39,10 @@ macro_rules! ray_screw {
                 intensity: f64,
             ) -> Result<Self, ScrewError> {
                 require_finite("screw intensity", [intensity].iter())?;
-                Ok(Self::on_axis(
-                    &ScrewAxis::new(direction, point_on_axis, pitch)?,
-                    intensity,
-                ))
+                let screw =
+                    Self::on_axis(&ScrewAxis::new(direction, point_on_axis, pitch)?, intensity);
+                require_finite("screw (overflows)", screw.0.iter())?;
+                Ok(screw)
             }
 
             /// The ray-order 6-vector.

@@ -51,6 +51,69 @@ impl DesignError {
     }
 }
 
+/// An argument that violates its requirement: the one error shape for invalid input to an
+/// algorithm (an interval, a count, a tolerance), `{ name, value, requirement }`.
+///
+/// [`DesignError`] has the same shape for the parameters of a model; the two stay separate types
+/// so that an invalid input is never mistaken for an infeasible design.
+///
+/// ```
+/// use pkm_traits::InvalidInput;
+/// let e = InvalidInput::require_positive("tolerance", -1.0).unwrap_err();
+/// assert_eq!(e.to_string(), "invalid input: tolerance = -1 (must be finite and > 0)");
+/// ```
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid input: {name} = {value} ({requirement})")]
+pub struct InvalidInput {
+    /// Name of the argument or setting (`"lower"`, `"n_starts"`, `"tolerance"`).
+    pub name: &'static str,
+    /// The value given (counts as `f64`, `inf` when they do not fit).
+    pub value: f64,
+    /// What the value must satisfy, in words.
+    pub requirement: &'static str,
+}
+
+impl InvalidInput {
+    /// The error `{ name, value, requirement }`.
+    pub fn new(name: &'static str, value: f64, requirement: &'static str) -> Self {
+        Self {
+            name,
+            value,
+            requirement,
+        }
+    }
+
+    /// Checks that `value` is finite and strictly positive.
+    ///
+    /// # Errors
+    /// An [`InvalidInput`] naming `name` otherwise.
+    pub fn require_positive(name: &'static str, value: f64) -> Result<f64, Self> {
+        if value.is_finite() && value > 0.0 {
+            Ok(value)
+        } else {
+            Err(Self::new(name, value, "must be finite and > 0"))
+        }
+    }
+
+    /// Checks that the count `value` is at most `max`, before anything of that size is
+    /// allocated or iterated.
+    ///
+    /// # Errors
+    /// An [`InvalidInput`] naming `name` otherwise.
+    pub fn require_count_at_most(
+        name: &'static str,
+        value: usize,
+        max: usize,
+        requirement: &'static str,
+    ) -> Result<usize, Self> {
+        if value <= max {
+            Ok(value)
+        } else {
+            Err(Self::new(name, value as f64, requirement))
+        }
+    }
+}
+
 /// Failures of kinematic computations on a valid design.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
@@ -88,6 +151,9 @@ pub enum KinematicsError {
         /// The value that was given.
         value: f64,
     },
+    /// A solver setting that cannot work (a tolerance that is not positive).
+    #[error(transparent)]
+    InvalidInput(#[from] InvalidInput),
 }
 
 /// Failures of an objective evaluation. Optimisers record `Infeasible` designs and go on; other
@@ -119,6 +185,10 @@ pub enum ObjectiveError {
     /// The computation was cancelled through [`crate::Progress`].
     #[error("cancelled")]
     Cancelled,
+    /// An argument that cannot work (empty or non-finite bounds): an input error, not an
+    /// infeasible design, so searches do not record and skip it.
+    #[error(transparent)]
+    InvalidInput(#[from] InvalidInput),
 }
 
 impl From<DesignError> for ObjectiveError {

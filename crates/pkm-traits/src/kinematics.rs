@@ -10,7 +10,7 @@
 //! $\dot q = J \dot x$ with $J = -J_q^{-1} J_x$ (the convention of every `jacobian` in pkm; each
 //! paper's own sign convention is mapped onto it in `docs/conventions.md`).
 
-use crate::error::KinematicsError;
+use crate::error::{InvalidInput, KinematicsError};
 use nalgebra::{SMatrix, SVector};
 use std::fmt::Debug;
 
@@ -34,20 +34,30 @@ pub trait ClosedChain<const NX: usize, const NQ: usize> {
     ///
     /// # Errors
     /// [`KinematicsError::Singular`] when $J_q$ cannot be inverted (an inverse-kinematic
-    /// singularity: a leg is stretched out or folded).
+    /// singularity: a leg is stretched out or folded) or $J$ is not finite;
+    /// [`KinematicsError::NonFinite`] for a non-finite `x` or `q`.
     fn jacobian(
         &self,
         x: &Task<NX>,
         q: &Joints<NQ>,
     ) -> Result<SMatrix<f64, NQ, NX>, KinematicsError> {
+        require_finite("x", x.iter())?;
+        require_finite("q", q.iter())?;
+        let singular = KinematicsError::Singular {
+            matrix: "J_q",
+            sigma_min: 0.0,
+        };
         let j_q_inv = self
             .jacobian_q(x, q)
             .try_inverse()
-            .ok_or(KinematicsError::Singular {
-                matrix: "J_q",
-                sigma_min: 0.0,
-            })?;
-        Ok(-(j_q_inv * self.jacobian_x(x, q)))
+            .ok_or(singular.clone())?;
+        let j = -(j_q_inv * self.jacobian_x(x, q));
+        // A NaN or an overflow in J_q, J_x or the inverse is a (numerically) singular J_q here.
+        if j.iter().all(|v| v.is_finite()) {
+            Ok(j)
+        } else {
+            Err(singular)
+        }
     }
 }
 
@@ -112,7 +122,9 @@ impl Default for NewtonSettings {
 /// Newton's method on $\Phi(\cdot, q) = 0$: $x_{k+1} = x_k - J_x^{-1} \Phi(x_k, q)$.
 ///
 /// # Errors
-/// [`KinematicsError::NonFinite`] for a non-finite input, [`KinematicsError::Singular`] when
+/// [`KinematicsError::NonFinite`] for a non-finite `q` or `guess`,
+/// [`KinematicsError::InvalidInput`] for a tolerance that is not finite and positive,
+/// [`KinematicsError::Singular`] when
 /// $J_x$ cannot be inverted at an iterate, [`KinematicsError::NotConverged`] when the residual
 /// stays above the tolerance.
 pub fn newton_forward_kinematics<M, const N: usize>(
@@ -124,9 +136,9 @@ pub fn newton_forward_kinematics<M, const N: usize>(
 where
     M: ClosedChain<N, N> + ?Sized,
 {
-    if let Some(value) = q.iter().copied().find(|v| !v.is_finite()) {
-        return Err(KinematicsError::NonFinite { what: "q", value });
-    }
+    require_finite("q", q.iter())?;
+    require_finite("guess", guess.iter())?;
+    InvalidInput::require_positive("tolerance", settings.tolerance)?;
     let mut x = *guess;
     let mut residual = f64::INFINITY;
     for _ in 0..settings.max_iterations {
@@ -148,8 +160,22 @@ where
                 })?;
         x -= j_x_inv * phi;
     }
+    if !x.iter().all(|v| v.is_finite()) {
+        residual = f64::INFINITY;
+    }
     Err(KinematicsError::NotConverged {
         iterations: settings.max_iterations,
         residual,
     })
+}
+
+/// `Err(NonFinite { what, value })` for the first NaN or infinite entry of `values`.
+fn require_finite<'a>(
+    what: &'static str,
+    mut values: impl Iterator<Item = &'a f64>,
+) -> Result<(), KinematicsError> {
+    match values.find(|v| !v.is_finite()) {
+        Some(&value) => Err(KinematicsError::NonFinite { what, value }),
+        None => Ok(()),
+    }
 }

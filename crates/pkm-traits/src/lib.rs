@@ -47,7 +47,7 @@ pub mod workspace;
 pub use dynamics::{
     ExtendedInertia, IntegrationError, Integrator, RhsError, StepReport, VectorField,
 };
-pub use error::{DesignError, KinematicsError, ObjectiveError};
+pub use error::{DesignError, InvalidInput, KinematicsError, ObjectiveError};
 pub use kinematics::{
     ClosedChain, ForwardKinematics, InverseKinematics, Joints, NewtonSettings, Task,
     newton_forward_kinematics,

@@ -5,30 +5,58 @@
 //! A design for which the model cannot be evaluated returns
 //! [`ObjectiveError::Infeasible`], which searches record and skip.
 
-use crate::error::ObjectiveError;
+use crate::error::{InvalidInput, ObjectiveError};
 
-/// Closed interval $[\text{lower}, \text{upper}]$ of one design variable.
+/// Closed interval $[\text{lower}, \text{upper}]$ of one design variable: both ends finite,
+/// `lower <= upper`, and a finite width. The fields are private, so every `Bounds` went through
+/// [`Bounds::new`]:
+///
+/// ```compile_fail
+/// let b = pkm_traits::Bounds { lower: 1.0, upper: 0.0 };
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bounds {
-    /// Smallest admissible value.
-    pub lower: f64,
-    /// Largest admissible value.
-    pub upper: f64,
+    lower: f64,
+    upper: f64,
 }
 
 impl Bounds {
+    /// The interval $[-1, 1]$.
+    pub const SYMMETRIC_UNIT: Self = Self {
+        lower: -1.0,
+        upper: 1.0,
+    };
+
     /// The interval `[lower, upper]`.
     ///
     /// # Errors
-    /// [`ObjectiveError::Infeasible`] when a bound is not finite or `lower > upper`.
+    /// [`ObjectiveError::InvalidInput`] when a bound is not finite, `lower > upper`, or the width
+    /// `upper − lower` overflows.
     pub fn new(lower: f64, upper: f64) -> Result<Self, ObjectiveError> {
-        if lower.is_finite() && upper.is_finite() && lower <= upper {
-            Ok(Self { lower, upper })
-        } else {
-            Err(ObjectiveError::Infeasible {
-                reason: format!("bounds [{lower}, {upper}] are empty or not finite"),
-            })
+        for (name, value) in [("lower", lower), ("upper", upper)] {
+            if !value.is_finite() {
+                return Err(InvalidInput::new(name, value, "a bound must be finite").into());
+            }
         }
+        if !(lower <= upper && (upper - lower).is_finite()) {
+            return Err(InvalidInput::new(
+                "upper",
+                upper,
+                "must be >= lower, with a finite width upper - lower",
+            )
+            .into());
+        }
+        Ok(Self { lower, upper })
+    }
+
+    /// Smallest admissible value.
+    pub fn lower(&self) -> f64 {
+        self.lower
+    }
+
+    /// Largest admissible value.
+    pub fn upper(&self) -> f64 {
+        self.upper
     }
 
     /// Width `upper − lower`.

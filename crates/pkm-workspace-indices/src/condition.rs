@@ -29,6 +29,9 @@ impl_fixed_svd!(1, 2, 3, 4, 5, 6);
 
 /// $1/\kappa = \sigma_{\min} / \sigma_{\max} \in [0, 1]$ of a square Jacobian.
 ///
+/// $1/\kappa$ is scale-invariant, so a matrix whose largest entry lies outside $[2^{-100},
+/// 2^{100}]$ is first scaled by a power of two (exactly) to avoid overflow and underflow.
+///
 /// Returns 0 for a singular matrix, the zero matrix, or a matrix with non-finite entries, so
 /// that integrals of $1/\kappa$ over a workspace stay finite at its boundary (Stamper, Tsai &
 /// Walsh 1997, eq. 4; Miller 2004, eq. 1).
@@ -46,7 +49,7 @@ where
     if !j.iter().all(|v| v.is_finite()) {
         return 0.0;
     }
-    let sigma = <Dim<N> as FixedSvd<N>>::singular_values(j);
+    let sigma = <Dim<N> as FixedSvd<N>>::singular_values(&scaled_to_unit(j, 100));
     let (sigma_min, sigma_max) = (sigma.min(), sigma.max());
     if sigma_max > 0.0 {
         (sigma_min / sigma_max).clamp(0.0, 1.0)
@@ -73,4 +76,23 @@ where
     } else {
         f64::INFINITY
     }
+}
+
+/// `j` times the power of two $2^{-e}$ that brings its largest entry into $[1, 2)$, when that
+/// entry lies outside $[2^{-k}, 2^{k}]$; `j` itself otherwise. Scaling by a power of two is
+/// exact (barring subnormal entries), so scale-invariant quantities do not change.
+pub(crate) fn scaled_to_unit<const R: usize, const C: usize>(
+    j: &SMatrix<f64, R, C>,
+    k: i32,
+) -> SMatrix<f64, R, C> {
+    let largest = j.amax();
+    let exponent = largest.log2().floor();
+    if !(largest > 0.0 && largest.is_finite()) || exponent.abs() <= f64::from(k) {
+        return *j;
+    }
+    // |exponent| <= 1075 for a finite positive f64: the cast is exact, and 2^-exponent is
+    // applied in two halves so that neither factor overflows or is subnormal.
+    let e = exponent as i32;
+    let (first, second) = (e / 2, e - e / 2);
+    j * 2f64.powi(-first) * 2f64.powi(-second)
 }

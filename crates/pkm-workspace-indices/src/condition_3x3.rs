@@ -8,6 +8,8 @@ use nalgebra::Matrix3;
 /// so that nearly singular matrices keep their relative accuracy.
 ///
 /// Returns 0 for a singular or non-finite matrix, like [`crate::inverse_condition_number`].
+/// A matrix whose largest entry lies outside $[2^{-40}, 2^{40}]$ is first scaled by a power
+/// of two, so $J^\top J$ and $\det(J)^2$ neither overflow nor underflow.
 ///
 /// # Example
 /// ```
@@ -20,6 +22,8 @@ pub fn inverse_condition_number_3x3(j: &Matrix3<f64>) -> f64 {
     if !j.iter().all(|v| v.is_finite()) {
         return 0.0;
     }
+    // det(J)² grows like the 6th power of the entries: keep them near 1 (exact scaling).
+    let j = &crate::condition::scaled_to_unit(j, 40);
     let m = j.transpose() * j;
     let p1 = m[(0, 1)].powi(2) + m[(0, 2)].powi(2) + m[(1, 2)].powi(2);
     let q = m.trace() / 3.0;

@@ -27,7 +27,8 @@ fn require_area(region: &impl SlicedRegion) -> Result<f64, IndexError> {
 /// $n = 48$): two orders below the grid rule's noise.
 ///
 /// # Errors
-/// [`IndexError::Invalid`] when the region is empty or `n = 0`.
+/// [`IndexError::Invalid`] when the region is empty, `n = 0` or
+/// `n >` [`GaussLegendre::MAX_ORDER`].
 ///
 /// # Example
 /// ```
@@ -55,7 +56,7 @@ pub fn mean_by_quadrature(
             requirement: "must be >= 1",
         });
     }
-    let rule = GaussLegendre::new(n);
+    let rule = GaussLegendre::new(n)?;
     let mut integral = 0.0;
     for piece in region.breakpoints().windows(2) {
         rule.for_each_on(piece[0], piece[1], |y, wy| {
@@ -109,7 +110,9 @@ pub struct GridMean {
 /// the extents of $W$, with $h$ shrunk until $N_a$ exceeds [`GridRule::min_points`].
 ///
 /// # Errors
-/// [`IndexError::Invalid`] for an empty region or a rule that cannot terminate.
+/// [`IndexError::Invalid`] for an empty region or a rule that cannot terminate: counts above
+/// 2²², or no grid of at most 2²⁶ nodes within 1000 passes that holds more than `min_points`
+/// nodes of the region.
 pub fn mean_by_grid(
     region: &impl SlicedRegion,
     f: impl Fn(f64, f64) -> f64,
@@ -123,9 +126,34 @@ pub fn mean_by_grid(
             requirement: "must lie in (0, 1) with target_points >= 1",
         });
     }
+    for (what, count) in [
+        ("grid rule min_points", rule.min_points),
+        ("grid rule target_points", rule.target_points),
+    ] {
+        if count > MAX_GRID_POINTS {
+            return Err(IndexError::Invalid {
+                what,
+                value: count as f64,
+                requirement: "must be at most 2^22",
+            });
+        }
+    }
     let e = region.extents();
+    let (width, height) = (e.y_max - e.y_min, e.z_max - e.z_min);
+    if !(width.is_finite() && height.is_finite() && width >= 0.0 && height >= 0.0) {
+        return Err(IndexError::Invalid {
+            what: "cross-section extents",
+            value: if width.is_finite() { height } else { width },
+            requirement: "must be finite and ordered",
+        });
+    }
     let mut h = (area / rule.target_points as f64).sqrt();
-    loop {
+    for _ in 0..MAX_GRID_PASSES {
+        // Nodes visited by this pass: refuse a grid that could not be swept in reasonable time.
+        let nodes = (width / h + 1.0) * (height / h + 1.0);
+        if !(nodes <= 16.0 * MAX_GRID_POINTS as f64) {
+            break;
+        }
         let (mut sum, mut n_points) = (0.0, 0usize);
         let mut y = e.y_min + 0.5 * h;
         while y < e.y_max {
@@ -151,4 +179,16 @@ pub fn mean_by_grid(
         }
         h *= rule.shrink;
     }
+    Err(IndexError::Invalid {
+        what: "grid rule shrink factor",
+        value: rule.shrink,
+        requirement: "must reach more than min_points nodes within 1000 grids of at most 2^26 nodes",
+    })
 }
+
+/// Largest [`GridRule::min_points`] and [`GridRule::target_points`] of [`mean_by_grid`]: 2²².
+const MAX_GRID_POINTS: usize = 1 << 22;
+
+/// Most grids [`mean_by_grid`] tries before giving up (with the default shrink 0.95, the
+/// spacing falls by 10²² over them).
+const MAX_GRID_PASSES: usize = 1000;

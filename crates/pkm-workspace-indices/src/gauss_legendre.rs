@@ -1,5 +1,7 @@
 //! Gauss–Legendre nodes and weights on $[-1, 1]$.
 
+use crate::IndexError;
+
 /// An $n$-point Gauss–Legendre rule, exact for polynomials of degree $2n - 1$.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GaussLegendre {
@@ -8,9 +10,23 @@ pub struct GaussLegendre {
 }
 
 impl GaussLegendre {
+    /// Largest order: building the rule costs $O(n^2)$ and a product rule visits $n^2$ nodes.
+    pub const MAX_ORDER: usize = 1024;
+
     /// The $n$-point rule (Newton iteration on $P_n$ from Chebyshev guesses; nodes to round-off).
     /// `n = 0` gives the empty rule.
-    pub fn new(n: usize) -> Self {
+    ///
+    /// # Errors
+    /// [`IndexError::Invalid`] for `n >` [`GaussLegendre::MAX_ORDER`] (refused before
+    /// allocating).
+    pub fn new(n: usize) -> Result<Self, IndexError> {
+        if n > Self::MAX_ORDER {
+            return Err(IndexError::Invalid {
+                what: "quadrature order",
+                value: n as f64,
+                requirement: "must be at most GaussLegendre::MAX_ORDER",
+            });
+        }
         let mut nodes = Vec::with_capacity(n);
         let mut weights = Vec::with_capacity(n);
         let nf = n as f64;
@@ -31,7 +47,7 @@ impl GaussLegendre {
             nodes.push(x);
             weights.push(2.0 / ((1.0 - x * x) * dp * dp));
         }
-        Self { nodes, weights }
+        Ok(Self { nodes, weights })
     }
 
     /// $\int_a^b f \approx \sum_i w_i f(x_i)$, visiting the mapped nodes and weights.
@@ -76,7 +92,7 @@ mod tests {
     #[test]
     fn integrates_polynomials_of_degree_2n_minus_1_exactly() {
         for n in [1, 2, 5, 16, 24, 48] {
-            let rule = GaussLegendre::new(n);
+            let rule = GaussLegendre::new(n).unwrap();
             let degree = 2 * n - 1;
             let mut sum = 0.0;
             rule.for_each_on(0.0, 2.0, |x, w| sum += w * x.powi(degree as i32));

@@ -18,12 +18,15 @@ pub struct Slice {
 }
 
 impl Slice {
+    /// Largest grid side `n` of [`Slice::square`]: 2¹², so at most 2²⁴ values.
+    pub const MAX_SIDE: usize = 1 << 12;
+
     /// Samples `local` at the centres of `n × n` cells covering $[-h, h]^2$ at height `z`,
     /// rows in parallel.
     ///
     /// # Errors
     /// [`IndexError::EmptySample`] when `n = 0`; [`IndexError::Invalid`] for a non-finite or
-    /// non-positive half-width or a non-finite `z`.
+    /// non-positive half-width, a non-finite `z`, or `n >` [`Slice::MAX_SIDE`].
     ///
     /// # Example
     /// ```
@@ -38,11 +41,23 @@ impl Slice {
         if n == 0 {
             return Err(IndexError::EmptySample { n_samples: 0 });
         }
-        if !(half_width.is_finite() && half_width > 0.0 && z.is_finite()) {
+        if n > Self::MAX_SIDE {
+            return Err(IndexError::Invalid {
+                what: "slice grid side",
+                value: n as f64,
+                requirement: "must be at most Slice::MAX_SIDE (refused before allocating n² values)",
+            });
+        }
+        // Up to f64::MAX / 4, so that the span 2·half_width of the nodes stays finite.
+        if !(half_width.is_finite()
+            && half_width > 0.0
+            && half_width <= f64::MAX / 4.0
+            && z.is_finite())
+        {
             return Err(IndexError::Invalid {
                 what: "slice half-width or height",
                 value: if z.is_finite() { half_width } else { z },
-                requirement: "must be finite, half-width > 0",
+                requirement: "must be finite, 0 < half-width <= f64::MAX / 4",
             });
         }
         let axis: Vec<f64> = (0..n)

@@ -8,7 +8,8 @@ use pkm_traits::SlicedRegion;
 /// eq. 2, with infinite rails so that volumes become cross-section areas).
 ///
 /// # Errors
-/// [`IndexError::Invalid`] when the region is empty or a point is not finite.
+/// [`IndexError::Invalid`] when the region is empty, a point is not finite, or the points lie
+/// so far out that the ratio overflows or underflows.
 ///
 /// # Example
 /// ```
@@ -46,5 +47,13 @@ pub fn space_utilization(
         }
         bounding_box = bounding_box.including(p[0], p[1]);
     }
-    Ok(area / bounding_box.area())
+    let utilisation = area / bounding_box.area();
+    if !(utilisation > 0.0 && utilisation.is_finite()) {
+        return Err(IndexError::Invalid {
+            what: "bounding box area",
+            value: bounding_box.area(),
+            requirement: "must be finite and small enough that area / box area is representable",
+        });
+    }
+    Ok(utilisation)
 }

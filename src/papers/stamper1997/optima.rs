@@ -86,7 +86,7 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let n_starts = ctx.mode.pick(4, 8);
     let mut starts = coarse_grid_starts(&problem, n_starts);
     starts.extend(
-        uniform_start_points(&problem.bounds, n_starts, 2024)
+        uniform_start_points(&problem.bounds, n_starts, 2024)?
             .into_iter()
             .map(feasible_start),
     );
@@ -106,7 +106,7 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let paper = estimate(&design(&study.paper)?, &fresh)?;
     let source = Source::new(study.id, Paper::Stamper1997, study.location);
     let widen = if quick { 4.0 } else { 1.0 };
-    let fixed = problem.bounds.map(|b| b.upper <= b.lower);
+    let fixed = problem.bounds.map(|b| b.upper() <= b.lower());
     let improvement = Improvement::of(study.criterion, &ours, &paper);
     let mut rows: Vec<Comparison> = (0..6)
         .map(|k| {
@@ -162,7 +162,7 @@ fn coarse_grid_starts(problem: &StamperProblem<'_>, n_best: usize) -> Vec<Vec<f6
             .map(|k| 15.0 * k as f64)
             .filter(|a| b.contains(*a))
             .collect();
-        v.extend([b.lower, b.upper]);
+        v.extend([b.lower(), b.upper()]);
         v.sort_by(f64::total_cmp);
         v.dedup();
         v

@@ -58,7 +58,7 @@ impl Objective for StamperProblem<'_> {
         self.check_dimension(x)?;
         let d = design(x)?;
         match self.criterion {
-            Criterion::Volume { ngrid } => Ok(-d.column_volume(ngrid)),
+            Criterion::Volume { ngrid } => Ok(-d.column_volume(ngrid)?),
             Criterion::Gci => {
                 estimate(&d, self.points)
                     .map(|e| -e.gci)

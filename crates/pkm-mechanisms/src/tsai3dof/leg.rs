@@ -121,7 +121,14 @@ impl Tsai3Dof {
             Elbow::Out => out,
             Elbow::In => inward,
         };
-        let theta2 = ((pw - a * theta1.sin()) / l).atan2((pu - a * theta1.cos()) / l);
+        let (sin2, cos2) = ((pw - a * theta1.sin()) / l, (pu - a * theta1.cos()) / l);
+        let theta2 = if sin2.is_finite() && cos2.is_finite() {
+            sin2.atan2(cos2)
+        } else {
+            // L = 0 (d + e = 0 and |p_v| = b): the offsets have no length, so the loop closes
+            // for every θ₂; take the direction of the remaining vector, 0 when it vanishes too.
+            (l.signum() * (pw - a * theta1.sin())).atan2(l.signum() * (pu - a * theta1.cos()))
+        };
         Ok(LegAngles {
             theta1,
             theta2,

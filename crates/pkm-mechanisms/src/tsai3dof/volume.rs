@@ -6,10 +6,18 @@
 
 use super::Tsai3Dof;
 use nalgebra::Vector3;
+use pkm_traits::InvalidInput;
 
 impl Tsai3Dof {
+    /// Largest `ngrid` of [`Tsai3Dof::column_volume`]: 2¹⁴ per side, 2.7·10⁸ columns.
+    pub const MAX_COLUMN_GRID: usize = 1 << 14;
+
     /// Workspace volume inside the hemisphere of radius [`Tsai3Dof::reach`], midpoint rule on
-    /// `ngrid × ngrid` columns over $[-R, R]^2$ (0 for `ngrid = 0`).
+    /// `ngrid × ngrid` columns over $[-R, R]^2$.
+    ///
+    /// # Errors
+    /// [`InvalidInput`] for `ngrid = 0` or `ngrid >` [`Tsai3Dof::MAX_COLUMN_GRID`] (refused
+    /// before the `ngrid²` columns are visited).
     ///
     /// # Example
     /// ```
@@ -17,9 +25,19 @@ impl Tsai3Dof {
     /// // Coincident legs, d+e = c-r = 0: W = π² a b² (Pappus).
     /// let d = Tsai3Dof::new(0.3, 0.7, 0.0, 0.0, 0.0, 0.0).unwrap();
     /// let exact = std::f64::consts::PI.powi(2) * 0.3 * 0.49;
-    /// assert!((d.column_volume(400) / exact - 1.0).abs() < 1e-3);
+    /// assert!((d.column_volume(400).unwrap() / exact - 1.0).abs() < 1e-3);
+    /// assert!(d.column_volume(0).is_err() && d.column_volume(usize::MAX).is_err());
     /// ```
-    pub fn column_volume(&self, ngrid: usize) -> f64 {
+    pub fn column_volume(&self, ngrid: usize) -> Result<f64, InvalidInput> {
+        if ngrid == 0 {
+            return Err(InvalidInput::new("ngrid", 0.0, "must be >= 1"));
+        }
+        InvalidInput::require_count_at_most(
+            "ngrid",
+            ngrid,
+            Self::MAX_COLUMN_GRID,
+            "at most MAX_COLUMN_GRID columns per side",
+        )?;
         let r = self.reach();
         let cell = 2.0 * r / ngrid as f64;
         let mut total = 0.0;
@@ -30,7 +48,7 @@ impl Tsai3Dof {
                 total += self.column_height(x, y, r);
             }
         }
-        total * cell * cell
+        Ok(total * cell * cell)
     }
 
     /// Length of the workspace column over $(x, y)$ within the hemisphere of radius `r`.

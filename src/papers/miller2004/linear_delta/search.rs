@@ -90,13 +90,13 @@ pub fn optimise(
     };
     let coarse = bounds
         .iter()
-        .map(|b| GridAxis::with_step(b.lower, b.upper, COARSE_STEP))
+        .map(|b| GridAxis::with_step(b.lower(), b.upper(), COARSE_STEP))
         .collect::<Result<Vec<_>, _>>()?;
     let coarse_utility = utility(rules.coarse);
     let middle =
         lattice_refined_search(&coarse_utility, &coarse, &[MIDDLE], false, context.progress)?;
     let fine_utility = utility(rules.fine);
-    let window = lattice_window(&bounds, &coarse, &middle.best, &FINE);
+    let window = lattice_window(&bounds, &coarse, &middle.best, &FINE)?;
     let fine = lattice_refined_search(&fine_utility, &window, &[FINE], false, context.progress)?;
     let design: [f64; 4] = std::array::from_fn(|k| {
         if bounds[k].width() > 0.0 {

@@ -1,0 +1,221 @@
+//! `pkm-mechanisms`: every constructor, and IK, FK and Jacobians of every mechanism.
+
+use super::{
+    all_finite, config, hostile_count, hostile_f64, hostile_vec3, judge, judge_err, judge_value,
+};
+use nalgebra::{Isometry3, SVector, Vector3};
+use pkm_mechanisms::{
+    Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, StewartGough, StewartTaskProblem, ThreeUpu, Tsai3Dof, UJointAxes,
+    platform_pose, pose_from_task,
+};
+use pkm_screw_theory::Twist;
+use pkm_traits::{
+    Bounds, ForwardKinematics, InverseKinematics, NewtonSettings, Objective, SlicedRegion,
+};
+use proptest::prelude::*;
+
+/// IK at `x`; where it succeeds, the loop closes, the Jacobian is finite or typed, and FK from
+/// `guess` (bounded iterations) returns a closing pose or a typed error.
+fn kinematics<M, const N: usize>(
+    name: &'static str,
+    m: &M,
+    x: &SVector<f64, N>,
+    mode: M::WorkingMode,
+    guess: &SVector<f64, N>,
+) -> Result<(), TestCaseError>
+where
+    M: InverseKinematics<N, N> + ForwardKinematics<N>,
+{
+    let ik = m.inverse_kinematics(x, mode);
+    judge(
+        name,
+        || m.inverse_kinematics(x, mode),
+        |q| all_finite(q.iter()) && m.closure(x, q).amax() <= 1e-6 * (1.0 + x.amax()),
+    )?;
+    let q = match ik {
+        Ok(q) => q,
+        Err(_) => *x,
+    };
+    judge(
+        "ClosedChain::jacobian",
+        || m.jacobian(x, &q),
+        |j| all_finite(j.iter()),
+    )?;
+    let settings = NewtonSettings {
+        tolerance: 1e-10,
+        max_iterations: 30,
+    };
+    judge(
+        "ForwardKinematics::forward_kinematics",
+        || m.forward_kinematics(&q, guess, &settings),
+        |x| all_finite(x.iter()) && m.closure(x, &q).amax() <= 1e-9,
+    )
+}
+
+fn tsai_design() -> impl Strategy<Value = (f64, f64, f64, f64, f64, f64)> {
+    (
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+        hostile_f64(),
+    )
+}
+
+fn valid_tsai() -> impl Strategy<Value = Tsai3Dof> {
+    (
+        0.1..1.0f64,
+        0.1..1.0f64,
+        prop_oneof![Just(0.0), 0.0..0.3f64],
+        -0.2..0.2f64,
+    )
+        .prop_map(|(a, b, s, h)| Tsai3Dof::from_degrees(a, b, s, h, 120.0, 240.0).unwrap())
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn tsai_constructor_and_kinematics(design in tsai_design(), p in hostile_vec3(), guess in hostile_vec3()) {
+        let (a, b, s, h, p2, p3) = design;
+        judge("Tsai3Dof::new", || Tsai3Dof::new(a, b, s, h, p2, p3), |d| d.reach().is_finite())?;
+        judge("Tsai3Dof::from_degrees", || Tsai3Dof::from_degrees(a, b, s, h, p2, p3), |d| d.reach().is_finite())?;
+        if let Ok(d) = Tsai3Dof::new(a, b, s, h, p2, p3) {
+            kinematics("Tsai3Dof::inverse_kinematics", &d, &p, [Elbow::Out; 3], &guess)?;
+            judge_value("Tsai3Dof::jacobian_eq7", || d.jacobian_eq7(&p), |j| j.is_none_or(|j| all_finite(j.iter())))?;
+        }
+    }
+
+    /// Singular points of valid designs: `d + e = 0` and `|p_v| = b` make the offset length
+    /// `L = 0`, where θ₂ is undefined.
+    #[test]
+    fn tsai_legs_at_singular_points(d in valid_tsai(), x in -0.5..0.5f64, z in -0.5..0.9f64, sign in prop::bool::ANY, leg in 0..3usize) {
+        let y = if sign { d.b() } else { -d.b() };
+        let p = Vector3::new(x, y, z);
+        for branch in LegBranch::ALL {
+            judge("Tsai3Dof::leg_inverse_kinematics", || d.leg_inverse_kinematics(leg, &p, branch), |angles| {
+                all_finite([angles.theta1, angles.theta2, angles.theta3].iter())
+                    && (d.leg_chain_end(angles) - d.leg_target(leg, &p)).amax() <= 1e-9
+            })?;
+        }
+        kinematics("Tsai3Dof::inverse_kinematics", &d, &p, [Elbow::Out; 3], &Vector3::new(0.0, 0.0, 0.5))?;
+    }
+
+    #[test]
+    fn linear_delta_constructor_and_kinematics(
+        r in (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64()), yr in hostile_f64(),
+        y in hostile_f64(), z in hostile_f64(), x in hostile_vec3(), guess in hostile_vec3(),
+    ) {
+        let ratios = LinearDeltaRatios { l1_over_yr: r.0, ya_over_yr: r.1, zr_over_yr: r.2, l2_over_l1: r.3 };
+        judge("LinearDelta::new", || LinearDelta::new(ratios, yr), |d| {
+            all_finite(d.arm_lengths().iter()) && d.rails().iter().all(|r| all_finite(r.iter()))
+        })?;
+        if let Ok(d) = LinearDelta::new(ratios, yr) {
+            judge("LinearDelta::arm_reaches", || d.arm_reaches(y, z), |q| all_finite(q.iter()))?;
+            judge("LinearDelta::velocity_jacobian", || d.velocity_jacobian(y, z, LinearDeltaMode::PAPER), |j| all_finite(j.iter()))?;
+            let section = d.cross_section();
+            judge_value("CrossSection::area", || section.area(), |a| a.is_finite() && *a >= 0.0)?;
+            judge_value("CrossSection::slice", || section.slice(y), |s| s.is_none_or(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo <= hi))?;
+            kinematics("LinearDelta::inverse_kinematics", &d, &x, LinearDeltaMode::PAPER, &guess)?;
+        }
+    }
+
+    #[test]
+    fn linear_delta_reachable_kinematics(
+        r in (1.0..2.0f64, -0.9..0.9f64, -1.0..1.0f64, 0.5..1.5f64), y in -1.0..1.0f64, z in -2.0..2.0f64,
+    ) {
+        let ratios = LinearDeltaRatios { l1_over_yr: r.0, ya_over_yr: r.1, zr_over_yr: r.2, l2_over_l1: r.3 };
+        let d = LinearDelta::new(ratios, 1.0).unwrap();
+        kinematics("LinearDelta::inverse_kinematics", &d, &Vector3::new(0.1, y, z), LinearDeltaMode::PAPER, &Vector3::new(0.0, y, z))?;
+    }
+
+    #[test]
+    fn stewart_gough_constructor_and_kinematics(
+        x in (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64()), offset in hostile_f64(),
+        p in hostile_vec3(), w in hostile_vec3(), alpha in hostile_f64(),
+    ) {
+        judge("StewartGough::new", || StewartGough::new(x.0, x.1, x.2, x.3), |s| {
+            s.base_joints().iter().chain(s.platform_joints()).all(|v| all_finite(v.iter()))
+        })?;
+        let layout = JointLayout { offset_deg: offset, ..JointLayout::default() };
+        judge("StewartGough::with_layout", || StewartGough::with_layout(x.0, x.1, x.2, x.3, layout), |s| {
+            s.base_joints().iter().chain(s.platform_joints()).all(|v| all_finite(v.iter()))
+        })?;
+        judge("platform_pose", || platform_pose(p, w, alpha), |g| all_finite(g.to_homogeneous().iter()))?;
+        let task = SVector::<f64, 6>::new(p.x, p.y, p.z, w.x, w.y, w.z);
+        judge("pose_from_task", || pose_from_task(&task), |g| all_finite(g.to_homogeneous().iter()))?;
+        let sg = StewartGough::new(1.0, 0.5, 20.0, 30.0).unwrap();
+        if let Ok(pose) = pose_from_task(&task) {
+            let twist = Twist::new(Vector3::new(0.0, 0.0, 1.0), Vector3::new(0.1, 0.0, 0.0));
+            judge("StewartGough::wrench_rows", || sg.wrench_rows(&pose), |m| all_finite(m.iter()))?;
+            judge("StewartGough::leg_rates", || sg.leg_rates(&pose, &twist), |m| all_finite(m.iter()))?;
+            judge("StewartGough::task_objective", || sg.task_objective(&pose, &twist), |f| f.is_finite())?;
+        }
+        let guess = SVector::<f64, 6>::new(0.0, 0.0, 1.0, 0.0, 0.0, 0.0);
+        kinematics("StewartGough::inverse_kinematics", &sg, &task, (), &guess)?;
+    }
+
+    #[test]
+    fn three_upu_constructor_and_wrenches(
+        a in hostile_f64(), b in hostile_f64(), u1 in hostile_vec3(), u2 in hostile_vec3(),
+        theta in hostile_f64(), p in hostile_vec3(),
+    ) {
+        let axes = UJointAxes { u1, u2 };
+        judge("ThreeUpu::new", || ThreeUpu::new(a, b, [axes, UJointAxes::park(theta), axes]), |_| true)?;
+        if let Ok(m) = ThreeUpu::new(a, b, [UJointAxes::park(0.3); 3]) {
+            let pose = Isometry3::translation(p.x, p.y, p.z);
+            let twist = Twist::new(Vector3::new(0.0, 0.0, 1.0), Vector3::zeros());
+            judge("ThreeUpu::wrench_rows", || m.wrench_rows(&pose), |r| all_finite(r.iter()))?;
+            judge("ThreeUpu::task_objective", || m.task_objective(&pose, &twist), |f| f.is_finite())?;
+        }
+    }
+
+    #[test]
+    fn stewart_task_problem(
+        design in (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64()), p in hostile_vec3(),
+        w in hostile_vec3(), chi in hostile_vec3(), k in hostile_count(), max_angle in hostile_f64(),
+        v in prop::collection::vec(hostile_f64(), 0..6),
+    ) {
+        let twist = Twist::new(chi, Vector3::new(0.1, 0.0, 0.0));
+        let design = [design.0, design.1, design.2, design.3];
+        judge("StewartTaskProblem::new", || StewartTaskProblem::new(design, JointLayout::default(), p, w, twist), |_| true)?;
+        let base = StewartTaskProblem::new([1.0, 0.5, 20.0, 30.0], JointLayout::default(), Vector3::new(0.0, 0.0, 1.0), Vector3::zeros(), twist);
+        if let (Ok(problem), Ok(bounds)) = (base, Bounds::new(0.5, 2.0)) {
+            judge("StewartTaskProblem::free_design", || problem.clone().free_design(k, bounds), |_| true)?;
+            judge("StewartTaskProblem::free_position", || problem.clone().free_position(k, bounds), |_| true)?;
+            judge("StewartTaskProblem::free_rotation", || problem.clone().free_rotation(max_angle), |_| true)?;
+            if let Ok(free) = problem.free_design(0, bounds).and_then(|p| p.free_rotation(0.5)) {
+                judge("StewartTaskProblem::value", || free.value(&v), |f| f.is_finite())?;
+            }
+        }
+    }
+
+    #[test]
+    fn rotary_delta_constructor_and_kinematics(
+        g in (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64()), angles in (hostile_f64(), hostile_f64()),
+        z0 in hostile_f64(), x in hostile_vec3(), guess in hostile_vec3(),
+    ) {
+        let placement = Placement { motor_plane_z: z0, azimuth_motor_1: 0.3 };
+        judge("RotaryDelta::new", || RotaryDelta::new(g.0, g.1, g.2, g.3, angles, placement), |d| d.arm().is_finite())?;
+        judge("RotaryDelta::delta", || RotaryDelta::delta(placement), |d| d.arm().is_finite())?;
+        let d = RotaryDelta::delta(Placement::canonical()).unwrap();
+        kinematics("RotaryDelta::inverse_kinematics", &d, &x, ElbowMode::Out, &guess)?;
+    }
+}
+
+#[test]
+fn tsai_column_volume_refuses_huge_grids() {
+    let d = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    for ngrid in [0, usize::MAX, 1 << 40] {
+        super::expect(judge_err("Tsai3Dof::column_volume (huge)", || {
+            d.column_volume(ngrid)
+        }));
+    }
+    super::expect(judge(
+        "Tsai3Dof::column_volume",
+        || d.column_volume(50),
+        |v| v.is_finite() && *v > 0.0,
+    ));
+}
