@@ -3,12 +3,61 @@
 
 #![allow(clippy::expect_used)]
 
-use criterion::Criterion;
+use criterion::measurement::{Measurement, ValueFormatter, WallTime};
+use criterion::{BenchmarkGroup, Criterion};
 use pkm::dynamics_hamilton::inverse;
 use pkm::dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm::mechanisms::{Placement, RotaryDelta};
 use std::hint::black_box;
+
+/// The CPU time of the benchmarking thread (`/proc/thread-self/schedstat`, ns), beside the wall
+/// time: on a shared machine the two differ by the time the thread waited for a core.
+struct ThreadCpuTime(WallTime);
+
+/// The thread's run time. The kernel brings it up to date on a scheduler tick (4 ms here) or when
+/// the thread enters the scheduler, so `yield_now` first (`sched_yield` updates the running
+/// task's time); the constant cost of the yield and the read is removed by criterion's linear
+/// fit over batches of iterations.
+fn thread_cpu_ns() -> u64 {
+    std::thread::yield_now();
+    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").expect("Linux schedstat");
+    stat.split_whitespace()
+        .next()
+        .and_then(|ns| ns.parse().ok())
+        .expect("run time in ns")
+}
+
+impl Measurement for ThreadCpuTime {
+    type Intermediate = u64;
+    type Value = u64;
+
+    fn start(&self) -> u64 {
+        thread_cpu_ns()
+    }
+    fn end(&self, start: u64) -> u64 {
+        thread_cpu_ns() - start
+    }
+    fn add(&self, a: &u64, b: &u64) -> u64 {
+        a + b
+    }
+    fn zero(&self) -> u64 {
+        0
+    }
+    fn to_f64(&self, ns: &u64) -> f64 {
+        *ns as f64
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        self.0.formatter()
+    }
+}
+
+/// A criterion that measures thread CPU time, configured from the same command line.
+fn cpu_criterion() -> Criterion<ThreadCpuTime> {
+    Criterion::default()
+        .with_measurement(ThreadCpuTime(WallTime))
+        .configure_from_args()
+}
 
 fn nuwar() -> ExtendedModel {
     let mechanism = RotaryDelta::nuwar(Placement::canonical()).expect("paper design");
@@ -33,6 +82,11 @@ fn nuwar() -> ExtendedModel {
 ///
 /// All inputs go through `black_box`.
 pub(crate) fn inverse_dynamics(c: &mut Criterion) {
+    inverse_benches(&mut c.benchmark_group("miller2004_inverse_dynamics"));
+    inverse_benches(&mut cpu_criterion().benchmark_group("miller2004_inverse_dynamics_cpu"));
+}
+
+fn inverse_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
     let model = nuwar();
     let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
     let dt = 1e-3;
@@ -41,12 +95,11 @@ pub(crate) fn inverse_dynamics(c: &mut Criterion) {
     let p_prev = model.at(&prev.q).momentum(&prev.qd);
     let now_at = model.at(&now.q);
     let task_acceleration = trajectory.sample(samples[136].0).a;
-    let mut group = c.benchmark_group("miller2004_inverse_dynamics");
     group.bench_function("hamilton_one_sample", |b| {
         b.iter(|| {
             let next_at = model.at(black_box(&next.q));
             let p_next = next_at.momentum(black_box(&next.qd));
-            let rate = (p_next - black_box(&p_prev)) / (2.0 * black_box(dt));
+            let rate = (p_next - black_box(&p_prev)) * (0.5 / black_box(dt));
             black_box(&now_at).hamilton_torques(black_box(&now.qd), &rate)
         })
     });
@@ -84,7 +137,6 @@ pub(crate) fn inverse_dynamics(c: &mut Criterion) {
             )
         })
     });
-    group.finish();
 }
 
 /// The forward simulation of the full cycle as in the Fig. 9 retrace: Hamilton form with
@@ -92,6 +144,11 @@ pub(crate) fn inverse_dynamics(c: &mut Criterion) {
 /// 1 ms grid, Catmull–Rom interpolation; not the exact Lagrange torques), DP54 at rtol 1e-9,
 /// atol 1e-12, output every 1 ms; and one right-hand side of each forward form.
 pub(crate) fn forward_cycle(c: &mut Criterion) {
+    forward_benches(&mut c.benchmark_group("miller2004_forward"));
+    forward_benches(&mut cpu_criterion().benchmark_group("miller2004_forward_cpu"));
+}
+
+fn forward_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
     use nalgebra::SVector;
     use pkm::dynamics_hamilton::forward::{
         AccelerationForm, ForwardForm, HamiltonForm, SampledTorques,
@@ -115,7 +172,6 @@ pub(crate) fn forward_cycle(c: &mut Criterion) {
         .with_rtol(1e-9)
         .and_then(|s| s.with_atol(1e-12))
         .expect("settings");
-    let mut group = c.benchmark_group("miller2004_forward");
     // One right-hand side at the peak (t = 0.136 s) of the commanded cycle: eq. 19 by the Schur
     // complement, then eq. 17 (Hamilton form); the acceleration form with Baumgarte ω = 20 /s.
     let peak = &samples[136].1;
@@ -155,5 +211,4 @@ pub(crate) fn forward_cycle(c: &mut Criterion) {
             )
         })
     });
-    group.finish();
 }

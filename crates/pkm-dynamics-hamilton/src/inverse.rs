@@ -25,16 +25,15 @@ impl Differencing {
     /// The derivative of `f` sampled every `dt` (needs at least 3 samples).
     pub fn apply(self, f: &[Vector6<f64>], dt: f64) -> Vec<Vector6<f64>> {
         let n = f.len();
+        let (inv, half_inv) = (1.0 / dt, 0.5 / dt);
         (0..n)
             .map(|k| match self {
                 _ if n < 3 => Vector6::zeros(),
-                Self::Backward if k == 0 => (f[1] - f[0]) / dt,
-                Self::Backward => (f[k] - f[k - 1]) / dt,
-                Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) / (2.0 * dt),
-                Self::Central if k + 1 == n => {
-                    (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) / (2.0 * dt)
-                }
-                Self::Central => (f[k + 1] - f[k - 1]) / (2.0 * dt),
+                Self::Backward if k == 0 => (f[1] - f[0]) * inv,
+                Self::Backward => (f[k] - f[k - 1]) * inv,
+                Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) * half_inv,
+                Self::Central if k + 1 == n => (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) * half_inv,
+                Self::Central => (f[k + 1] - f[k - 1]) * half_inv,
             })
             .collect()
     }

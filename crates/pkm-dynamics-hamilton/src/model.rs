@@ -95,6 +95,7 @@ impl ExtendedModel {
     }
 
     /// The model at configuration `q` (see [`Configuration`]).
+    #[inline]
     pub fn at(&self, q: &Vector6<f64>) -> Configuration<'_> {
         let p = Vector3::new(q[0], q[1], q[2]);
         let trig = [q[3].sin_cos(), q[4].sin_cos(), q[5].sin_cos()];
@@ -268,11 +269,13 @@ impl ExtendedModel {
 
 impl Configuration<'_> {
     /// The momenta $p = M(q)\dot q$ (eq. 15).
+    #[inline]
     pub fn momentum(&self, qd: &Vector6<f64>) -> Vector6<f64> {
         kernel::momentum(self.constants, &self.legs, qd)
     }
 
     /// The loop closure $\Phi(q)$.
+    #[inline]
     pub fn constraints(&self) -> Vector3<f64> {
         kernel::constraints(self.constants, &self.legs)
     }
@@ -285,6 +288,7 @@ impl Configuration<'_> {
     /// # Errors
     /// [`DynamicsError::Singular`] (`"Phi_x^T"`) at a direct-kinematic singularity,
     /// [`DynamicsError::NonFinite`] for a non-finite torque (times are NaN; callers set them).
+    #[inline]
     pub fn hamilton_torques(
         &self,
         qd: &Vector6<f64>,
@@ -303,6 +307,7 @@ impl Configuration<'_> {
     ///
     /// # Errors
     /// As [`Configuration::hamilton_torques`].
+    #[inline]
     pub fn lagrange_torques(
         &self,
         qd: &Vector6<f64>,
@@ -322,6 +327,7 @@ impl Configuration<'_> {
     /// # Errors
     /// [`DynamicsError::Singular`] (`"Phi_theta"`, at `t = NaN`) when a diagonal entry of
     /// $\Phi_\theta$ is zero (a leg stretched or folded).
+    #[inline]
     pub fn joint_velocities(&self, v: &Vector3<f64>) -> Result<Vector6<f64>, DynamicsError> {
         if self.legs.iter().any(|leg| leg.phi_theta == 0.0) {
             return Err(phi_theta_singular());
@@ -336,6 +342,7 @@ impl Configuration<'_> {
     ///
     /// # Errors
     /// As [`ExtendedModel::joint_accelerations`].
+    #[inline]
     pub fn joint_accelerations(
         &self,
         qd: &Vector6<f64>,
@@ -372,6 +379,7 @@ fn phi_theta_singular() -> DynamicsError {
     }
 }
 
+#[inline]
 fn checked_torques((tau, det): (Vector3<f64>, f64)) -> Result<Vector3<f64>, DynamicsError> {
     if det == 0.0 {
         Err(DynamicsError::Singular {
