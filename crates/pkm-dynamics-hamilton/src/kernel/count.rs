@@ -49,6 +49,10 @@ fn tally(f: impl FnOnce(&mut Operations)) {
     });
 }
 
+fn bump(n: &mut usize) {
+    *n += 1;
+}
+
 /// Resets the counter of this thread and returns what it held.
 pub(crate) fn reset() -> Operations {
     COUNT.with(|c| c.replace(Operations::default()))
@@ -69,7 +73,7 @@ macro_rules! binary {
         impl $trait for Counted {
             type Output = Self;
             fn $method(self, rhs: Self) -> Self {
-                tally(|o| o.$field += 1);
+                tally(|o| bump(&mut o.$field));
                 Self(self.0 $op rhs.0)
             }
         }
@@ -89,7 +93,7 @@ binary!(Div, div, DivAssign, div_assign, /, div);
 impl Neg for Counted {
     type Output = Self;
     fn neg(self) -> Self {
-        tally(|o| o.neg += 1);
+        tally(|o| bump(&mut o.neg));
         Self(-self.0)
     }
 }
