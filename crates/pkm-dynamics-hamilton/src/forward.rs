@@ -14,10 +14,14 @@
 //!    \begin{pmatrix} \ddot q \\ \lambda \end{pmatrix} =
 //!    \begin{pmatrix} L_q + Q - \dot M\dot q \\ -\gamma - 2\omega\Phi_q\dot q - \omega^2\Phi \end{pmatrix}. $$
 //!
+//! Both saddle-point systems are solved through a 3×3 Schur complement (module `saddle`), never
+//! as a dense 9×9 system.
+//!
 //! Both carry $W$ so that the energy balance $E(t) - E(0) - W(t)$ is known to the integrator's
 //! tolerance.
 
 mod fields;
+mod saddle;
 mod torque;
 
 pub use fields::{AccelerationForm, ForwardForm, HamiltonForm, SADDLE_MATRIX};

@@ -10,7 +10,7 @@
 
 use crate::trajectory::Trajectory;
 use crate::{DynamicsError, ExtendedModel, ExtendedState};
-use nalgebra::{Matrix3, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 /// Two-point differencing of a sampled signal on a uniform grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,16 +25,15 @@ impl Differencing {
     /// The derivative of `f` sampled every `dt` (needs at least 3 samples).
     pub fn apply(self, f: &[Vector6<f64>], dt: f64) -> Vec<Vector6<f64>> {
         let n = f.len();
+        let (inv, half_inv) = (1.0 / dt, 0.5 / dt);
         (0..n)
             .map(|k| match self {
                 _ if n < 3 => Vector6::zeros(),
-                Self::Backward if k == 0 => (f[1] - f[0]) / dt,
-                Self::Backward => (f[k] - f[k - 1]) / dt,
-                Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) / (2.0 * dt),
-                Self::Central if k + 1 == n => {
-                    (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) / (2.0 * dt)
-                }
-                Self::Central => (f[k + 1] - f[k - 1]) / (2.0 * dt),
+                Self::Backward if k == 0 => (f[1] - f[0]) * inv,
+                Self::Backward => (f[k] - f[k - 1]) * inv,
+                Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) * half_inv,
+                Self::Central if k + 1 == n => (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) * half_inv,
+                Self::Central => (f[k + 1] - f[k - 1]) * half_inv,
             })
             .collect()
     }
@@ -86,7 +85,8 @@ fn at(e: DynamicsError, t: f64) -> DynamicsError {
     }
 }
 
-/// The motor torques for a given momentum rate $\dot p$ (steps 2 and 3 of §3.3).
+/// The motor torques for a given momentum rate $\dot p$ (steps 2 and 3 of §3.3), i.e.
+/// [`Configuration::hamilton_torques`](crate::Configuration::hamilton_torques) at `q`.
 ///
 /// # Errors
 /// [`DynamicsError::Singular`] when $\Phi_x$ (a direct-kinematic singularity) is singular,
@@ -97,27 +97,12 @@ pub fn torques(
     qd: &Vector6<f64>,
     p_rate: &Vector6<f64>,
 ) -> Result<Vector3<f64>, DynamicsError> {
-    let l_q = model.lagrangian_gradient(q, qd);
-    let phi_q = model.constraint_jacobian(q);
-    let phi_x_t: Matrix3<f64> = phi_q.fixed_view::<3, 3>(0, 0).transpose();
-    let rhs = l_q.fixed_rows::<3>(0) - p_rate.fixed_rows::<3>(0);
-    let lambda = phi_x_t.lu().solve(&rhs).ok_or(DynamicsError::Singular {
-        matrix: "Phi_x^T",
-        t: f64::NAN,
-    })?;
-    let tau = Vector3::from_fn(|i, _| p_rate[3 + i] - l_q[3 + i] + phi_q[(i, 3 + i)] * lambda[i]);
-    if tau.iter().all(|v| v.is_finite()) {
-        Ok(tau)
-    } else {
-        Err(DynamicsError::NonFinite {
-            what: "torque",
-            t: f64::NAN,
-        })
-    }
+    model.at(q).hamilton_torques(qd, p_rate)
 }
 
 /// Hamilton's inverse dynamics (§3.3): $p_k = M(q_k)\dot q_k$, $\dot p$ by `differencing`, then
-/// [`torques`]. Uses only positions and velocities.
+/// steps 2–3. Uses only positions and velocities; each sample's [`Configuration`](crate::Configuration)
+/// is formed once and serves both its momentum and its torques.
 ///
 /// # Errors
 /// As [`torques`], with the time of the failing sample.
@@ -127,17 +112,17 @@ pub fn hamilton(
     dt: f64,
     differencing: Differencing,
 ) -> Result<Vec<Vector3<f64>>, DynamicsError> {
-    let momenta: Vec<_> = samples
-        .iter()
-        .map(|(_, s)| model.mass_matrix(&s.q) * s.qd)
+    let configurations: Vec<_> = samples.iter().map(|(_, s)| model.at(&s.q)).collect();
+    let momenta: Vec<_> = (configurations.iter().zip(samples))
+        .map(|(c, (_, s))| c.momentum(&s.qd))
         .collect();
     let rates = differencing.apply(&momenta, dt);
-    (samples.iter().zip(&rates))
-        .map(|((t, s), r)| torques(model, &s.q, &s.qd, r).map_err(|e| at(e, *t)))
+    (configurations.iter().zip(samples).zip(&rates))
+        .map(|((c, (t, s)), r)| c.hamilton_torques(&s.qd, r).map_err(|e| at(e, *t)))
         .collect()
 }
 
-/// Lagrange inverse dynamics: $\dot p = M\ddot q + \dot M\dot q$, then [`torques`].
+/// Lagrange inverse dynamics: $\dot p = M\ddot q + \dot M\dot q$, then steps 2–3.
 ///
 /// # Errors
 /// As [`torques`], with the time of the failing sample.
@@ -159,7 +144,8 @@ pub fn lagrange(
         .collect()
 }
 
-/// One Lagrange evaluation from $(q, \dot q, \ddot q)$.
+/// One Lagrange evaluation from $(q, \dot q, \ddot q)$, i.e.
+/// [`Configuration::lagrange_torques`](crate::Configuration::lagrange_torques) at `q`.
 ///
 /// # Errors
 /// As [`torques`].
@@ -169,8 +155,7 @@ pub fn lagrange_torques(
     qd: &Vector6<f64>,
     qdd: &Vector6<f64>,
 ) -> Result<Vector3<f64>, DynamicsError> {
-    let rate = model.mass_matrix(q) * qdd + model.mass_matrix_rate_times_velocity(q, qd);
-    torques(model, q, qd, &rate)
+    model.at(q).lagrange_torques(qd, qdd)
 }
 
 #[cfg(test)]

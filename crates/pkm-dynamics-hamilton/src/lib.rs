@@ -14,10 +14,11 @@
 mod error;
 pub mod forward;
 pub mod inverse;
+mod kernel;
 pub mod mass;
 pub mod model;
 pub mod trajectory;
 
 pub use error::DynamicsError;
 pub use mass::{ForearmModel, MassParameters};
-pub use model::{ExtendedModel, ExtendedState};
+pub use model::{Configuration, ExtendedModel, ExtendedState};

@@ -3,8 +3,9 @@
 //! Jacobians.
 
 use crate::DynamicsError;
+use crate::kernel::{self, Constants, Leg};
 use crate::mass::{Coefficients, MassParameters};
-use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3, Vector6};
+use nalgebra::{Matrix6, SMatrix, Vector3, Vector6};
 use pkm_mechanisms::{ElbowMode, RotaryDelta};
 use pkm_traits::{ClosedChain, DesignError, ExtendedInertia, InverseKinematics};
 
@@ -36,6 +37,31 @@ pub struct ExtendedState {
 pub struct ExtendedModel {
     mechanism: RotaryDelta,
     c: Coefficients,
+    constants: Constants,
+}
+
+/// The model at one configuration $q$: the per-leg quantities $d_i$, $d_i'$, $v_i$ and
+/// $\Phi_{\theta,ii}$ evaluated once (three `sin_cos`), from which every dynamics evaluation at
+/// that $q$ follows in a few hundred arithmetic operations, without forming $M$, $\Phi_q$ or a
+/// saddle-point matrix. A sweep over samples forms one per sample and uses it for the momentum
+/// and the torques (as Pinocchio's `Data` holds the kinematics of one configuration).
+///
+/// # Example
+/// ```
+/// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
+/// use pkm_mechanisms::{Placement, RotaryDelta};
+/// use nalgebra::Vector3;
+/// let model = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+///     &MassParameters::miller2004()).unwrap();
+/// let s = model.joint_motion(&Vector3::new(0.0, -0.1, -0.8), &Vector3::new(0.0, 1.0, 0.5),
+///     &Vector3::zeros()).unwrap();
+/// let at = model.at(&s.q);
+/// assert!((at.momentum(&s.qd) - model.mass_matrix(&s.q) * s.qd).amax() < 1e-15);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Configuration<'a> {
+    constants: &'a Constants,
+    legs: [Leg<f64>; 3],
 }
 
 fn split(q: &Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
@@ -49,7 +75,34 @@ impl ExtendedModel {
     /// [`DesignError`] for an invalid mass parameter.
     pub fn new(mechanism: RotaryDelta, mass: &MassParameters) -> Result<Self, DesignError> {
         let c = mass.coefficients(mechanism.arm())?;
-        Ok(Self { mechanism, c })
+        let constants = Constants {
+            legs: mechanism
+                .legs()
+                .map(|leg| [leg.u, leg.w, leg.plate_offset - leg.motor]),
+            arm: mechanism.arm(),
+            forearm_squared: mechanism.forearm() * mechanism.forearm(),
+            m_t: c.m_t,
+            j: c.j,
+            k: c.k,
+            g_m_g: c.gravity * c.m_g,
+            g_c_g: c.gravity * c.c_g,
+        };
+        Ok(Self {
+            mechanism,
+            c,
+            constants,
+        })
+    }
+
+    /// The model at configuration `q` (see [`Configuration`]).
+    #[inline]
+    pub fn at(&self, q: &Vector6<f64>) -> Configuration<'_> {
+        let p = Vector3::new(q[0], q[1], q[2]);
+        let trig = [q[3].sin_cos(), q[4].sin_cos(), q[5].sin_cos()];
+        Configuration {
+            constants: &self.constants,
+            legs: kernel::legs(&self.constants, &p, trig),
+        }
     }
 
     /// The mechanism.
@@ -182,17 +235,7 @@ impl ExtendedModel {
         qd: &Vector6<f64>,
         a: &Vector3<f64>,
     ) -> Result<Vector6<f64>, DynamicsError> {
-        let phi_q = self.constraint_jacobian(q);
-        let rhs = phi_q.fixed_view::<3, 3>(0, 0) * a + self.gamma(q, qd);
-        let thdd = Vector3::from_fn(|i, _| -rhs[i] / phi_q[(i, 3 + i)]);
-        if thdd.iter().all(|v| v.is_finite()) {
-            Ok(Vector6::new(a.x, a.y, a.z, thdd.x, thdd.y, thdd.z))
-        } else {
-            Err(DynamicsError::Singular {
-                matrix: "Phi_theta",
-                t: f64::NAN,
-            })
-        }
+        self.at(q).joint_accelerations(qd, a)
     }
 
     /// Extended positions, velocities and accelerations of a task motion $(p, \dot p, \ddot p)$:
@@ -217,17 +260,139 @@ impl ExtendedModel {
             .inverse_kinematics(p, ElbowMode::Out)
             .map_err(unreachable)?;
         let q = Vector6::new(p.x, p.y, p.z, th.x, th.y, th.z);
-        let phi_x = self.mechanism.jacobian_x(p, &th);
-        let phi_th: Matrix3<f64> = self.mechanism.jacobian_q(p, &th);
-        let inv = phi_th.try_inverse().ok_or(DynamicsError::Singular {
-            matrix: "Phi_theta",
-            t: f64::NAN,
-        })?;
-        let thd = -(inv * phi_x * v);
-        let qd = Vector6::new(v.x, v.y, v.z, thd.x, thd.y, thd.z);
-        let thdd = -(inv * (phi_x * a + self.gamma(&q, &qd)));
-        let qdd = Vector6::new(a.x, a.y, a.z, thdd.x, thdd.y, thdd.z);
+        let at = self.at(&q);
+        let qd = at.joint_velocities(v)?;
+        let qdd = at.joint_accelerations(&qd, a)?;
         Ok(ExtendedState { q, qd, qdd })
+    }
+}
+
+impl Configuration<'_> {
+    /// The momenta $p = M(q)\dot q$ (eq. 15).
+    #[inline]
+    pub fn momentum(&self, qd: &Vector6<f64>) -> Vector6<f64> {
+        kernel::momentum(self.constants, &self.legs, qd)
+    }
+
+    /// The loop closure $\Phi(q)$.
+    #[inline]
+    pub fn constraints(&self) -> Vector3<f64> {
+        kernel::constraints(self.constants, &self.legs)
+    }
+
+    /// Steps 2 and 3 of Hamilton's inverse dynamics (§3.3) for a given momentum rate
+    /// $\dot p$: $\Phi_x^\top\lambda = L_{q,x} - \dot p_x$ (Cramer's rule on the forearm
+    /// vectors), $\tau = \dot p_\theta - L_{q,\theta} + \Phi_\theta\lambda$ ($\Phi_\theta$
+    /// diagonal).
+    ///
+    /// # Errors
+    /// [`DynamicsError::Singular`] (`"Phi_x^T"`) at a direct-kinematic singularity,
+    /// [`DynamicsError::NonFinite`] for a non-finite torque (times are NaN; callers set them).
+    #[inline]
+    pub fn hamilton_torques(
+        &self,
+        qd: &Vector6<f64>,
+        p_rate: &Vector6<f64>,
+    ) -> Result<Vector3<f64>, DynamicsError> {
+        checked_torques(kernel::hamilton_torques(
+            self.constants,
+            &self.legs,
+            qd,
+            p_rate,
+        ))
+    }
+
+    /// Lagrange's inverse dynamics from $\ddot q$: $\dot p = M\ddot q + \dot M\dot q$, then the
+    /// same steps as [`Configuration::hamilton_torques`].
+    ///
+    /// # Errors
+    /// As [`Configuration::hamilton_torques`].
+    #[inline]
+    pub fn lagrange_torques(
+        &self,
+        qd: &Vector6<f64>,
+        qdd: &Vector6<f64>,
+    ) -> Result<Vector3<f64>, DynamicsError> {
+        checked_torques(kernel::lagrange_torques(
+            self.constants,
+            &self.legs,
+            qd,
+            qdd,
+        ))
+    }
+
+    /// The velocity-level inverse kinematics $\dot\theta_i = -2 v_i\cdot\dot x /
+    /// \Phi_{\theta,ii}$, as $\dot q = (\dot x, \dot\theta)$.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Singular`] (`"Phi_theta"`, at `t = NaN`) when a diagonal entry of
+    /// $\Phi_\theta$ is zero (a leg stretched or folded).
+    #[inline]
+    pub fn joint_velocities(&self, v: &Vector3<f64>) -> Result<Vector6<f64>, DynamicsError> {
+        if self.legs.iter().any(|leg| leg.phi_theta == 0.0) {
+            return Err(phi_theta_singular());
+        }
+        let thd = Vector3::from_fn(|i, _| {
+            -(2.0 * kernel::dot(&self.legs[i].v, v)) / self.legs[i].phi_theta
+        });
+        Ok(Vector6::new(v.x, v.y, v.z, thd.x, thd.y, thd.z))
+    }
+
+    /// The acceleration-level inverse kinematics: see [`ExtendedModel::joint_accelerations`].
+    ///
+    /// # Errors
+    /// As [`ExtendedModel::joint_accelerations`].
+    #[inline]
+    pub fn joint_accelerations(
+        &self,
+        qd: &Vector6<f64>,
+        a: &Vector3<f64>,
+    ) -> Result<Vector6<f64>, DynamicsError> {
+        let qdd = kernel::joint_accelerations(self.constants, &self.legs, qd, a);
+        if qdd.iter().all(|v| v.is_finite()) {
+            Ok(qdd)
+        } else {
+            Err(phi_theta_singular())
+        }
+    }
+
+    pub(crate) fn legs(&self) -> &[Leg<f64>; 3] {
+        &self.legs
+    }
+
+    pub(crate) fn model_constants(&self) -> &Constants {
+        self.constants
+    }
+}
+
+#[cfg(test)]
+impl ExtendedModel {
+    pub(crate) fn constants(&self) -> &Constants {
+        &self.constants
+    }
+}
+
+fn phi_theta_singular() -> DynamicsError {
+    DynamicsError::Singular {
+        matrix: "Phi_theta",
+        t: f64::NAN,
+    }
+}
+
+#[inline]
+fn checked_torques((tau, det): (Vector3<f64>, f64)) -> Result<Vector3<f64>, DynamicsError> {
+    if det == 0.0 {
+        Err(DynamicsError::Singular {
+            matrix: "Phi_x^T",
+            t: f64::NAN,
+        })
+    } else if tau.iter().all(|v| v.is_finite()) {
+        Ok(tau)
+    } else {
+        Err(DynamicsError::NonFinite {
+            what: "torque",
+            t: f64::NAN,
+        })
     }
 }
 

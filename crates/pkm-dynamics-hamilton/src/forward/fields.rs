@@ -1,7 +1,8 @@
 //! The Hamilton and acceleration forms as [`VectorField`]s of dimension 13.
 
-use crate::{DynamicsError, ExtendedModel};
-use nalgebra::{SMatrix, SVector, Vector3, Vector6};
+use crate::kernel::{acceleration_rhs, momentum_rate};
+use crate::{Configuration, DynamicsError, ExtendedModel};
+use nalgebra::{SVector, Vector3, Vector6};
 use pkm_traits::{RhsError, VectorField};
 
 type State = SVector<f64, 13>;
@@ -59,36 +60,18 @@ impl From<DynamicsError> for RhsError {
     }
 }
 
-/// Solves $\begin{pmatrix} M & \Phi_q^\top \\ \Phi_q & 0\end{pmatrix} (a, b) = (r_1, r_2)$.
-///
-/// The matrix counts as singular when a pivot of its LU factorisation (partial pivoting) is at
-/// most $9\,\varepsilon \max|A_{ij}|$, i.e. zero to working precision (on the canonical cycle the
-/// smallest pivot is of order 1, set by $|\Phi_q|^2 / m_t$).
+/// Solves $\begin{pmatrix} M & \Phi_q^\top \\ \Phi_q & 0\end{pmatrix} (a, b) = (r_1, r_2)$
+/// at the configuration `at` through its 3×3 Schur complement (module `saddle`).
 fn saddle(
-    m: &ExtendedModel,
+    at: &Configuration<'_>,
     t: f64,
-    q: &Vector6<f64>,
     r1: &Vector6<f64>,
     r2: &Vector3<f64>,
 ) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
-    let phi_q = m.constraint_jacobian(q);
-    let mut a = SMatrix::<f64, 9, 9>::zeros();
-    a.fixed_view_mut::<6, 6>(0, 0).copy_from(&m.mass_matrix(q));
-    a.fixed_view_mut::<6, 3>(0, 6).copy_from(&phi_q.transpose());
-    a.fixed_view_mut::<3, 6>(6, 0).copy_from(&phi_q);
-    let singular = DynamicsError::Singular {
+    super::saddle::solve(at.model_constants(), at.legs(), r1, r2).ok_or(DynamicsError::Singular {
         matrix: SADDLE_MATRIX,
         t,
-    };
-    let threshold = 9.0 * f64::EPSILON * a.amax();
-    let lu = a.lu();
-    let min_pivot = lu.u().diagonal().amin();
-    if !(min_pivot > threshold) {
-        return Err(singular);
-    }
-    let rhs = SVector::<f64, 9>::from_iterator(r1.iter().chain(r2.iter()).copied());
-    let x = lu.solve(&rhs).ok_or(singular)?;
-    Ok((x.fixed_rows::<6>(0).into(), x.fixed_rows::<3>(6).into()))
+    })
 }
 
 fn joint_force(tau: &Vector3<f64>) -> Vector6<f64> {
@@ -125,26 +108,29 @@ impl<F: Fn(f64) -> Vector3<f64>> HamiltonForm<'_, F> {
     /// matrix is singular, e.g. where $\Phi_q$ loses rank. Inside an integration the same failure
     /// arrives as [`pkm_traits::IntegrationError::Rhs`] with this error's message and time.
     pub fn solve(&self, t: f64, z: &State) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
-        let q = self.positions(z);
+        self.solve_at(&self.model.at(&self.positions(z)), t, z)
+    }
+
+    fn solve_at(
+        &self,
+        at: &Configuration<'_>,
+        t: f64,
+        z: &State,
+    ) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
         let p: Vector6<f64> = z.fixed_rows::<6>(6).into();
-        let (qd, minus_sigma) = saddle(
-            self.model,
-            t,
-            &q,
-            &p,
-            &(-self.model.constraints(&q) * self.kappa),
-        )?;
+        let (qd, minus_sigma) = saddle(at, t, &p, &(-at.constraints() * self.kappa))?;
         Ok((qd, -minus_sigma))
     }
 }
 
 impl<F: Fn(f64) -> Vector3<f64>> VectorField<13> for HamiltonForm<'_, F> {
+    /// $\dot q$ from eq. 19, $\dot p = L_q + Q - \dot\Phi_q^\top\sigma$ (eq. 17), all from one
+    /// [`Configuration`].
     fn rhs(&self, t: f64, z: &State, dz: &mut State) -> Result<(), RhsError> {
-        let q = self.positions(z);
-        let (qd, sigma) = self.solve(t, z)?;
+        let at = self.model.at(&self.positions(z));
+        let (qd, sigma) = self.solve_at(&at, t, z)?;
         let tau = (self.torque)(t);
-        let pd = self.model.lagrangian_gradient(&q, &qd) + joint_force(&tau)
-            - self.model.constraint_jacobian_rate(&q, &qd).transpose() * sigma;
+        let pd = momentum_rate(at.model_constants(), at.legs(), &qd, &sigma) + joint_force(&tau);
         dz.fixed_rows_mut::<6>(0).copy_from(&qd);
         dz.fixed_rows_mut::<6>(6).copy_from(&pd);
         dz[12] = tau.dot(&qd.fixed_rows::<3>(3));
@@ -191,16 +177,10 @@ impl<F: Fn(f64) -> Vector3<f64>> AccelerationForm<'_, F> {
         z: &State,
         tau: &Vector3<f64>,
     ) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
-        let m = self.model;
-        let q = self.positions(z);
+        let at = self.model.at(&self.positions(z));
         let qd: Vector6<f64> = z.fixed_rows::<6>(6).into();
-        let r1 = m.lagrangian_gradient(&q, &qd) + joint_force(tau)
-            - m.mass_matrix_rate_times_velocity(&q, &qd);
-        let w = self.omega;
-        let r2 = -m.gamma(&q, &qd)
-            - m.constraint_jacobian(&q) * qd * (2.0 * w)
-            - m.constraints(&q) * (w * w);
-        saddle(m, t, &q, &r1, &r2)
+        let (r1, r2) = acceleration_rhs(at.model_constants(), at.legs(), &qd, self.omega);
+        saddle(&at, t, &(r1 + joint_force(tau)), &r2)
     }
 }
 
