@@ -166,11 +166,14 @@ fn canonical_design(key: &DesignKey) -> [f64; 4] {
     key.map(|k| k as f64 / 1e6)
 }
 
+/// A memoised index: its value or why the design has none.
+type Index = Result<f64, ObjectiveError>;
+
 /// What the memo knows of the designs: $\eta_2$ per design, $\eta_1$ per design and rule.
 #[derive(Debug, Default)]
 struct MemoTables {
-    eta2: HashMap<DesignKey, Result<f64, ObjectiveError>>,
-    eta1: HashMap<(DesignKey, Eta1Rule), Result<f64, ObjectiveError>>,
+    eta2: HashMap<DesignKey, Index>,
+    eta1: HashMap<(DesignKey, Eta1Rule), Index>,
 }
 
 /// Memo of the indices shared by every search of a study ($\eta_1$ and $\eta_2$ do not depend
@@ -202,14 +205,7 @@ impl Eta1Memo {
 
     /// $\eta_1$ by `rule` (when asked for) and $\eta_2$ at `design`, from the tables or
     /// computed on one [`DesignEvaluation`].
-    fn indices(
-        &self,
-        design: &[f64; 4],
-        rule: Option<Eta1Rule>,
-    ) -> (
-        Option<Result<f64, ObjectiveError>>,
-        Result<f64, ObjectiveError>,
-    ) {
+    fn indices(&self, design: &[f64; 4], rule: Option<Eta1Rule>) -> (Option<Index>, Index) {
         let key = design_key(design);
         let (known_eta1, known_eta2) = self.lookup(&key, rule);
         if let (Some(eta2), true) = (&known_eta2, rule.is_none() || known_eta1.is_some()) {
@@ -239,14 +235,7 @@ impl Eta1Memo {
         (eta1, eta2)
     }
 
-    fn lookup(
-        &self,
-        key: &DesignKey,
-        rule: Option<Eta1Rule>,
-    ) -> (
-        Option<Result<f64, ObjectiveError>>,
-        Option<Result<f64, ObjectiveError>>,
-    ) {
+    fn lookup(&self, key: &DesignKey, rule: Option<Eta1Rule>) -> (Option<Index>, Option<Index>) {
         self.tables.lock().ok().map_or((None, None), |tables| {
             (
                 rule.and_then(|rule| tables.eta1.get(&(*key, rule)).cloned()),
