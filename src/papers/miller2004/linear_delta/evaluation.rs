@@ -206,26 +206,18 @@ impl Eta1Memo {
     /// $\eta_1$ by `rule` (when asked for) and $\eta_2$ at `design`, from the tables or
     /// computed on one [`DesignEvaluation`].
     fn indices(&self, design: &[f64; 4], rule: Option<Eta1Rule>) -> (Option<Index>, Index) {
+        if design.iter().any(|v| !v.is_finite()) {
+            // No key stands for it: its own error, never memoised.
+            let evaluation = DesignEvaluation::new(design);
+            return evaluate_missing(&evaluation, rule, None, None);
+        }
         let key = design_key(design);
         let (known_eta1, known_eta2) = self.lookup(&key, rule);
         if let (Some(eta2), true) = (&known_eta2, rule.is_none() || known_eta1.is_some()) {
             return (known_eta1, eta2.clone());
         }
         let evaluation = DesignEvaluation::new(&canonical_design(&key));
-        let eta2 = known_eta2.unwrap_or_else(|| {
-            evaluation
-                .as_ref()
-                .map_err(Clone::clone)
-                .and_then(DesignEvaluation::eta2)
-        });
-        let eta1 = rule.map(|rule| {
-            known_eta1.unwrap_or_else(|| {
-                evaluation
-                    .as_ref()
-                    .map_err(Clone::clone)
-                    .and_then(|e| rule.eta1_of(e))
-            })
-        });
+        let (eta1, eta2) = evaluate_missing(&evaluation, rule, known_eta1, known_eta2);
         if let Ok(mut tables) = self.tables.lock() {
             tables.eta2.insert(key, eta2.clone());
             if let (Some(rule), Some(eta1)) = (rule, &eta1) {
@@ -243,6 +235,20 @@ impl Eta1Memo {
             )
         })
     }
+}
+
+/// $\eta_1$ by `rule` (when asked for) and $\eta_2$ of `evaluation`, where not `known`.
+fn evaluate_missing(
+    evaluation: &Result<DesignEvaluation, ObjectiveError>,
+    rule: Option<Eta1Rule>,
+    known_eta1: Option<Index>,
+    known_eta2: Option<Index>,
+) -> (Option<Index>, Index) {
+    let evaluation = evaluation.as_ref().map_err(Clone::clone);
+    let eta2 = known_eta2.unwrap_or_else(|| evaluation.clone().and_then(DesignEvaluation::eta2));
+    let eta1 =
+        rule.map(|rule| known_eta1.unwrap_or_else(|| evaluation.and_then(|e| rule.eta1_of(e))));
+    (eta1, eta2)
 }
 
 /// The utility $\eta = w_1\eta_1 + w_2\eta_2$ (eq. 3), negated for minimisation.
@@ -294,5 +300,35 @@ impl Objective for Utility<'_> {
             got: design.len(),
         })?;
         Ok(-self.indices(&design)?[2])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memo_agrees_with_direct_evaluation_and_rejects_non_finite_designs() {
+        let memo = Eta1Memo::default();
+        let design = [2.0, 0.0, 0.0, 0.63];
+        let rule = Eta1Rule::Quadrature(8);
+        let (Ok(direct1), Ok(direct2)) = (eta1(&design, 8), eta2(&design)) else {
+            panic!("the row-4 optimum is a valid design");
+        };
+        // A round-off variant of the same lattice node shares the memo entry.
+        let variant = [1.4 + 6.0 * 0.1, 0.0, 0.0, 0.6 + 3.0 * 0.01];
+        for d in [design, variant, design] {
+            let (Ok(m1), Ok(m2)) = (memo.eta1(&d, rule), memo.eta2(&d)) else {
+                panic!("memoised indices of a valid design");
+            };
+            assert!((m1 - direct1).abs() < 1e-14 && (m2 - direct2).abs() < 1e-14);
+        }
+        let nan = [2.0, f64::NAN, 0.0, 0.63];
+        assert!(memo.eta1(&nan, rule).is_err());
+        assert!(memo.eta2(&nan).is_err());
+        assert!(
+            memo.eta1(&design, rule)
+                .is_ok_and(|v| (v - direct1).abs() < 1e-14)
+        );
     }
 }
