@@ -1,6 +1,6 @@
 //! Table 2 of Miller 2004: the optimal Linear Delta for four pairs of weights.
 
-use super::evaluation::{Eta1Memo, area, eta1, eta1_by_grid, eta2};
+use super::evaluation::{DesignEvaluation, Eta1Memo, eta1};
 use super::search::{Optimum, Rules, optimise, search_box};
 use crate::papers::{Comparison, Context, ExperimentError, Mode, Paper, Source};
 
@@ -48,8 +48,9 @@ fn report(
             rows.push(source.info(name, "", optimum.indices[k]));
         }
     }
-    rows.push(source.info("eta1 (paper design)", "", eta1(&paper, memo_rule_n)?));
-    rows.push(source.info("eta2 (paper design)", "", eta2(&paper)?));
+    let at_paper = DesignEvaluation::new(&paper)?;
+    rows.push(source.info("eta1 (paper design)", "", at_paper.eta1(memo_rule_n)?));
+    rows.push(source.info("eta2 (paper design)", "", at_paper.eta2()?));
     Ok(rows)
 }
 
@@ -182,8 +183,9 @@ pub fn row4(
     let tolerances = [SAME_NODE, SAME_NODE, SAME_NODE, ONE_STEP];
     let paper = [2.0, 0.0, 0.0, 0.63];
     let mut rows = report(4, &optimum, paper, tolerances, fine_n(context.mode))?;
-    let grid = eta1_by_grid(&optimum.design)?;
-    let exact = area(&optimum.design)?;
+    let at_optimum = DesignEvaluation::new(&optimum.design)?;
+    let grid = at_optimum.eta1_by_grid()?;
+    let exact = at_optimum.area();
     let source = source(4);
     rows.push(source.info("area", "YR^2", exact));
     rows.push(
