@@ -85,14 +85,22 @@ pub(crate) fn scaled_to_unit<const R: usize, const C: usize>(
     j: &SMatrix<f64, R, C>,
     k: i32,
 ) -> SMatrix<f64, R, C> {
-    let largest = j.amax();
+    match unit_scale(j.amax(), k) {
+        Some((first, second)) => j * first * second,
+        None => *j,
+    }
+}
+
+/// The two factors of [`scaled_to_unit`] for a matrix whose largest entry is `largest`, `None`
+/// when no scaling is needed (or possible: zero or non-finite).
+pub(crate) fn unit_scale(largest: f64, k: i32) -> Option<(f64, f64)> {
     let exponent = largest.log2().floor();
     if !(largest > 0.0 && largest.is_finite()) || exponent.abs() <= f64::from(k) {
-        return *j;
+        return None;
     }
     // |exponent| <= 1075 for a finite positive f64: the cast is exact, and 2^-exponent is
     // applied in two halves so that neither factor overflows or is subnormal.
     let e = exponent as i32;
     let (first, second) = (e / 2, e - e / 2);
-    j * 2f64.powi(-first) * 2f64.powi(-second)
+    Some((2f64.powi(-first), 2f64.powi(-second)))
 }

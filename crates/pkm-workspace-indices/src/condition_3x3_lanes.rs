@@ -62,7 +62,7 @@ const CUBE_ROOT_STEPS: usize = 4;
 /// assert!((r[2] - 0.5).abs() < 1e-14 && r[3] == 0.0);
 /// ```
 pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> [f64; N] {
-    let j = j.map(Lanes);
+    let j = scaled_lanes(j).map(Lanes);
     let finite: [bool; N] = std::array::from_fn(|l| j.iter().all(|v| v.0[l].is_finite()));
     let gram = |a: usize, b: usize| j[a] * j[b] + j[3 + a] * j[3 + b] + j[6 + a] * j[6 + b];
     let (m00, m11, m22) = (gram(0, 0), gram(1, 1), gram(2, 2));
@@ -96,6 +96,22 @@ pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -
             general.0[l]
         }
     })
+}
+
+/// Each lane scaled by the power of two of the scalar routine (`det(J)²` grows like the sixth
+/// power of the entries), so that huge or tiny matrices neither overflow nor underflow; lanes
+/// already near 1 are left as they are, bit for bit.
+fn scaled_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> Matrix3Lanes<N> {
+    let mut out = *j;
+    for l in 0..N {
+        let largest = j.iter().map(|e| e[l].abs()).fold(0.0, f64::max);
+        if let Some((first, second)) = crate::condition::unit_scale(largest, 40) {
+            for e in &mut out {
+                e[l] = e[l] * first * second;
+            }
+        }
+    }
+    out
 }
 
 /// $(\cos\varphi, \sin\varphi)$ with $\varphi = \tfrac13\arccos r$, $r \in [-1, 1]$, by Newton's
