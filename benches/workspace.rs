@@ -15,13 +15,7 @@ fn study_placement() -> Placement {
 }
 
 fn sector_points(n: u64) -> Option<PointSet> {
-    let region = Region::Cylinder {
-        axis_x: 0.0,
-        axis_y: 0.0,
-        radius: 0.904,
-        z_min: -0.74,
-        z_max: 0.0,
-    };
+    let region = Region::axial_cylinder(0.904, -0.74, 0.0);
     let domain = Domain::new(region).ok()?.with_sector(3, 0.0).ok()?;
     PointSet::new(domain, Sampler::Sobol { seed: 1 }, n / 4, 4).ok()
 }

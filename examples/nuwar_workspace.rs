@@ -37,13 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // One 120° sector of a cylinder that holds every reachable position of both designs; the
     // same 4 × 2^15 randomly shifted Sobol points serve both.
     let (radius, depth) = delta.reach_cylinder();
-    let region = Region::Cylinder {
-        axis_x: 0.0,
-        axis_y: 0.0,
-        radius,
-        z_min: -depth,
-        z_max: 0.0,
-    };
+    let region = Region::axial_cylinder(radius, -depth, 0.0);
     let points = PointSet::new(
         Domain::new(region)?.with_sector(3, 0.0)?,
         Sampler::Sobol { seed: 42 },

@@ -93,7 +93,7 @@ impl Accumulator for Sums {
 /// use pkm_traits::Silent;
 /// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, workspace_volume};
 /// // The unit ball inside a cylinder, in 4 randomly shifted Sobol replicates.
-/// let domain = Domain::new(Region::Cylinder { axis_x: 0.0, axis_y: 0.0, radius: 1.0, z_min: -1.0, z_max: 1.0 })?;
+/// let domain = Domain::new(Region::axial_cylinder(1.0, -1.0, 1.0))?;
 /// let points = PointSet::new(domain, Sampler::Sobol { seed: 3 }, 1 << 14, 4)?;
 /// let e = workspace_volume(&points, &Silent, |p| p.norm() <= 1.0)?;
 /// assert!((e.volume - 4.0 * std::f64::consts::PI / 3.0).abs() < 5.0 * e.volume_se.max(1e-3));
@@ -107,7 +107,7 @@ pub fn workspace_volume<F>(
 where
     F: Fn(&Vector3<f64>) -> bool + Sync,
 {
-    let mut e = integrate(points, progress, |p| contains(p).then_some(1.0))?;
+    let mut e = workspace_volume_and_eta(points, progress, |p| contains(p).then_some(1.0))?;
     e.eta = None;
     e.eta_se = None;
     Ok(e)
@@ -119,17 +119,6 @@ where
 /// # Errors
 /// [`IndexError::Cancelled`].
 pub fn workspace_volume_and_eta<F>(
-    points: &PointSet,
-    progress: &dyn Progress,
-    local: F,
-) -> Result<VolumeEstimate, IndexError>
-where
-    F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
-{
-    integrate(points, progress, local)
-}
-
-fn integrate<F>(
     points: &PointSet,
     progress: &dyn Progress,
     local: F,

@@ -59,6 +59,19 @@ pub enum Region {
     },
 }
 
+impl Region {
+    /// The vertical cylinder of `radius` about the $z$ axis, from `z_min` to `z_max`.
+    pub fn axial_cylinder(radius: f64, z_min: f64, z_max: f64) -> Self {
+        Self::Cylinder {
+            axis_x: 0.0,
+            axis_y: 0.0,
+            radius,
+            z_min,
+            z_max,
+        }
+    }
+}
+
 /// A validated [`Region`], possibly restricted to a symmetry sector.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Domain {

@@ -25,7 +25,7 @@ use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
 /// let below = WorkspaceConstraint::below(0.0)?;
 /// let arm_limits = WorkspaceConstraint::joint_range(-0.5, 1.5)?;
 /// let ws = Workspace::new(&delta, &[ElbowMode::Out], &[below, arm_limits])?;
-/// let domain = Domain::new(Region::Cylinder { axis_x: 0.0, axis_y: 0.0, radius: 0.9, z_min: -0.8, z_max: 0.0 })?
+/// let domain = Domain::new(Region::axial_cylinder(0.9, -0.8, 0.0))?
 ///     .with_sector(3, 0.0)?;
 /// let points = PointSet::new(domain, Sampler::Sobol { seed: 1 }, 4096, 4)?;
 /// let v = ws.volume(&points, &Silent)?;

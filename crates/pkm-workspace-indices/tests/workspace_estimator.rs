@@ -13,16 +13,6 @@ use pkm_workspace_indices::{
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
-fn cylinder(radius: f64, z_min: f64, z_max: f64) -> Region {
-    Region::Cylinder {
-        axis_x: 0.0,
-        axis_y: 0.0,
-        radius,
-        z_min,
-        z_max,
-    }
-}
-
 /// The estimate lies within 4 standard errors (plus a floor for an exact hit) of `exact`.
 fn assert_within(volume: f64, se: f64, exact: f64) -> Result<(), TestCaseError> {
     prop_assert!(se > 0.0, "standard error {se}");
@@ -71,7 +61,7 @@ proptest! {
         // Torus of tube radius a = frac·R/2 about the circle of radius R − a, in a cylinder.
         let a = 0.5 * frac * radius;
         let big = radius - a;
-        let cyl = PointSet::new(Domain::new(cylinder(radius, -a, a)).unwrap(), sampler, 1 << 13, replicates).unwrap();
+        let cyl = PointSet::new(Domain::new(Region::axial_cylinder(radius, -a, a)).unwrap(), sampler, 1 << 13, replicates).unwrap();
         let torus = workspace_volume(&cyl, &Silent, |p| (p.xy().norm() - big).hypot(p.z) <= a).unwrap();
         assert_within(torus.volume, torus.volume_se, 2.0 * PI * PI * big * a * a)?;
     }
@@ -87,7 +77,7 @@ proptest! {
         ).unwrap();
         let (radius, depth) = m.reach_cylinder();
         let ws = Workspace::new(&m, &[ElbowMode::Out], &[WorkspaceConstraint::below(0.0).unwrap()]).unwrap();
-        let full = Domain::new(cylinder(radius, -depth, 0.0)).unwrap();
+        let full = Domain::new(Region::axial_cylinder(radius, -depth, 0.0)).unwrap();
         let sector = full.with_sector(3, 1.0).unwrap();
         let sobol = Sampler::Sobol { seed };
         let v_full = ws.volume(&PointSet::new(full, sobol, 1 << 13, 8).unwrap(), &Silent).unwrap();
@@ -181,7 +171,7 @@ fn sweep_bits(threads: usize) -> Vec<u64> {
             .map(|d| Workspace::new(d, &[ElbowMode::Out, ElbowMode::In], &below).unwrap())
             .collect();
         let (radius, depth) = designs[0].reach_cylinder();
-        let domain = Domain::new(cylinder(radius, -depth, 0.0))
+        let domain = Domain::new(Region::axial_cylinder(radius, -depth, 0.0))
             .unwrap()
             .with_sector(3, 0.0)
             .unwrap();
@@ -209,11 +199,11 @@ fn sweeps_are_bit_identical_for_one_two_and_eight_threads() {
 fn bad_regions_and_counts_are_typed_errors() {
     let nan = f64::NAN;
     for region in [
-        cylinder(nan, 0.0, 1.0),
-        cylinder(-1.0, 0.0, 1.0),
-        cylinder(1.0, 1.0, 0.0),
-        cylinder(1.0, 0.0, 0.0),
-        cylinder(1e300, -1e300, 1e300),
+        Region::axial_cylinder(nan, 0.0, 1.0),
+        Region::axial_cylinder(-1.0, 0.0, 1.0),
+        Region::axial_cylinder(1.0, 1.0, 0.0),
+        Region::axial_cylinder(1.0, 0.0, 0.0),
+        Region::axial_cylinder(1e300, -1e300, 1e300),
         Region::Box {
             lower: Vector3::zeros(),
             upper: Vector3::new(1.0, -1.0, 1.0),
@@ -310,7 +300,7 @@ fn joint_limits_only_shrink_the_workspace() {
     })
     .unwrap();
     let (radius, depth) = m.reach_cylinder();
-    let domain = Domain::new(cylinder(radius, -depth, 0.0))
+    let domain = Domain::new(Region::axial_cylinder(radius, -depth, 0.0))
         .unwrap()
         .with_sector(3, 0.0)
         .unwrap();

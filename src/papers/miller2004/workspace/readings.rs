@@ -220,13 +220,13 @@ impl Reading {
             .fold((0.0f64, 0.0f64), |a, b| (a.0.max(b.0), a.1.max(b.1)));
         let z0 = designs.first().map_or(0.0, RotaryDelta::motor_plane_z);
         let region = match self.bound {
-            Bound::Below => cylinder(radius, z0 - half_height, z0),
-            Bound::Both => cylinder(radius, z0 - half_height, z0 + half_height),
+            Bound::Below => Region::axial_cylinder(radius, z0 - half_height, z0),
+            Bound::Both => Region::axial_cylinder(radius, z0 - half_height, z0 + half_height),
             Bound::Usable {
                 radius,
                 top,
                 bottom,
-            } => cylinder(radius, z0 + bottom, z0 + top),
+            } => Region::axial_cylinder(radius, z0 + bottom, z0 + top),
         };
         Ok(Domain::new(region)?.with_sector(3, 0.0)?)
     }
@@ -299,16 +299,6 @@ pub(super) const REFINED: usize = 5;
 /// How many times more points the re-evaluation uses.
 const REFINE_FACTOR: u64 = 16;
 
-fn cylinder(radius: f64, z_min: f64, z_max: f64) -> Region {
-    Region::Cylinder {
-        axis_x: 0.0,
-        axis_y: 0.0,
-        radius,
-        z_min,
-        z_max,
-    }
-}
-
 /// $0°, s, 2s, …, 90°$.
 fn grid_axis(step_deg: f64) -> Vec<f64> {
     let n = (90.0 / step_deg).round() as usize;
@@ -344,14 +334,7 @@ impl SweepResult {
     fn new(reading: Reading, axis: Vec<f64>, mut volumes: Vec<VolumeEstimate>) -> Self {
         let nuwar = volumes.pop().unwrap_or_else(empty);
         let delta = volumes.pop().unwrap_or_else(empty);
-        let ratio = |v: &VolumeEstimate| {
-            let r = if delta.volume > 0.0 {
-                v.volume / delta.volume
-            } else {
-                0.0
-            };
-            (r, ratio_standard_error(v, &delta).unwrap_or(0.0))
-        };
+        let ratio = |v: &VolumeEstimate| ratio_to(v, &delta);
         let ratios: Vec<(f64, f64)> = volumes.iter().map(ratio).collect();
         // The first node in row-major order wins a tie.
         let (best, &(max_ratio, max_ratio_se)) = ratios
@@ -408,14 +391,7 @@ impl SweepResult {
         let [delta, nuwar, finalists @ ..] = refined.as_slice() else {
             return;
         };
-        let ratio = |v: &VolumeEstimate| {
-            let r = if delta.volume > 0.0 {
-                v.volume / delta.volume
-            } else {
-                0.0
-            };
-            (r, ratio_standard_error(v, delta).unwrap_or(0.0))
-        };
+        let ratio = |v: &VolumeEstimate| ratio_to(v, delta);
         (self.nuwar_ratio, self.nuwar_ratio_se) = ratio(nuwar);
         let n = self.beta_deg.len().max(1);
         if let Some((node, (r, se))) = top.iter().zip(finalists.iter().map(ratio)).fold(
@@ -467,6 +443,16 @@ impl SweepResult {
                 .collect(),
         }
     }
+}
+
+/// $V/V_{Delta}$ and its standard error on common points (0 for an empty Delta workspace).
+fn ratio_to(v: &VolumeEstimate, delta: &VolumeEstimate) -> (f64, f64) {
+    let r = if delta.volume > 0.0 {
+        v.volume / delta.volume
+    } else {
+        0.0
+    };
+    (r, ratio_standard_error(v, delta).unwrap_or(0.0))
 }
 
 fn empty() -> VolumeEstimate {
