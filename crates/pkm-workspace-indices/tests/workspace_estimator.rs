@@ -26,7 +26,7 @@ fn assert_within(volume: f64, se: f64, exact: f64) -> Result<(), TestCaseError> 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(16))]
 
-    /// A ball, a spherical cap, a torus and the lens of two balls, each inside a region that
+    /// A ball, a cylinder, a spherical cap, a torus and the lens of two balls, each inside a region that
     /// holds it, by Monte Carlo (i.i.d. errors) and by replicated Sobol points.
     #[test]
     fn closed_form_volumes_within_four_standard_errors(
@@ -48,6 +48,10 @@ proptest! {
         // Ball.
         let ball = workspace_volume(&points, &Silent, |p| p.norm() <= radius).unwrap();
         assert_within(ball.volume, ball.volume_se, 4.0 / 3.0 * PI * radius.powi(3))?;
+        // Vertical cylinder of radius frac·R and height R.
+        let rc = frac * radius;
+        let cyl_set = workspace_volume(&points, &Silent, |p| p.xy().norm() <= rc && p.z.abs() <= 0.5 * radius).unwrap();
+        assert_within(cyl_set.volume, cyl_set.volume_se, PI * rc * rc * radius)?;
         // Spherical cap of height h = frac·R above z = R − h.
         let h = frac * radius;
         let cap = workspace_volume(&points, &Silent, |p| p.norm() <= radius && p.z >= radius - h).unwrap();
