@@ -99,31 +99,32 @@ pub fn mean_by_quadrature(
     f: impl Fn(f64, f64) -> f64,
     n: usize,
 ) -> Result<f64, IndexError> {
-    mean_by_quadrature_lanes(region, one_node_at_a_time(f), n)
+    require_area(region)?;
+    mean_by_quadrature_lanes(region, one_node_at_a_time(f), &GaussLegendre::new(n)?)
 }
 
-/// [`mean_by_quadrature`] with an integrand evaluated at [`LANES`] nodes of one slice at once:
+/// [`mean_by_quadrature`] by a prebuilt `rule` (so a caller integrating many regions builds it
+/// once), with an integrand evaluated at [`LANES`] nodes of one slice at once:
 /// `f(y, &z)[l]` $= f(y, z_l)$. The nodes of each slice are passed in order, [`LANES`] at a
 /// time (unused lanes of the last batch repeat its last node and are ignored), and the weighted
 /// values are summed in node order, so with `f` mapping a scalar integrand over the lanes the
 /// result is bit-identical to [`mean_by_quadrature`].
 ///
 /// # Errors
-/// As [`mean_by_quadrature`].
+/// [`IndexError::Invalid`] when the region is empty or the rule has no node.
 pub fn mean_by_quadrature_lanes(
     region: &impl SlicedRegion,
     f: impl Fn(f64, &[f64; LANES]) -> [f64; LANES],
-    n: usize,
+    rule: &GaussLegendre,
 ) -> Result<f64, IndexError> {
     let area = require_area(region)?;
-    if n == 0 {
+    if rule.is_empty() {
         return Err(IndexError::Invalid {
             what: "quadrature points",
             value: 0.0,
             requirement: "must be >= 1",
         });
     }
-    let rule = GaussLegendre::new(n)?;
     let mut integral = 0.0;
     let mut batch = LaneBatch::new();
     for piece in region.breakpoints().windows(2) {
@@ -337,7 +338,8 @@ mod tests {
     #[test]
     fn batched_quadrature_sums_the_nodes_in_order_for_every_padding() {
         for n in 1..=3 * LANES + 1 {
-            let batched = mean_by_quadrature_lanes(&Triangle, batch_integrand, n).unwrap();
+            let rule = GaussLegendre::new(n).unwrap();
+            let batched = mean_by_quadrature_lanes(&Triangle, batch_integrand, &rule).unwrap();
             assert_eq!(batched, node_by_node_quadrature(n), "n = {n}");
             assert_eq!(
                 mean_by_quadrature(&Triangle, integrand, n).unwrap(),
@@ -345,7 +347,9 @@ mod tests {
             );
         }
         // Exact for a polynomial: ∫∫ y z² = 1/15 over the triangle, mean 2/15.
-        let cubic = mean_by_quadrature_lanes(&Triangle, |y, z| z.map(|z| y * z * z), 3).unwrap();
+        let rule = GaussLegendre::new(3).unwrap();
+        let cubic =
+            mean_by_quadrature_lanes(&Triangle, |y, z| z.map(|z| y * z * z), &rule).unwrap();
         assert!((cubic - 2.0 / 15.0).abs() < 1e-15);
     }
 

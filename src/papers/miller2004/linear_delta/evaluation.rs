@@ -4,10 +4,11 @@
 use pkm_mechanisms::{CrossSection, LinearDelta, LinearDeltaMode, LinearDeltaRatios};
 use pkm_traits::{Bounds, Objective, ObjectiveError, SlicedRegion};
 use pkm_workspace_indices::{
-    GridMean, GridRule, IndexError, LANES, Matrix3Lanes, inverse_condition_number_3x3,
+    GaussLegendre, GridMean, GridRule, IndexError, LANES, inverse_condition_number_3x3,
     inverse_condition_number_3x3_lanes, mean_by_grid_lanes, mean_by_quadrature_lanes,
     space_utilization,
 };
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::Mutex;
 
@@ -29,23 +30,45 @@ pub fn inverse_condition(delta: &LinearDelta, y: f64, z: f64) -> f64 {
         .map_or(0.0, |j| inverse_condition_number_3x3(&j))
 }
 
-/// [`inverse_condition`] at the [`LANES`] points $(y, z_l)$: the Jacobians one by one, then
-/// one trig-free batch $1/\kappa$ ([`inverse_condition_number_3x3_lanes`], equal to the scalar
-/// routine to $10^{-12}$ relative for $\kappa \le 100$). A lane without a Jacobian (outside a
-/// disc or on its boundary) is 0, as in [`inverse_condition`].
+/// [`inverse_condition`] at the [`LANES`] points $(y, z_l)$: the batch Jacobian
+/// ([`LinearDelta::velocity_jacobian_lanes`], the scalar one bit for bit) and one trig-free
+/// batch $1/\kappa$ ([`inverse_condition_number_3x3_lanes`], equal to the scalar routine to
+/// $10^{-12}$ relative for $\kappa \le 100$). A lane without a Jacobian (outside a disc or on
+/// its boundary) is 0, as in [`inverse_condition`].
 pub fn inverse_condition_lanes(delta: &LinearDelta, y: f64, z: &[f64; LANES]) -> [f64; LANES] {
-    let mut jacobians: Matrix3Lanes<LANES> = [[0.0; LANES]; 9];
-    let mut defined = [false; LANES];
-    for (lane, &z) in z.iter().enumerate() {
-        if let Ok(j) = delta.velocity_jacobian(y, z, LinearDeltaMode::PAPER) {
-            for (k, entry) in jacobians.iter_mut().enumerate() {
-                entry[lane] = j[(k / 3, k % 3)];
-            }
-            defined[lane] = true;
+    let batch = delta.velocity_jacobian_lanes(y, z, LinearDeltaMode::PAPER);
+    let inverse = inverse_condition_number_3x3_lanes(&batch.jacobian);
+    std::array::from_fn(|lane| {
+        if batch.reachable[lane] {
+            inverse[lane]
+        } else {
+            0.0
         }
-    }
-    let inverse = inverse_condition_number_3x3_lanes(&jacobians);
-    std::array::from_fn(|lane| if defined[lane] { inverse[lane] } else { 0.0 })
+    })
+}
+
+thread_local! {
+    /// The Gauss–Legendre rules this thread has built, one per order: a rule is a pure function
+    /// of its order, so reusing it changes no value, and the searches build each order once
+    /// instead of once per design.
+    static RULES: RefCell<Vec<GaussLegendre>> = const { RefCell::new(Vec::new()) };
+}
+
+/// `integrate` with the `n`-point Gauss–Legendre rule, built on first use on this thread.
+fn with_rule<T>(
+    n: usize,
+    integrate: impl FnOnce(&GaussLegendre) -> Result<T, IndexError>,
+) -> Result<T, IndexError> {
+    RULES.with_borrow_mut(|rules| {
+        let index = match rules.iter().position(|rule| rule.len() == n) {
+            Some(index) => index,
+            None => {
+                rules.push(GaussLegendre::new(n)?);
+                rules.len() - 1
+            }
+        };
+        integrate(&rules[index])
+    })
 }
 
 fn infeasible(e: IndexError) -> ObjectiveError {
@@ -78,8 +101,10 @@ impl DesignEvaluation {
     /// # Errors
     /// [`ObjectiveError::Infeasible`] for an empty workspace or `n = 0`.
     pub fn eta1(&self, n: usize) -> Result<f64, ObjectiveError> {
-        mean_by_quadrature_lanes(&self.region, |y, z| self.inverse_condition(y, z), n)
-            .map_err(infeasible)
+        with_rule(n, |rule| {
+            mean_by_quadrature_lanes(&self.region, |y, z| self.inverse_condition(y, z), rule)
+        })
+        .map_err(infeasible)
     }
 
     /// $\eta_1$ by the paper's uniform grid, eq. 4 with $N_a > 5000$.
