@@ -179,11 +179,11 @@ impl LinearDelta {
                     sigma_min: 0.0,
                 });
             }
-            let su = mode.sign(leg) * u[leg];
+            let inv_su = 1.0 / (u[leg] * mode.sign(leg));
             let a = self.rails[leg];
             j[(leg, 0)] = 1.0;
-            j[(leg, 1)] = (y - a[0]) / su;
-            j[(leg, 2)] = (z - a[1]) / su;
+            j[(leg, 1)] = (y - a[0]) * inv_su;
+            j[(leg, 2)] = (z - a[1]) * inv_su;
         }
         Ok(j)
     }
@@ -209,9 +209,9 @@ impl LinearDelta {
             for (lane, d) in reachable.iter_mut().zip(discriminant.gt(0.0)) {
                 *lane &= d;
             }
-            let su = discriminant.sqrt() * mode.sign(leg);
-            jacobian[3 * leg + 1] = (Lanes::splat(dy) / su).0;
-            jacobian[3 * leg + 2] = (dz / su).0;
+            let inv_su = (discriminant.sqrt() * mode.sign(leg)).recip();
+            jacobian[3 * leg + 1] = (inv_su * dy).0;
+            jacobian[3 * leg + 2] = (dz * inv_su).0;
         }
         JacobianLanes {
             jacobian,
