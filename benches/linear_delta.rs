@@ -1,5 +1,8 @@
 use criterion::Criterion;
-use pkm::papers::miller2004::linear_delta::evaluation::{eta1, eta1_by_grid, eta2};
+use pkm::papers::miller2004::linear_delta::evaluation::{
+    eta1, eta1_by_grid, eta2, inverse_condition, linear_delta,
+};
+use pkm::workspace_indices::mean_by_quadrature;
 use pkm_traits::ObjectiveError;
 use std::hint::black_box;
 
@@ -15,6 +18,21 @@ pub(crate) fn eta_of_one_design(c: &mut Criterion) {
     group.bench_function("eta1_quadrature_16", |b| {
         b.iter(|| eta1(black_box(&DESIGN), 16))
     });
+    // The scalar path the batched η1 replaced (one Jacobian and one trigonometric 1/κ per node),
+    // same design, rule and region: the before/after of docs/performance.md.
+    let scalar_eta1 = |n| -> Result<f64, ObjectiveError> {
+        let delta = linear_delta(black_box(&DESIGN))?;
+        mean_by_quadrature(
+            &delta.cross_section(),
+            |y, z| inverse_condition(&delta, y, z),
+            n,
+        )
+        .map_err(|e| ObjectiveError::Infeasible {
+            reason: e.to_string(),
+        })
+    };
+    group.bench_function("eta1_quadrature_24_scalar", |b| b.iter(|| scalar_eta1(24)));
+    group.bench_function("eta1_quadrature_16_scalar", |b| b.iter(|| scalar_eta1(16)));
     group.bench_function("eta1_paper_grid", |b| {
         b.iter(|| eta1_by_grid(black_box(&DESIGN)))
     });

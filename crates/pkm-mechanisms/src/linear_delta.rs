@@ -7,10 +7,12 @@
 //!
 //! $$ \Phi_i(x, q) = (x - q_i)^2 + (y - A_{iy})^2 + (z - A_{iz})^2 - L_i^2 = 0. $$
 
+use crate::JacobianLanes;
 use crate::linear_delta_cross_section::{CrossSection, outside_half_plane};
 use nalgebra::{Matrix3, Vector3};
 use pkm_traits::{
-    ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
+    ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Lanes,
+    Task,
 };
 use serde::Serialize;
 
@@ -177,13 +179,44 @@ impl LinearDelta {
                     sigma_min: 0.0,
                 });
             }
-            let su = mode.sign(leg) * u[leg];
+            let inv_su = 1.0 / (u[leg] * mode.sign(leg));
             let a = self.rails[leg];
             j[(leg, 0)] = 1.0;
-            j[(leg, 1)] = (y - a[0]) / su;
-            j[(leg, 2)] = (z - a[1]) / su;
+            j[(leg, 1)] = (y - a[0]) * inv_su;
+            j[(leg, 2)] = (z - a[1]) * inv_su;
         }
         Ok(j)
+    }
+
+    /// [`LinearDelta::velocity_jacobian`] at the `N` points $(y, z_l)$ of one slice at once, in
+    /// [`Lanes`] (no branch, so the compiler vectorises it). Lane `l` is reachable exactly where
+    /// `velocity_jacobian(y, z[l], mode)` is `Ok` (every discriminant
+    /// $L_i^2 - (y - A_{iy})^2 - (z_l - A_{iz})^2 > 0$), and there its entries are the same
+    /// floating-point operations, so bit-identical.
+    pub fn velocity_jacobian_lanes<const N: usize>(
+        &self,
+        y: f64,
+        z: &[f64; N],
+        mode: LinearDeltaMode,
+    ) -> JacobianLanes<N> {
+        let z = Lanes(*z);
+        let mut jacobian = [[1.0; N]; 9];
+        let mut reachable = [true; N];
+        for (leg, (a, l)) in self.rails.iter().zip(self.lengths).enumerate() {
+            let dy = y - a[0];
+            let dz = z - a[1];
+            let discriminant = Lanes::splat(l * l - dy * dy) - dz * dz;
+            for (lane, d) in reachable.iter_mut().zip(discriminant.gt(0.0)) {
+                *lane &= d;
+            }
+            let inv_su = (discriminant.sqrt() * mode.sign(leg)).recip();
+            jacobian[3 * leg + 1] = (inv_su * dy).0;
+            jacobian[3 * leg + 2] = (dz * inv_su).0;
+        }
+        JacobianLanes {
+            jacobian,
+            reachable,
+        }
     }
 
     fn leg_vector(&self, x: &Task<3>, q: &Joints<3>, leg: usize) -> Vector3<f64> {
@@ -245,3 +278,35 @@ impl InverseKinematics<3, 3> for LinearDelta {
 
 /// Newton's method on $\Phi$ (the default): the assembly mode follows the guess.
 impl ForwardKinematics<3> for LinearDelta {}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::float_cmp)]
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Lane by lane, the batch Jacobian is the scalar one (bit for bit) and defined exactly
+        /// where the scalar one is, including points outside the discs and non-finite ones.
+        #[test]
+        fn lanes_jacobian_is_the_scalar_one_lane_by_lane(
+            design in (1.0..2.8f64, -0.9..0.9f64, -1.2..0.6f64, 0.01..2.0f64),
+            y in -3.0..3.0f64,
+            z in prop::array::uniform8(-4.0..1.0f64),
+            nan_lane in 0usize..16,
+            mode in prop::array::uniform3(any::<bool>()),
+        ) {
+            let ratios = LinearDeltaRatios::from_slice(&[design.0, design.1, design.2, design.3]);
+            let delta = LinearDelta::new(ratios, 1.0).unwrap();
+            let mode = LinearDeltaMode { leans_positive: mode };
+            let mut z = z;
+            if let Some(lane) = z.get_mut(nan_lane) {
+                *lane = f64::NAN;
+            }
+            let batch = delta.velocity_jacobian_lanes(y, &z, mode);
+            for (lane, &z) in z.iter().enumerate() {
+                prop_assert_eq!(batch.matrix(lane), delta.velocity_jacobian(y, z, mode).ok());
+            }
+        }
+    }
+}

@@ -36,7 +36,10 @@ mod workspace;
 pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
 pub use condition_3x3::inverse_condition_number_3x3;
 pub use condition_3x3_lanes::{LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes};
-pub use cross_section_indices::{GridMean, GridRule, mean_by_grid, mean_by_quadrature};
+pub use cross_section_indices::{
+    GridMean, GridRule, mean_by_grid, mean_by_grid_lanes, mean_by_quadrature,
+    mean_by_quadrature_lanes,
+};
 pub use error::IndexError;
 pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volume_and_eta};
 pub use gauss_legendre::GaussLegendre;
