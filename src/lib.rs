@@ -1,3 +1,4 @@
+#![doc = include_str!("../README.md")]
 //! pkm: optimal design and dynamic modelling of parallel kinematic machines.
 //!
 //! This facade re-exports the workspace crates and holds [`papers`], the registry of experiments

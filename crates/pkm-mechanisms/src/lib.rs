@@ -1,3 +1,4 @@
+#![doc = include_str!("../README.md")]
 //! Parallel mechanisms: validated designs with closed-form inverse kinematics, forward
 //! kinematics, and the loop-closure Jacobians $J_x$, $J_q$ of [`pkm_traits::ClosedChain`].
 //!

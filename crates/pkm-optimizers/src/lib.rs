@@ -1,3 +1,4 @@
+#![doc = include_str!("../README.md")]
 //! Design optimisers. They see only the [`pkm_traits::Objective`] family of traits, never a
 //! mechanism, and every objective is minimised (maximisation negates).
 //!

@@ -1,3 +1,4 @@
+#![doc = include_str!("../README.md")]
 //! Screw theory for parallel robots (Wolf & Shoham, §2–3): Plücker lines, twists and wrenches,
 //! the reciprocal product, and the task-based objective $F(\chi) = \sum_i (L_i \wedge \chi)^2$.
 //!

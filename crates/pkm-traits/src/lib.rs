@@ -1,3 +1,4 @@
+#![doc = include_str!("../README.md")]
 //! Shared vocabulary of pkm.
 //!
 //! This crate holds traits and error types only; algorithms live in the crates that own them

@@ -1,3 +1,4 @@
+#![doc = include_str!("../README.md")]
 //! Workspace and performance indices of parallel mechanisms: samplers, workspace volume with its
 //! standard error, local and global condition indices, manipulability and space utilisation.
 //!
