@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! pkm: optimal design and dynamic modelling of parallel kinematic machines.
 //!
 //! This facade re-exports the workspace crates and holds [`papers`], the registry of experiments
@@ -14,6 +13,11 @@
 //! | [`integrators`] | `pkm-integrators` | RK4, Dormand–Prince 5(4), symplectic methods |
 //! | [`dynamics_hamilton`] | `pkm-dynamics-hamilton` | Hamilton's equations in extended space |
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 pub use pkm_dynamics_hamilton as dynamics_hamilton;
 pub use pkm_integrators as integrators;

@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Hamilton's canonical equations in the extended space $s = (x, q)$ of task and joint
 //! coordinates (Miller 2004, §3), with Baumgarte stabilisation, and the acceleration-based
 //! Lagrange formulation in the same coordinates for comparison.
@@ -11,6 +10,11 @@
 //! | [`inverse`] | inverse dynamics: Hamilton's three steps (§3.3) and Lagrange |
 //! | [`forward`] | forward dynamics: eqs. 16–19 with Baumgarte, and the acceleration form |
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 mod error;
 pub mod forward;

@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Time integrators for $\dot z = f(t, z)$ implementing [`pkm_traits::Integrator`]: classical
 //! RK4, the embedded Dormand–Prince 5(4) pair with step-size control and dense output (MATLAB's
 //! `ode45`, which Miller 2004 used), and the symplectic implicit midpoint rule for long
@@ -41,6 +40,11 @@
 //! fixed-size `SVector<f64, 12>` without allocating; only the returned vectors are allocated,
 //! once.
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 mod dense;
 mod dormand_prince;

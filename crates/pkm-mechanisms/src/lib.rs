@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Parallel mechanisms: validated designs with closed-form inverse kinematics, forward
 //! kinematics, and the loop-closure Jacobians $J_x$, $J_q$ of [`pkm_traits::ClosedChain`].
 //!
@@ -6,6 +5,11 @@
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 mod jacobian_lanes;
 mod linear_delta;

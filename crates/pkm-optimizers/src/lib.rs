@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Design optimisers. They see only the [`pkm_traits::Objective`] family of traits, never a
 //! mechanism, and every objective is minimised (maximisation negates).
 //!
@@ -8,6 +7,11 @@
 //! - [`uniform_start_points`] and [`run_multistart`]: seeded starts for local optimisers, run in
 //!   parallel with outcomes in start order.
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 mod augmented_lagrangian;
 mod error;

@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Screw theory for parallel robots (Wolf & Shoham, §2–3): Plücker lines, twists and wrenches,
 //! the reciprocal product, and the task-based objective $F(\chi) = \sum_i (L_i \wedge \chi)^2$.
 //!
@@ -10,6 +9,11 @@
 //!   (eq. 5); its geometric form is eq. 6;
 //! - rigid motions act on all three by the same adjoint map `[R u; R v + t × R u]`.
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 mod error;
 mod line;

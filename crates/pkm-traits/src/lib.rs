@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Shared vocabulary of pkm.
 //!
 //! This crate holds traits and error types only; algorithms live in the crates that own them
@@ -33,6 +32,11 @@
 //! assert!((j[(0, 0)] - 1.0).abs() < 1e-15);
 //! ```
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 pub mod dynamics;
 pub mod error;

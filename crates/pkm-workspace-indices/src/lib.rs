@@ -1,4 +1,3 @@
-#![doc = include_str!("../README.md")]
 //! Workspace and performance indices of parallel mechanisms: samplers, workspace volume with its
 //! standard error, local and global condition indices, manipulability and space utilisation.
 //!
@@ -15,6 +14,11 @@
 //! sums use fixed-size chunks reduced serially in order ([`chunked_reduce`]), so results are
 //! bit-for-bit identical whatever the number of rayon threads.
 #![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
 
 mod condition;
 mod condition_3x3;
