@@ -14,6 +14,11 @@
 //! | [`dynamics_hamilton`] | `pkm-dynamics-hamilton` | Hamilton's equations in extended space |
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 pub use pkm_dynamics_hamilton as dynamics_hamilton;
 pub use pkm_integrators as integrators;
 pub use pkm_mechanisms as mechanisms;

@@ -11,6 +11,11 @@
 //! | [`forward`] | forward dynamics: eqs. 16–19 with Baumgarte, and the acceleration form |
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod error;
 pub mod forward;
 pub mod inverse;

@@ -41,6 +41,11 @@
 //! once.
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod dense;
 mod dormand_prince;
 mod driver;

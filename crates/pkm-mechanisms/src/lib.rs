@@ -6,6 +6,11 @@
 //! 3-UPU (Wolf & Shoham).
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod jacobian_lanes;
 mod linear_delta;
 mod linear_delta_cross_section;

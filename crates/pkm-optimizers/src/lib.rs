@@ -8,6 +8,11 @@
 //!   parallel with outcomes in start order.
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod augmented_lagrangian;
 mod error;
 mod grid_search;

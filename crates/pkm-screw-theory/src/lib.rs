@@ -10,6 +10,11 @@
 //! - rigid motions act on all three by the same adjoint map `[R u; R v + t × R u]`.
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod error;
 mod line;
 mod line_set;

@@ -33,6 +33,11 @@
 //! ```
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;

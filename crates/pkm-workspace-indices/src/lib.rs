@@ -15,6 +15,11 @@
 //! bit-for-bit identical whatever the number of rayon threads.
 #![warn(missing_docs)]
 
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 mod condition;
 mod condition_3x3;
 mod condition_3x3_lanes;
