@@ -94,10 +94,14 @@ pub(crate) fn scaled_to_unit<const R: usize, const C: usize>(
 /// The two factors of [`scaled_to_unit`] for a matrix whose largest entry is `largest`, `None`
 /// when no scaling is needed (or possible: zero or non-finite).
 pub(crate) fn unit_scale(largest: f64, k: i32) -> Option<(f64, f64)> {
-    let exponent = largest.log2().floor();
-    if !(largest > 0.0 && largest.is_finite()) || exponent.abs() <= f64::from(k) {
+    // |floor(log2 x)| <= k exactly when 2^-k <= x < 2^(k+1): decided without the logarithm
+    // on the common path (the hot 1/κ kernels call this per matrix).
+    if !(largest > 0.0 && largest.is_finite())
+        || (largest >= 2f64.powi(-k) && largest < 2f64.powi(k + 1))
+    {
         return None;
     }
+    let exponent = largest.log2().floor();
     // |exponent| <= 1075 for a finite positive f64: the cast is exact, and 2^-exponent is
     // applied in two halves so that neither factor overflows or is subnormal.
     let e = exponent as i32;
