@@ -34,7 +34,7 @@ pub struct HemisphereEstimate {
 /// [`crate::Sampler::unit_hemisphere_points`]) scaled by `radius`. `local(p)` is `None`
 /// outside the workspace and `Some(f)` inside; a non-finite `f` counts as 0.
 ///
-/// Parallel over fixed chunks ([`chunked_reduce`]): bit-identical for any thread count.
+/// Parallel over fixed chunks ([`crate::chunked_reduce`]): bit-identical for any thread count.
 ///
 /// # Errors
 /// [`IndexError::EmptySample`] for no points, [`IndexError::Invalid`] for a radius that is
