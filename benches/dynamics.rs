@@ -162,11 +162,7 @@ fn forward_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
     let tau =
         inverse::hamilton(&model, &samples, dt, inverse::Differencing::Central).expect("torques");
     let tau = SampledTorques::new(dt, tau).expect("grid");
-    let form = HamiltonForm {
-        model: &model,
-        torque: |t| tau.at(t),
-        kappa: 20.0,
-    };
+    let form = HamiltonForm::new(&model, |t| tau.at(t), 20.0).expect("gain");
     let z0 = form.initial_state(&samples[0].1.q, &samples[0].1.qd);
     let settings = AdaptiveSettings::default()
         .with_rtol(1e-9)
@@ -183,11 +179,7 @@ fn forward_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
                 .map(|()| dz)
         })
     });
-    let acceleration = AccelerationForm {
-        model: &model,
-        torque: |t| tau.at(t),
-        omega: 20.0,
-    };
+    let acceleration = AccelerationForm::new(&model, |t| tau.at(t), 20.0).expect("gain");
     let z_peak_acceleration = acceleration.initial_state(&peak.q, &peak.qd);
     group.bench_function("acceleration_form_rhs", |b| {
         let mut dz = SVector::<f64, 13>::zeros();

@@ -28,11 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     let torques = SampledTorques::new(dt, hamilton)?;
-    let form = HamiltonForm {
-        model: &model,
-        torque: |t| torques.at(t),
-        kappa: 20.0,
-    };
+    let form = HamiltonForm::new(&model, |t| torques.at(t), 20.0)?;
     let z0 = form.initial_state(&samples[0].1.q, &samples[0].1.qd);
     let settings = AdaptiveSettings::default()
         .with_rtol(1e-9)?

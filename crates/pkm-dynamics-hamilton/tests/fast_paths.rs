@@ -108,7 +108,7 @@ proptest! {
         for m in &models() {
             let p = Vector6::from(p);
             let kappa = 20.0;
-            let h = HamiltonForm { model: m, torque, kappa };
+            let h = HamiltonForm::new(m, torque, kappa).unwrap();
             let z = SVector::<f64, 13>::from_iterator(q.iter().chain(p.iter()).copied().chain([0.0]));
             let (qd_fast, sigma_fast) = h.solve(t, &z).unwrap();
             let (qd_dense, minus_sigma) = dense_saddle(m, &q, &p, &(-m.constraints(&q) * kappa));
@@ -126,7 +126,7 @@ proptest! {
             prop_assert!(close(&dz, &dz_ref, 1e-11), "{dz} vs {dz_ref}");
 
             let omega = 20.0;
-            let a = AccelerationForm { model: m, torque, omega };
+            let a = AccelerationForm::new(m, torque, omega).unwrap();
             let z = SVector::<f64, 13>::from_iterator(q.iter().chain(qd.iter()).copied().chain([0.0]));
             let (qdd_fast, lambda_fast) = a.solve(t, &z, &tau).unwrap();
             let r1 = m.lagrangian_gradient(&q, &qd) + q_force - m.mass_matrix_rate_times_velocity(&q, &qd);

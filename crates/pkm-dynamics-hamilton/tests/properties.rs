@@ -146,7 +146,7 @@ proptest! {
         let mass = MassParameters { gravity: 0.0, ..MassParameters::miller2004() };
         let m = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(), &mass).unwrap();
         let s = m.joint_motion(&Vector3::new(0.0, y, -0.75), &Vector3::from(v), &Vector3::zeros()).unwrap();
-        let form = HamiltonForm { model: &m, torque: |_| Vector3::zeros(), kappa: 0.0 };
+        let form = HamiltonForm::new(&m, |_| Vector3::zeros(), 0.0).unwrap();
         let z0 = form.initial_state(&s.q, &s.qd);
         let out = pkm_integrators::OutputTimes::Uniform(0.01);
         let run = pkm_integrators::integrate(&form, &mut dopri(1e-9), (0.0, 0.1), &z0, &out, &pkm_traits::Silent).unwrap();
@@ -175,7 +175,7 @@ proptest! {
             let s = m.joint_motion(&c.p, &c.v, &c.a).unwrap();
             inverse::lagrange_torques(&m, &s.q, &s.qd, &s.qdd).unwrap()
         };
-        let form = HamiltonForm { model: &m, torque, kappa: 20.0 };
+        let form = HamiltonForm::new(&m, torque, 20.0).unwrap();
         let s0 = m.joint_motion(&traj.sample(0.0).p, &Vector3::zeros(), &Vector3::zeros()).unwrap();
         let z0 = form.initial_state(&s0.q, &s0.qd);
         let out = pkm_integrators::OutputTimes::Uniform(0.01);

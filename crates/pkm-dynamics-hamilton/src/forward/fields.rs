@@ -89,18 +89,59 @@ fn finite(t: f64, dz: &State) -> Result<(), RhsError> {
     }
 }
 
+/// A Baumgarte gain `value` named `setting`, checked finite and $\ge 0$.
+fn baumgarte_gain(setting: &'static str, value: f64) -> Result<f64, DynamicsError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(DynamicsError::InvalidSetting {
+            setting,
+            value,
+            requirement: "a Baumgarte gain must be finite and >= 0",
+        })
+    }
+}
+
 /// Eqs. 16–19 with velocity-level Baumgarte gain $\kappa$ (1/s; 0 = unstabilised).
 #[derive(Debug, Clone)]
 pub struct HamiltonForm<'a, F> {
-    /// The model.
-    pub model: &'a ExtendedModel,
-    /// Motor torques $\tau(t)$.
-    pub torque: F,
-    /// Baumgarte gain $\kappa$.
-    pub kappa: f64,
+    model: &'a ExtendedModel,
+    torque: F,
+    kappa: f64,
 }
 
-impl<F: Fn(f64) -> Vector3<f64>> HamiltonForm<'_, F> {
+impl<'a, F: Fn(f64) -> Vector3<f64>> HamiltonForm<'a, F> {
+    /// The Hamilton form of `model` under motor torques `torque` $= \tau(t)$ with Baumgarte
+    /// gain `kappa` $= \kappa$ (1/s; 0 = unstabilised).
+    ///
+    /// # Errors
+    /// [`DynamicsError::InvalidSetting`] (setting `"kappa"`) for a gain that is NaN, infinite or
+    /// negative.
+    ///
+    /// ```
+    /// # use pkm_dynamics_hamilton::{ExtendedModel, MassParameters, DynamicsError};
+    /// # use pkm_dynamics_hamilton::forward::HamiltonForm;
+    /// # use pkm_mechanisms::{Placement, RotaryDelta};
+    /// # use nalgebra::Vector3;
+    /// let delta = RotaryDelta::nuwar(Placement::canonical())?;
+    /// let model = ExtendedModel::new(delta, &MassParameters::miller2004())?;
+    /// assert!(HamiltonForm::new(&model, |_| Vector3::zeros(), 20.0).is_ok());
+    /// assert!(HamiltonForm::new(&model, |_| Vector3::zeros(), -1.0).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(model: &'a ExtendedModel, torque: F, kappa: f64) -> Result<Self, DynamicsError> {
+        Ok(Self {
+            model,
+            torque,
+            kappa: baumgarte_gain("kappa", kappa)?,
+        })
+    }
+
+    /// The Baumgarte gain $\kappa$ (1/s).
+    pub fn kappa(&self) -> f64 {
+        self.kappa
+    }
+
     /// The velocities $\dot q$ and multipliers $\sigma$ at state `z` (eq. 19 with Baumgarte).
     ///
     /// # Errors
@@ -157,15 +198,31 @@ impl<F: Fn(f64) -> Vector3<f64>> ForwardForm for HamiltonForm<'_, F> {
 /// The acceleration form with Baumgarte gain $\omega$ (1/s; 0 = unstabilised).
 #[derive(Debug, Clone)]
 pub struct AccelerationForm<'a, F> {
-    /// The model.
-    pub model: &'a ExtendedModel,
-    /// Motor torques $\tau(t)$.
-    pub torque: F,
-    /// Baumgarte gain $\omega$.
-    pub omega: f64,
+    model: &'a ExtendedModel,
+    torque: F,
+    omega: f64,
 }
 
-impl<F: Fn(f64) -> Vector3<f64>> AccelerationForm<'_, F> {
+impl<'a, F: Fn(f64) -> Vector3<f64>> AccelerationForm<'a, F> {
+    /// The acceleration form of `model` under motor torques `torque` $= \tau(t)$ with Baumgarte
+    /// gain `omega` $= \omega$ (1/s; 0 = unstabilised).
+    ///
+    /// # Errors
+    /// [`DynamicsError::InvalidSetting`] (setting `"omega"`) for a gain that is NaN, infinite or
+    /// negative.
+    pub fn new(model: &'a ExtendedModel, torque: F, omega: f64) -> Result<Self, DynamicsError> {
+        Ok(Self {
+            model,
+            torque,
+            omega: baumgarte_gain("omega", omega)?,
+        })
+    }
+
+    /// The Baumgarte gain $\omega$ (1/s).
+    pub fn omega(&self) -> f64 {
+        self.omega
+    }
+
     /// The accelerations $\ddot q$ and multipliers $\lambda$ at state `z` under the torque
     /// `tau`.
     ///
@@ -237,11 +294,7 @@ mod tests {
     #[test]
     fn a_singular_saddle_matrix_is_a_typed_error() {
         let (model, z) = collapsed();
-        let h = HamiltonForm {
-            model: &model,
-            torque: |_| Vector3::zeros(),
-            kappa: 0.0,
-        };
+        let h = HamiltonForm::new(&model, |_| Vector3::zeros(), 0.0).unwrap();
         assert_eq!(
             h.solve(0.25, &z).unwrap_err(),
             DynamicsError::Singular {
@@ -249,11 +302,7 @@ mod tests {
                 t: 0.25
             }
         );
-        let a = AccelerationForm {
-            model: &model,
-            torque: |_| Vector3::zeros(),
-            omega: 0.0,
-        };
+        let a = AccelerationForm::new(&model, |_| Vector3::zeros(), 0.0).unwrap();
         assert!(matches!(
             a.solve(0.5, &z, &Vector3::zeros()),
             Err(DynamicsError::Singular { matrix: SADDLE_MATRIX, t }) if (t - 0.5).abs() < 1e-15
@@ -292,12 +341,44 @@ mod tests {
                 &Vector3::zeros(),
             )
             .unwrap();
-        let h = HamiltonForm {
-            model: &model,
-            torque: |_| Vector3::zeros(),
-            kappa: 0.0,
-        };
+        let h = HamiltonForm::new(&model, |_| Vector3::zeros(), 0.0).unwrap();
         let (qd, _) = h.solve(0.0, &h.initial_state(&s.q, &s.qd)).unwrap();
         assert!(qd.amax() < 1e-12);
+    }
+
+    #[test]
+    fn baumgarte_gains_must_be_finite_and_non_negative() {
+        let model = ExtendedModel::new(
+            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            &MassParameters::miller2004(),
+        )
+        .unwrap();
+        let torque = |_: f64| Vector3::zeros();
+        for bad in [
+            f64::NAN,
+            -1.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            -f64::MIN_POSITIVE,
+        ] {
+            let e = HamiltonForm::new(&model, torque, bad).err();
+            assert!(
+                matches!(e, Some(DynamicsError::InvalidSetting { setting: "kappa", value, .. })
+                    if value.to_bits() == bad.to_bits()),
+                "{e:?}"
+            );
+            let e = AccelerationForm::new(&model, torque, bad).err();
+            assert!(
+                matches!(e, Some(DynamicsError::InvalidSetting { setting: "omega", value, .. })
+                    if value.to_bits() == bad.to_bits()),
+                "{e:?}"
+            );
+        }
+        for good in [0.0, 20.0, 1e300] {
+            let h = HamiltonForm::new(&model, torque, good).unwrap();
+            assert_eq!(h.kappa().to_bits(), good.to_bits());
+            let a = AccelerationForm::new(&model, torque, good).unwrap();
+            assert_eq!(a.omega().to_bits(), good.to_bits());
+        }
     }
 }

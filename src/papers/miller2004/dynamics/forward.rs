@@ -116,11 +116,7 @@ impl Retrace {
         rtol: f64,
         context: &Context<'_>,
     ) -> Result<Self, ExperimentError> {
-        let form = HamiltonForm {
-            model: m,
-            torque,
-            kappa: GAIN,
-        };
+        let form = HamiltonForm::new(m, torque, GAIN)?;
         let run = simulate(&form, trajectory, trajectory.duration(), rtol, context)?;
         let (drift, energy) = diagnostics(&form, &run)?;
         Ok(Self {
@@ -261,18 +257,10 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let drift_rtol = 1e-5;
     for (gain, label) in [(0.0, ""), (GAIN, "_baumgarte")] {
         context.progress.check()?;
-        let h = HamiltonForm {
-            model: &m,
-            torque: &torque,
-            kappa: gain,
-        };
+        let h = HamiltonForm::new(&m, &torque, gain)?;
         let run_h = simulate(&h, &trajectory, cycles * duration, drift_rtol, context)?;
         let (drift_h, energy_h) = diagnostics(&h, &run_h)?;
-        let a = AccelerationForm {
-            model: &m,
-            torque: &torque,
-            omega: gain,
-        };
+        let a = AccelerationForm::new(&m, &torque, gain)?;
         let run_a = simulate(&a, &trajectory, cycles * duration, drift_rtol, context)?;
         let (drift_a, energy_a) = diagnostics(&a, &run_a)?;
         let note =
