@@ -118,24 +118,10 @@ fn inverse_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
         })
     });
     group.bench_function("hamilton_full_cycle_1ms", |b| {
-        b.iter(|| {
-            inverse::hamilton(
-                &model,
-                black_box(&samples),
-                black_box(dt),
-                inverse::Differencing::Central,
-            )
-        })
+        b.iter(|| inverse::hamilton(&model, black_box(&samples), inverse::Differencing::Central))
     });
     group.bench_function("lagrange_exact_full_cycle_1ms", |b| {
-        b.iter(|| {
-            inverse::lagrange(
-                &model,
-                black_box(&samples),
-                black_box(dt),
-                inverse::Accelerations::Exact,
-            )
-        })
+        b.iter(|| inverse::lagrange(&model, black_box(&samples), inverse::Accelerations::Exact))
     });
 }
 
@@ -159,8 +145,7 @@ fn forward_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
     let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
     let dt = 1e-3;
     let samples = inverse::sample(&model, &trajectory, dt).expect("reachable");
-    let tau =
-        inverse::hamilton(&model, &samples, dt, inverse::Differencing::Central).expect("torques");
+    let tau = inverse::hamilton(&model, &samples, inverse::Differencing::Central).expect("torques");
     let tau = SampledTorques::new(dt, tau).expect("grid");
     let form = HamiltonForm::new(&model, |t| tau.at(t), 20.0).expect("gain");
     let z0 = form.initial_state(&samples[0].1.q, &samples[0].1.qd);

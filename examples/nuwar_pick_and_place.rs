@@ -18,8 +18,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip)?;
     let dt = 1e-3;
     let samples = inverse::sample(&model, &cycle, dt)?;
-    let hamilton = inverse::hamilton(&model, &samples, dt, Differencing::Central)?;
-    let lagrange = inverse::lagrange(&model, &samples, dt, Accelerations::Exact)?;
+    let hamilton = inverse::hamilton(&model, &samples, Differencing::Central)?;
+    let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact)?;
     let peak = |tau: &[nalgebra::Vector3<f64>]| tau.iter().map(|t| t.amax()).fold(0.0, f64::max);
     println!(
         "max |tau|: Hamilton {:.2} N m, Lagrange {:.2} N m",

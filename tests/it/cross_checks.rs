@@ -27,15 +27,10 @@ fn hamilton_converges_to_lagrange_at_second_order() {
         let m = ExtendedModel::new(mechanism, &MassParameters::miller2004()).unwrap();
         let gap = |dt: f64| {
             let s = inverse::sample(&m, &trajectory, dt).unwrap();
-            let h = inverse::hamilton(&m, &s, dt, Differencing::Central).unwrap();
-            let exact = inverse::lagrange(&m, &s, dt, Accelerations::Exact).unwrap();
-            let same = inverse::lagrange(
-                &m,
-                &s,
-                dt,
-                Accelerations::Differenced(Differencing::Central),
-            )
-            .unwrap();
+            let h = inverse::hamilton(&m, &s, Differencing::Central).unwrap();
+            let exact = inverse::lagrange(&m, &s, Accelerations::Exact).unwrap();
+            let same = inverse::lagrange(&m, &s, Accelerations::Differenced(Differencing::Central))
+                .unwrap();
             (max_diff(&h, &exact), max_diff(&h, &same))
         };
         let (coarse, coarse_same) = gap(1e-3);

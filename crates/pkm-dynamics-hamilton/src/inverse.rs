@@ -100,18 +100,73 @@ pub fn torques(
     model.at(q).hamilton_torques(qd, p_rate)
 }
 
-/// Hamilton's inverse dynamics (§3.3): $p_k = M(q_k)\dot q_k$, $\dot p$ by `differencing`, then
-/// steps 2–3. Uses only positions and velocities; each sample's [`Configuration`](crate::Configuration)
-/// is formed once and serves both its momentum and its torques.
+/// Relative tolerance on the spacing of sample times that [`hamilton`] and [`lagrange`] accept as
+/// one uniform grid.
+pub const SPACING_TOLERANCE: f64 = 1e-9;
+
+/// The grid step $\Delta t = t_1 - t_0$ of `samples`, after checking that every interval
+/// $t_k - t_{k-1}$ equals it to a relative [`SPACING_TOLERANCE`] (beyond the rounding of the
+/// times themselves, a few ulps of $|t_k|$). On a grid from [`sample`] ($t_k = k\,\Delta t$) it
+/// is exactly the `dt` given there.
 ///
 /// # Errors
-/// As [`torques`], with the time of the failing sample.
+/// [`DynamicsError::InvalidSetting`]: setting `"samples"` (value: their number) for fewer than
+/// 3 samples, `"sample step"` for a step that is not finite and positive, and `"sample time"`
+/// (value: $t_k$) at the first sample off the uniform grid.
+pub fn sample_step(samples: &[(f64, ExtendedState)]) -> Result<f64, DynamicsError> {
+    let n = samples.len();
+    let [(first, _), (second, _), ..] = samples else {
+        return Err(too_few(n));
+    };
+    if n < 3 {
+        return Err(too_few(n));
+    }
+    let step = second - first;
+    if !(step.is_finite() && step > 0.0) {
+        return Err(DynamicsError::InvalidSetting {
+            setting: "sample step",
+            value: step,
+            requirement: "sample times must increase and be finite",
+        });
+    }
+    let off_grid = samples.windows(2).find(|w| {
+        let (before, after) = (w[0].0, w[1].0);
+        let rounding = 4.0 * f64::EPSILON * before.abs().max(after.abs());
+        // Negated so that a NaN time counts as off the grid.
+        !((after - before - step).abs() <= SPACING_TOLERANCE * step + rounding)
+    });
+    match off_grid {
+        Some(w) => Err(DynamicsError::InvalidSetting {
+            setting: "sample time",
+            value: w[1].0,
+            requirement: "samples must be equally spaced to a relative 1e-9",
+        }),
+        None => Ok(step),
+    }
+}
+
+fn too_few(n: usize) -> DynamicsError {
+    DynamicsError::InvalidSetting {
+        setting: "samples",
+        value: n as f64,
+        requirement: "differencing needs at least 3 samples",
+    }
+}
+
+/// Hamilton's inverse dynamics (§3.3): $p_k = M(q_k)\dot q_k$, $\dot p$ by `differencing` on
+/// the grid step of the samples' own times ([`sample_step`]), then steps 2–3. Uses only
+/// positions and velocities; each sample's [`Configuration`](crate::Configuration) is formed
+/// once and serves both its momentum and its torques.
+///
+/// # Errors
+/// As [`sample_step`] for samples that are too few or not equally spaced; otherwise as
+/// [`torques`], with the time of the failing sample.
 pub fn hamilton(
     model: &ExtendedModel,
     samples: &[(f64, ExtendedState)],
-    dt: f64,
     differencing: Differencing,
 ) -> Result<Vec<Vector3<f64>>, DynamicsError> {
+    let dt = sample_step(samples)?;
     let configurations: Vec<_> = samples.iter().map(|(_, s)| model.at(&s.q)).collect();
     let momenta: Vec<_> = (configurations.iter().zip(samples))
         .map(|(c, (_, s))| c.momentum(&s.qd))
@@ -122,19 +177,22 @@ pub fn hamilton(
         .collect()
 }
 
-/// Lagrange inverse dynamics: $\dot p = M\ddot q + \dot M\dot q$, then steps 2–3.
+/// Lagrange inverse dynamics: $\dot p = M\ddot q + \dot M\dot q$, then steps 2–3. With
+/// [`Accelerations::Differenced`] the step is that of the samples' own times ([`sample_step`]);
+/// with [`Accelerations::Exact`] the times may be any.
 ///
 /// # Errors
-/// As [`torques`], with the time of the failing sample.
+/// As [`sample_step`] when differencing samples that are too few or not equally spaced;
+/// otherwise as [`torques`], with the time of the failing sample.
 pub fn lagrange(
     model: &ExtendedModel,
     samples: &[(f64, ExtendedState)],
-    dt: f64,
     accelerations: Accelerations,
 ) -> Result<Vec<Vector3<f64>>, DynamicsError> {
     let qdd: Vec<_> = match accelerations {
         Accelerations::Exact => samples.iter().map(|(_, s)| s.qdd).collect(),
         Accelerations::Differenced(d) => {
+            let dt = sample_step(samples)?;
             let qd: Vec<_> = samples.iter().map(|(_, s)| s.qd).collect();
             d.apply(&qd, dt)
         }
@@ -219,10 +277,82 @@ mod tests {
         let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
         let mut samples = sample(&model, &trajectory, 1e-3).unwrap();
         samples[7].1.qd[3] = f64::NAN;
-        let e = hamilton(&model, &samples, 1e-3, Differencing::Backward).unwrap_err();
+        let e = hamilton(&model, &samples, Differencing::Backward).unwrap_err();
         assert!(
             matches!(e, DynamicsError::NonFinite { what: "torque", t } if (t - 0.007).abs() < 1e-15),
             "{e:?}"
         );
+    }
+
+    #[test]
+    fn the_step_is_read_from_the_sample_times() {
+        let model = nuwar();
+        let reading = crate::trajectory::CycleReading::RoundTrip;
+        let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
+        // Bit for bit the step given to `sample`, also where (t_n - t_0)/n is not (0.3 s, 0.1 ms).
+        for duration in [0.5, 0.3] {
+            let trajectory = Trajectory::pick_and_place(duration, reading).unwrap();
+            for dt in [1e-3, 1e-4, 2.5e-3, 1.0 / 3000.0] {
+                let samples = sample(&model, &trajectory, dt).unwrap();
+                let step = sample_step(&samples).unwrap();
+                assert_eq!(step.to_bits(), dt.to_bits(), "{step} vs {dt}");
+            }
+        }
+        // The step read from the times is the one the differences use: Hamilton's torques equal
+        // steps 2-3 applied to the momenta differenced by hand with the known step.
+        let dt = 2e-3;
+        let samples = sample(&model, &trajectory, dt).unwrap();
+        let momenta: Vec<_> = (samples.iter())
+            .map(|(_, s)| model.mass_matrix(&s.q) * s.qd)
+            .collect();
+        let rates = Differencing::Central.apply(&momenta, dt);
+        let tau = hamilton(&model, &samples, Differencing::Central).unwrap();
+        for ((t, s), (r, tau)) in samples.iter().zip(rates.iter().zip(&tau)) {
+            let by_hand = torques(&model, &s.q, &s.qd, r).unwrap();
+            assert!(
+                (by_hand - tau).amax() <= 1e-9 * by_hand.amax().max(1.0),
+                "t = {t}"
+            );
+        }
+    }
+
+    #[test]
+    fn unevenly_spaced_or_too_few_samples_are_typed_errors() {
+        let model = nuwar();
+        let reading = crate::trajectory::CycleReading::RoundTrip;
+        let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
+        let samples = sample(&model, &trajectory, 1e-3).unwrap();
+        let differenced = Accelerations::Differenced(Differencing::Central);
+        let rejects = |samples: &[(f64, ExtendedState)], setting: &str, value: f64| {
+            for e in [
+                hamilton(&model, samples, Differencing::Backward).unwrap_err(),
+                lagrange(&model, samples, differenced).unwrap_err(),
+            ] {
+                assert!(
+                    matches!(e, DynamicsError::InvalidSetting { setting: s, value: v, .. }
+                        if s == setting && ((v.is_nan() && value.is_nan()) || (v - value).abs() < 1e-15)),
+                    "{e:?}, expected {setting} = {value}"
+                );
+            }
+        };
+        // One time moved by a relative 1e-8 of the step.
+        let mut uneven = samples.clone();
+        uneven[200].0 += 1e-11;
+        rejects(&uneven, "sample time", uneven[200].0);
+        // ... and a NaN time, a reversed grid, too few samples.
+        let mut nan = samples.clone();
+        nan[5].0 = f64::NAN;
+        rejects(&nan, "sample time", f64::NAN);
+        let mut reversed = samples.clone();
+        reversed.reverse();
+        rejects(&reversed, "sample step", -1e-3);
+        rejects(&samples[..2], "samples", 2.0);
+        rejects(&[], "samples", 0.0);
+        // Within 1e-9 of the step the grid is accepted, and the exact Lagrange form needs none.
+        let mut jittered = samples.clone();
+        jittered[200].0 += 1e-13;
+        assert!(hamilton(&model, &jittered, Differencing::Central).is_ok());
+        assert!(lagrange(&model, &uneven, Accelerations::Exact).is_ok());
+        assert!(lagrange(&model, &samples[..2], Accelerations::Exact).is_ok());
     }
 }

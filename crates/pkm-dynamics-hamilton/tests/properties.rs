@@ -109,12 +109,12 @@ fn canonical_cycle_reproduces_the_spec_reference_numbers() {
         .map(|(_, s)| s.qdd.fixed_rows::<3>(0).norm())
         .fold(0.0, f64::max);
     assert!((max_acc - 222.07).abs() < 0.01, "{max_acc}");
-    let exact = inverse::lagrange(&m, &samples, 1e-3, Accelerations::Exact).unwrap();
+    let exact = inverse::lagrange(&m, &samples, Accelerations::Exact).unwrap();
     let peak = exact.iter().map(Vector3::amax).fold(0.0, f64::max);
     assert!((peak - 60.91).abs() < 0.05, "NUWAR max torque {peak}");
     let c = Differencing::Central;
-    let h = inverse::hamilton(&m, &samples, 1e-3, c).unwrap();
-    let l = inverse::lagrange(&m, &samples, 1e-3, Accelerations::Differenced(c)).unwrap();
+    let h = inverse::hamilton(&m, &samples, c).unwrap();
+    let l = inverse::lagrange(&m, &samples, Accelerations::Differenced(c)).unwrap();
     let diff = h
         .iter()
         .zip(&l)

@@ -172,7 +172,7 @@ mod tests {
         let [hamilton, lagrange, with_ik] =
             per_sample(model.constants(), [state(135), state(136), state(137)], dt);
         // The counted code computes what the f64 code computes.
-        let h = inverse::hamilton(&model, &samples, dt, Differencing::Central).unwrap();
+        let h = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
         let s = &samples[136].1;
         let l = inverse::lagrange_torques(&model, &s.q, &s.qd, &s.qdd).unwrap();
         let a = s.qdd.fixed_rows::<3>(0).into();

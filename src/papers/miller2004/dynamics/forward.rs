@@ -170,8 +170,8 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let mut comparisons = Vec::new();
 
     // Fig. 9 retrace: the 1 ms Hamilton torques (central differences), interpolated.
-    let hamilton = inverse::hamilton(&m, &samples, DT, Differencing::Central)?;
-    let lagrange = inverse::lagrange(&m, &samples, DT, Accelerations::Exact)?;
+    let hamilton = inverse::hamilton(&m, &samples, Differencing::Central)?;
+    let lagrange = inverse::lagrange(&m, &samples, Accelerations::Exact)?;
     let torque_gap = (hamilton.iter().zip(&lagrange))
         .map(|(h, l)| (h - l).amax())
         .fold(0.0, f64::max);

@@ -105,9 +105,9 @@ fn torques(robot: Robot, placement: Placement) -> Result<Torques, ExperimentErro
     let c = Differencing::Central;
     Ok(Torques {
         times: samples.iter().map(|(t, _)| *t).collect(),
-        hamilton: inverse::hamilton(&m, &samples, DT, c)?,
-        lagrange_differenced: inverse::lagrange(&m, &samples, DT, Accelerations::Differenced(c))?,
-        lagrange_exact: inverse::lagrange(&m, &samples, DT, Accelerations::Exact)?,
+        hamilton: inverse::hamilton(&m, &samples, c)?,
+        lagrange_differenced: inverse::lagrange(&m, &samples, Accelerations::Differenced(c))?,
+        lagrange_exact: inverse::lagrange(&m, &samples, Accelerations::Exact)?,
     })
 }
 
