@@ -20,6 +20,7 @@ mod lattice_refinement;
 mod levenberg_marquardt;
 mod multistart;
 mod spg;
+mod termination;
 mod weighted_combination;
 
 pub use augmented_lagrangian::{
@@ -36,4 +37,5 @@ pub use levenberg_marquardt::{
     multistart_levenberg_marquardt,
 };
 pub use multistart::{MAX_STARTS, run_multistart, uniform_start_points};
+pub use termination::Termination;
 pub use weighted_combination::{WeightedMean, weighted_combination};
