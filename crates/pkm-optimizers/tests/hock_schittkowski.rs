@@ -139,7 +139,7 @@ fn bad_settings_are_typed_errors() {
         g: vec![],
     };
     assert!(augmented_lagrangian(&p, &[0.0, 1.0], &Default::default()).is_err());
-    let s = pkm_optimizers::AugmentedLagrangianSettings {
+    let s = AugmentedLagrangianSettings {
         fd_step: f64::NAN,
         ..Default::default()
     };
