@@ -2,6 +2,7 @@
 //! run that hit its iteration limit or stalled is never mistaken for a converged one.
 
 use serde::Serialize;
+use std::fmt;
 
 /// Why a solver stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -22,5 +23,15 @@ impl Termination {
     /// Whether a convergence test was met.
     pub fn converged(&self) -> bool {
         matches!(self, Self::Converged { .. })
+    }
+}
+
+impl fmt::Display for Termination {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Converged { criterion } => write!(f, "converged ({criterion})"),
+            Self::MaxIterations => f.write_str("iteration limit reached"),
+            Self::Stalled => f.write_str("stalled (no improving step)"),
+        }
     }
 }

@@ -208,6 +208,7 @@ fn termination_tells_convergence_from_the_iteration_limit() {
     let cut = levenberg_marquardt(&problem, Sense::Minimise, &start, &one).unwrap();
     assert_eq!(cut.termination, Termination::MaxIterations, "{cut:?}");
     assert_eq!(cut.iterations, 1);
+    assert_eq!(cut.termination.to_string(), "iteration limit reached");
     assert!(
         cut.value > 1e-6,
         "one step from (-1.2, 1) is far from the minimum"
@@ -269,4 +270,8 @@ fn an_objective_that_never_improves_reports_a_stall() {
     assert_eq!(stalled.iterations, 1);
     assert!(stalled.free_gradient_norm() > 1.0, "{stalled:?}");
     assert!((stalled.design[0] - KINK).abs() < 1e-15);
+    assert_eq!(
+        stalled.termination.to_string(),
+        "stalled (no improving step)"
+    );
 }
