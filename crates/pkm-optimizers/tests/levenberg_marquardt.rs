@@ -275,3 +275,28 @@ fn an_objective_that_never_improves_reports_a_stall() {
         "stalled (no improving step)"
     );
 }
+
+proptest::proptest! {
+    /// The reported reason agrees with the counts and the KKT report: the iteration limit is
+    /// reported exactly when every allowed iteration ran without a convergence test being met,
+    /// and a projected-gradient stop leaves a free gradient below the tolerance.
+    #[test]
+    fn termination_agrees_with_iterations_and_gradient(
+        x in -2.0..2.0f64, y in -2.0..2.0f64, max_iterations in 0..40usize, analytic in proptest::bool::ANY,
+    ) {
+        let problem = Rosenbrock::new(analytic);
+        let settings = LmSettings { max_iterations, ..LmSettings::default() };
+        let o = levenberg_marquardt(&problem, Sense::Minimise, &[x, y], &settings).unwrap();
+        proptest::prop_assert!(o.iterations <= max_iterations, "{o:?}");
+        if o.termination == Termination::MaxIterations {
+            proptest::prop_assert_eq!(o.iterations, max_iterations);
+        } else {
+            proptest::prop_assert!(o.iterations >= 1, "{o:?}");
+        }
+        if o.termination == (Termination::Converged { criterion: "projected gradient" }) {
+            // Both widths are 4; the test scales each gradient entry by its width.
+            let scaled = 4.0 * o.free_gradient_norm();
+            proptest::prop_assert!(scaled <= settings.tolerance * (1.0 + o.value), "{o:?}");
+        }
+    }
+}
