@@ -283,15 +283,23 @@ proptest::proptest! {
     #[test]
     fn termination_agrees_with_iterations_and_gradient(
         x in -2.0..2.0f64, y in -2.0..2.0f64, max_iterations in 0..40usize, analytic in proptest::bool::ANY,
+        at_minimum in proptest::bool::ANY,
     ) {
         let problem = Rosenbrock::new(analytic);
         let settings = LmSettings { max_iterations, ..LmSettings::default() };
-        let o = levenberg_marquardt(&problem, Sense::Minimise, &[x, y], &settings).unwrap();
+        // From the minimiser (1, 1), where r = 0, the projected-gradient test stops the first
+        // iteration; elsewhere the relative change in f is what normally stops it.
+        let start = if at_minimum { [1.0, 1.0] } else { [x, y] };
+        let o = levenberg_marquardt(&problem, Sense::Minimise, &start, &settings).unwrap();
         proptest::prop_assert!(o.iterations <= max_iterations, "{o:?}");
         if o.termination == Termination::MaxIterations {
             proptest::prop_assert_eq!(o.iterations, max_iterations);
         } else {
             proptest::prop_assert!(o.iterations >= 1, "{o:?}");
+        }
+        if at_minimum && max_iterations > 0 {
+            proptest::prop_assert_eq!(o.termination, Termination::Converged { criterion: "projected gradient" });
+            proptest::prop_assert_eq!(o.iterations, 1);
         }
         if o.termination == (Termination::Converged { criterion: "projected gradient" }) {
             // Both widths are 4; the test scales each gradient entry by its width.
