@@ -6,6 +6,8 @@
 //!   (Miller 2004 §2.2's 4-D search).
 //! - [`uniform_start_points`] and [`run_multistart`]: seeded starts for local optimisers, run in
 //!   parallel with outcomes in start order.
+//! - [`levenberg_marquardt`] and [`augmented_lagrangian`]: local solvers whose results say why
+//!   they stopped ([`Termination`]: converged and by which test, iteration limit, or stalled).
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
