@@ -9,6 +9,7 @@
 
 use crate::OptimizeError;
 use crate::spg::{minimise_in_box, project};
+use crate::termination::Termination;
 use pkm_traits::{Constraints, ObjectiveError};
 
 /// Settings of [`augmented_lagrangian`].
@@ -50,6 +51,11 @@ pub struct ConstrainedResult {
     pub constraints: Vec<f64>,
     /// Multiplier estimates $\mu_i \ge 0$; positive for active constraints.
     pub multipliers: Vec<f64>,
+    /// Why the outer iteration stopped: [`Termination::Converged`] (criterion
+    /// `"feasible with settled multipliers"`) or [`Termination::MaxIterations`] after
+    /// [`AugmentedLagrangianSettings::max_outer`] outer iterations with a feasible but
+    /// possibly unsettled design (an infeasible one is an error instead).
+    pub termination: Termination,
 }
 
 /// Minimises `problem` from `start` subject to its bounds and inequalities.
@@ -97,6 +103,7 @@ pub fn augmented_lagrangian<P: Constraints>(
     let mut rho = 10.0;
     let mut g = vec![0.0; m];
     let mut violation = f64::INFINITY;
+    let mut termination = Termination::MaxIterations;
     for _ in 0..settings.max_outer {
         let lagrangian = |p: &[f64]| -> Result<f64, ObjectiveError> {
             let mut gp = vec![0.0; m];
@@ -136,6 +143,9 @@ pub fn augmented_lagrangian<P: Constraints>(
             && step <= 1e-6 * (1.0 + mu.iter().fold(0.0, |a: f64, b| a.max(*b)))
         {
             violation = new_violation;
+            termination = Termination::Converged {
+                criterion: "feasible with settled multipliers",
+            };
             break;
         }
         if new_violation > 0.25 * violation {
@@ -160,6 +170,7 @@ pub fn augmented_lagrangian<P: Constraints>(
         design: x,
         constraints: g,
         multipliers: mu,
+        termination,
     })
 }
 

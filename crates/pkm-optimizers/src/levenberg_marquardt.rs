@@ -19,10 +19,25 @@
 
 use crate::error::OptimizeError;
 use crate::multistart::{run_multistart, uniform_start_points};
+use crate::termination::Termination;
 use faer::Mat;
 use faer::Side;
 use faer::linalg::solvers::Solve;
 use pkm_traits::{Bounds, ObjectiveError, Residuals};
+
+/// Initial damping relative to the largest diagonal entry of $A^\top A$:
+/// $\mu_0 = 10^{-3} \max_k (A^\top A)_{kk}$ (Marquardt's usual scale).
+const INITIAL_DAMPING_SCALE: f64 = 1e-3;
+/// Floor of $\max_k (A^\top A)_{kk}$ in $\mu_0$, so a vanishing Jacobian still starts with
+/// $\mu_0 > 0$.
+const MIN_NORMAL_DIAGONAL: f64 = 1e-12;
+/// $\mu \leftarrow \mu / 3$ after a successful step.
+const DAMPING_DECREASE: f64 = 3.0;
+/// $\mu \leftarrow 4 \mu$ after a rejected step.
+const DAMPING_INCREASE: f64 = 4.0;
+/// Damping at which the search for an improving step gives up ([`Termination::Stalled`]): the
+/// step $\delta \approx \sigma A^\top r / \mu$ is then negligible.
+const MAX_DAMPING: f64 = 1e16;
 
 /// Whether the sum of squares is minimised or maximised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -93,6 +108,11 @@ pub struct LocalOptimum {
     pub reduced_hessian_eigenvalues: Vec<f64>,
     /// Iterations spent.
     pub iterations: usize,
+    /// Why the iteration stopped: [`Termination::Converged`] with criterion
+    /// `"projected gradient"`, `"every variable held on a bound"` or `"relative change in f"`;
+    /// [`Termination::MaxIterations`] after [`LmSettings::max_iterations`] iterations; or
+    /// [`Termination::Stalled`] when the damping reached its limit without an improving step.
+    pub termination: Termination,
 }
 
 impl LocalOptimum {
@@ -151,6 +171,7 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
     let mut f = sum_of_squares(problem, &p)?;
     let mut mu = 0.0;
     let mut iterations = 0;
+    let mut termination = Termination::MaxIterations;
     while iterations < settings.max_iterations {
         iterations += 1;
         let (r, a) = residuals_and_jacobian(problem, &p, settings.fd_step)?;
@@ -160,15 +181,26 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
             .iter()
             .map(|&j| (grad[j] * bounds[j].width()).abs())
             .fold(0.0, f64::max);
-        if free.is_empty() || projected <= settings.tolerance * (1.0 + f.abs()) {
+        if free.is_empty() {
+            termination = Termination::Converged {
+                criterion: "every variable held on a bound",
+            };
+            break;
+        }
+        if projected <= settings.tolerance * (1.0 + f.abs()) {
+            termination = Termination::Converged {
+                criterion: "projected gradient",
+            };
             break;
         }
         let (ata, atr) = normal_equations(&r, &a, &free);
         if mu == 0.0 {
-            mu = 1e-3 * (0..free.len()).fold(1e-12, |m, i| f64::max(m, ata[(i, i)]));
+            mu = INITIAL_DAMPING_SCALE
+                * (0..free.len()).fold(MIN_NORMAL_DIAGONAL, |m, i| f64::max(m, ata[(i, i)]));
         }
-        let mut improved = false;
-        while mu < 1e16 {
+        // Why to stop after this iteration, if at all: stalled unless an improving step is found.
+        let mut stop = Some(Termination::Stalled);
+        while mu < MAX_DAMPING {
             let delta = solve_damped(&ata, &atr, mu, sign)?;
             let mut trial = p.clone();
             for (k, &j) in free.iter().enumerate() {
@@ -179,17 +211,22 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
                 let gain = (f_trial - f).abs();
                 p = trial;
                 f = f_trial;
-                mu /= 3.0;
-                improved = gain > settings.tolerance * (1.0 + f.abs());
+                mu /= DAMPING_DECREASE;
+                stop = (gain <= settings.tolerance * (1.0 + f.abs())).then_some(
+                    Termination::Converged {
+                        criterion: "relative change in f",
+                    },
+                );
                 break;
             }
-            mu *= 4.0;
+            mu *= DAMPING_INCREASE;
         }
-        if !improved {
+        if let Some(reason) = stop {
+            termination = reason;
             break;
         }
     }
-    report(problem, p, f, iterations, settings)
+    report(problem, p, f, iterations, termination, settings)
 }
 
 /// Multistart [`levenberg_marquardt`]: `n_starts` seeded uniform starts in the box (plus
@@ -374,6 +411,7 @@ fn report<P: Residuals + ?Sized>(
     design: Vec<f64>,
     value: f64,
     iterations: usize,
+    termination: Termination,
     settings: &LmSettings,
 ) -> Result<LocalOptimum, OptimizeError> {
     let bounds = problem.bounds();
@@ -404,6 +442,7 @@ fn report<P: Residuals + ?Sized>(
         active,
         reduced_hessian_eigenvalues,
         iterations,
+        termination,
     })
 }
 

@@ -6,6 +6,8 @@
 //!   (Miller 2004 §2.2's 4-D search).
 //! - [`uniform_start_points`] and [`run_multistart`]: seeded starts for local optimisers, run in
 //!   parallel with outcomes in start order.
+//! - [`levenberg_marquardt`] and [`augmented_lagrangian`]: local solvers whose results say why
+//!   they stopped ([`Termination`]: converged and by which test, iteration limit, or stalled).
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -20,6 +22,7 @@ mod lattice_refinement;
 mod levenberg_marquardt;
 mod multistart;
 mod spg;
+mod termination;
 mod weighted_combination;
 
 pub use augmented_lagrangian::{
@@ -36,4 +39,5 @@ pub use levenberg_marquardt::{
     multistart_levenberg_marquardt,
 };
 pub use multistart::{MAX_STARTS, run_multistart, uniform_start_points};
+pub use termination::Termination;
 pub use weighted_combination::{WeightedMean, weighted_combination};

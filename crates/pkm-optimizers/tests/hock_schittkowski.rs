@@ -2,7 +2,9 @@
 //! infeasible constraint set.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use pkm_optimizers::{OptimizeError, augmented_lagrangian};
+use pkm_optimizers::{
+    AugmentedLagrangianSettings, OptimizeError, Termination, augmented_lagrangian,
+};
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError};
 
 type Fun = fn(&[f64]) -> f64;
@@ -137,9 +139,37 @@ fn bad_settings_are_typed_errors() {
         g: vec![],
     };
     assert!(augmented_lagrangian(&p, &[0.0, 1.0], &Default::default()).is_err());
-    let s = pkm_optimizers::AugmentedLagrangianSettings {
+    let s = AugmentedLagrangianSettings {
         fd_step: f64::NAN,
         ..Default::default()
     };
     assert!(augmented_lagrangian(&p, &[0.0], &s).is_err());
+}
+
+#[test]
+fn termination_tells_convergence_from_the_outer_iteration_limit() {
+    // min x² + y² s.t. x + y >= 1. With μ = 0 and ρ = 10 the first inner problem
+    // 2t² + 5(1 − 2t)² gives x = y = 5/11, a violation 1/11 and a multiplier step 10/11.
+    let p = Problem {
+        bounds: vec![b(-5.0, 5.0); 2],
+        f: |x| x[0] * x[0] + x[1] * x[1],
+        g: vec![|x| 1.0 - x[0] - x[1]],
+    };
+    let converged = augmented_lagrangian(&p, &[2.0, -1.0], &Default::default()).unwrap();
+    assert_eq!(
+        converged.termination,
+        Termination::Converged {
+            criterion: "feasible with settled multipliers"
+        },
+        "{converged:?}"
+    );
+    let one = AugmentedLagrangianSettings {
+        max_outer: 1,
+        feasibility: 0.5,
+        ..Default::default()
+    };
+    let cut = augmented_lagrangian(&p, &[2.0, -1.0], &one).unwrap();
+    assert_eq!(cut.termination, Termination::MaxIterations, "{cut:?}");
+    assert!((cut.constraints[0] - 1.0 / 11.0).abs() < 1e-6, "{cut:?}");
+    assert!((cut.multipliers[0] - 10.0 / 11.0).abs() < 1e-5, "{cut:?}");
 }

@@ -1,7 +1,10 @@
 //! Bounded Levenberg–Marquardt: optima on bounds, KKT report, thread-count invariance.
 #![allow(clippy::unwrap_used)]
 
-use pkm_optimizers::{ActiveBound, LmSettings, Sense, multistart_levenberg_marquardt};
+use pkm_optimizers::{
+    ActiveBound, LmSettings, Sense, Termination, levenberg_marquardt,
+    multistart_levenberg_marquardt,
+};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
 
 /// $r = (p_0 - 1,\; 2 (p_1 + 0.5),\; p_0 p_1)$ on $[-2, 3] \times [-1, 1]$.
@@ -188,4 +191,120 @@ fn a_variable_fixed_by_equal_bounds_stays_put_and_reports_finite_numbers() {
             .iter()
             .all(|e| e.is_finite())
     );
+}
+
+#[test]
+fn termination_tells_convergence_from_the_iteration_limit() {
+    let problem = Rosenbrock::new(true);
+    let start = [-1.2, 1.0];
+    let converged =
+        levenberg_marquardt(&problem, Sense::Minimise, &start, &LmSettings::default()).unwrap();
+    assert!(converged.termination.converged(), "{converged:?}");
+    assert!(converged.iterations < LmSettings::default().max_iterations);
+    let one = LmSettings {
+        max_iterations: 1,
+        ..LmSettings::default()
+    };
+    let cut = levenberg_marquardt(&problem, Sense::Minimise, &start, &one).unwrap();
+    assert_eq!(cut.termination, Termination::MaxIterations, "{cut:?}");
+    assert_eq!(cut.iterations, 1);
+    assert_eq!(cut.termination.to_string(), "iteration limit reached");
+    assert!(
+        cut.value > 1e-6,
+        "one step from (-1.2, 1) is far from the minimum"
+    );
+    // A maximum on a corner is a KKT point with every variable held on its bound.
+    let corner = levenberg_marquardt(
+        &problem,
+        Sense::Maximise,
+        &[-2.0, -2.0],
+        &LmSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        corner.termination,
+        Termination::Converged {
+            criterion: "every variable held on a bound"
+        },
+        "{corner:?}"
+    );
+}
+
+/// $r(p) = 1 + p + 2|p - s|$ on $[-1, 1]$ with $s = 0.3$: the central-difference slope at $s$
+/// is 1, so the gradient asks to decrease $p$, yet every move raises $r > 0$ (the kink's slopes
+/// are $-1$ and $3$), so no step ever improves $f = r^2$.
+struct Kink([Bounds; 1]);
+
+const KINK: f64 = 0.3;
+
+impl Objective for Kink {
+    fn dimension(&self) -> usize {
+        1
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.0
+    }
+    fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+        let mut r = [0.0];
+        self.residuals(p, &mut r)?;
+        Ok(r[0] * r[0])
+    }
+}
+
+impl Residuals for Kink {
+    fn n_residuals(&self) -> usize {
+        1
+    }
+    fn residuals(&self, p: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
+        r[0] = 1.0 + p[0] + 2.0 * (p[0] - KINK).abs();
+        Ok(())
+    }
+}
+
+#[test]
+fn an_objective_that_never_improves_reports_a_stall() {
+    let problem = Kink([Bounds::new(-1.0, 1.0).unwrap()]);
+    let stalled =
+        levenberg_marquardt(&problem, Sense::Minimise, &[KINK], &LmSettings::default()).unwrap();
+    assert_eq!(stalled.termination, Termination::Stalled, "{stalled:?}");
+    assert_eq!(stalled.iterations, 1);
+    assert!(stalled.free_gradient_norm() > 1.0, "{stalled:?}");
+    assert!((stalled.design[0] - KINK).abs() < 1e-15);
+    assert_eq!(
+        stalled.termination.to_string(),
+        "stalled (no improving step)"
+    );
+}
+
+proptest::proptest! {
+    /// The reported reason agrees with the counts and the KKT report: the iteration limit is
+    /// reported exactly when every allowed iteration ran without a convergence test being met,
+    /// and a projected-gradient stop leaves a free gradient below the tolerance.
+    #[test]
+    fn termination_agrees_with_iterations_and_gradient(
+        x in -2.0..2.0f64, y in -2.0..2.0f64, max_iterations in 0..40usize, analytic in proptest::bool::ANY,
+        at_minimum in proptest::bool::ANY,
+    ) {
+        let problem = Rosenbrock::new(analytic);
+        let settings = LmSettings { max_iterations, ..LmSettings::default() };
+        // From the minimiser (1, 1), where r = 0, the projected-gradient test stops the first
+        // iteration; elsewhere the relative change in f is what normally stops it.
+        let start = if at_minimum { [1.0, 1.0] } else { [x, y] };
+        let o = levenberg_marquardt(&problem, Sense::Minimise, &start, &settings).unwrap();
+        proptest::prop_assert!(o.iterations <= max_iterations, "{o:?}");
+        if o.termination == Termination::MaxIterations {
+            proptest::prop_assert_eq!(o.iterations, max_iterations);
+        } else {
+            proptest::prop_assert!(o.iterations >= 1, "{o:?}");
+        }
+        if at_minimum && max_iterations > 0 {
+            proptest::prop_assert_eq!(o.termination, Termination::Converged { criterion: "projected gradient" });
+            proptest::prop_assert_eq!(o.iterations, 1);
+        }
+        if o.termination == (Termination::Converged { criterion: "projected gradient" }) {
+            // Both widths are 4; the test scales each gradient entry by its width.
+            let scaled = 4.0 * o.free_gradient_norm();
+            proptest::prop_assert!(scaled <= settings.tolerance * (1.0 + o.value), "{o:?}");
+        }
+    }
 }

@@ -134,7 +134,12 @@ pub(super) fn kkt_rows(source: &Source, optimum: &LocalOptimum) -> Vec<Compariso
         .count();
     let eig = &optimum.reduced_hessian_eigenvalues;
     let mut rows = vec![
-        source.info("kkt_free_gradient_max", "1", optimum.free_gradient_norm()),
+        source
+            .info("kkt_free_gradient_max", "1", optimum.free_gradient_norm())
+            .with_note(format!(
+                "Levenberg-Marquardt {} after {} iterations",
+                optimum.termination, optimum.iterations
+            )),
         source.info("kkt_active_bounds", "1", active as f64),
     ];
     if let (Some(lo), Some(hi)) = (eig.first(), eig.last()) {
