@@ -55,7 +55,6 @@ where
             let mut sums = Sums::default();
             for (r, block) in all.chunks_exact(m).enumerate() {
                 sums.inside[r] = block.iter().filter(|x| contains(design, x)).count() as u64;
-                sums.f[r] = sums.inside[r] as f64;
             }
             progress.advance(1);
             let mut e = summarise(&sums, replicates, m as u64, v_domain);

@@ -77,21 +77,31 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
 
     /// Whether `x` belongs to the workspace.
     pub fn contains(&self, x: &Vector3<f64>) -> bool {
-        if !self.on_position.iter().all(|c| c.holds_at_position(x)) {
+        if !self.position_allowed(x) {
             return false;
         }
         if self.on_joints.is_empty() {
             self.mechanism.reachable_in_any(x, &self.modes)
         } else {
-            self.assembly(x).is_some()
+            self.assemble(x).is_some()
         }
     }
 
     /// The joints of the first listed mode that assembles at `x` within every constraint.
     pub fn assembly(&self, x: &Vector3<f64>) -> Option<Joints<3>> {
-        if !self.on_position.iter().all(|c| c.holds_at_position(x)) {
-            return None;
+        if self.position_allowed(x) {
+            self.assemble(x)
+        } else {
+            None
         }
+    }
+
+    fn position_allowed(&self, x: &Vector3<f64>) -> bool {
+        self.on_position.iter().all(|c| c.holds_at_position(x))
+    }
+
+    /// [`Workspace::assembly`] for a position that satisfies the position constraints.
+    fn assemble(&self, x: &Vector3<f64>) -> Option<Joints<3>> {
         self.modes.iter().find_map(|mode| {
             let q = self.mechanism.inverse_kinematics(x, *mode).ok()?;
             self.on_joints

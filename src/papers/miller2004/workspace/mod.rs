@@ -205,16 +205,6 @@ fn comparisons(r: &SweepResult, evidence: &Evidence) -> Vec<Comparison> {
             .info("volume_nuwar", "m^3", r.nuwar.volume)
             .with_note(format!("± {:.2e}", r.nuwar.volume_se)),
     ];
-    let ratio = source
-        .info("volume_ratio_nuwar_delta", "1", r.nuwar_ratio)
-        .with_note(format!("± {:.1e} (common points)", r.nuwar_ratio_se));
-    let peak = source
-        .info("volume_ratio_max", "1", r.max_ratio)
-        .with_note(format!("± {:.1e}; {grid}", r.max_ratio_se));
-    let (alpha, beta) = (
-        source.info("alpha_opt", "deg", r.alpha_opt),
-        source.info("beta_opt", "deg", r.beta_opt),
-    );
     if r.reading.name == "below" {
         rows.push(
             source
@@ -228,33 +218,54 @@ fn comparisons(r: &SweepResult, evidence: &Evidence) -> Vec<Comparison> {
                 .with_note("the paper: the Delta configuration is not optimal"),
         );
     }
-    if r.reading.compared {
-        // A full-mode grid is 1°; the quick one is coarser, so the arg-max is checked to its step.
-        let step = r.grid_step_deg.max(1.0);
-        rows.push(
-            checked(ratio, PRINTED_RATIO, 0.005).erratum_if(evidence.ratio_not_reproduced, anchor),
-        );
-        rows.push(
-            checked(peak, PRINTED_RATIO, 0.005).erratum_if(evidence.max_not_reproduced, anchor),
-        );
-        rows.push(
-            checked(alpha, ALPHA_PRINTED_DEG, step)
-                .erratum_if(evidence.nuwar_never_optimal, anchor),
-        );
-        rows.push(
-            checked(beta, BETA_NUWAR_DEG, step).erratum_if(evidence.nuwar_never_optimal, anchor),
-        );
-    } else {
-        rows.extend([ratio, peak, alpha, beta]);
-    }
+    // The two named readings are checked against the print, erratum only with the run's
+    // evidence; the others are reported. A full-mode grid is 1°; the quick one is coarser, so
+    // the arg-max is checked to its step.
+    let step = r.grid_step_deg.max(1.0);
+    let row = |quantity: &str, unit: &str, value: f64, paper: f64, tolerance: f64, shown: bool| {
+        if r.reading.compared {
+            source
+                .check(quantity, unit, paper, value, tolerance)
+                .erratum_if(shown, anchor)
+        } else {
+            source.info(quantity, unit, value)
+        }
+    };
+    rows.extend([
+        row(
+            "volume_ratio_nuwar_delta",
+            "1",
+            r.nuwar_ratio,
+            PRINTED_RATIO,
+            0.005,
+            evidence.ratio_not_reproduced,
+        )
+        .with_note(format!("± {:.1e} (common points)", r.nuwar_ratio_se)),
+        row(
+            "volume_ratio_max",
+            "1",
+            r.max_ratio,
+            PRINTED_RATIO,
+            0.005,
+            evidence.max_not_reproduced,
+        )
+        .with_note(format!("± {:.1e}; {grid}", r.max_ratio_se)),
+        row(
+            "alpha_opt",
+            "deg",
+            r.alpha_opt,
+            ALPHA_PRINTED_DEG,
+            step,
+            evidence.nuwar_never_optimal,
+        ),
+        row(
+            "beta_opt",
+            "deg",
+            r.beta_opt,
+            BETA_NUWAR_DEG,
+            step,
+            evidence.nuwar_never_optimal,
+        ),
+    ]);
     rows
-}
-
-/// An `info` row turned into a check against the printed `paper` value.
-fn checked(row: Comparison, paper: f64, tolerance: f64) -> Comparison {
-    let source = Source::new(&row.id, Paper::Miller2004, &row.location);
-    let note = row.note.clone();
-    source
-        .check(&row.quantity, &row.unit, paper, row.value, tolerance)
-        .with_note(note)
 }
