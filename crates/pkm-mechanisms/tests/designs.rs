@@ -181,8 +181,8 @@ fn degree_constructors_agree_with_radians() {
     assert!((tsai.phi2 - 2.0 * PI / 3.0).abs() < 1e-15);
     assert!((tsai.phi3 - 4.0 * PI / 3.0).abs() < 1e-15);
     assert_eq!(
-        [tsai.a, tsai.b, tsai.d_plus_e, tsai.c_minus_r],
-        [0.3, 0.5, 0.1, -0.05]
+        [tsai.a, tsai.b, tsai.d_plus_e, tsai.c_minus_r].map(f64::to_bits),
+        [0.3, 0.5, 0.1, -0.05f64].map(f64::to_bits)
     );
     let phi = Tsai3Dof::new(tsai).unwrap().phi();
     assert!((phi[1] - 2.0 * PI / 3.0).abs() < 1e-15 && (phi[2] - 4.0 * PI / 3.0).abs() < 1e-15);
