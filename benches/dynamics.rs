@@ -8,7 +8,7 @@ use criterion::{BenchmarkGroup, Criterion};
 use pkm::dynamics_hamilton::inverse;
 use pkm::dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::mechanisms::{Placement, RotaryDelta, presets};
 use std::hint::black_box;
 
 /// The CPU time of the benchmarking thread (`/proc/thread-self/schedstat`, ns), beside the wall
@@ -60,7 +60,7 @@ fn cpu_criterion() -> Criterion<ThreadCpuTime> {
 }
 
 fn nuwar() -> ExtendedModel {
-    let mechanism = RotaryDelta::nuwar(Placement::canonical()).expect("paper design");
+    let mechanism = RotaryDelta::new(presets::nuwar(Placement::canonical())).expect("paper design");
     ExtendedModel::new(mechanism, &MassParameters::miller2004()).expect("paper masses")
 }
 

@@ -221,11 +221,11 @@ mod tests {
     use super::*;
     use crate::MassParameters;
     use crate::trajectory::{MotionLaw, Path, Segment};
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
     use pkm_traits::KinematicsError;
 
     fn nuwar() -> ExtendedModel {
-        let m = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+        let m = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
         ExtendedModel::new(m, &MassParameters::miller2004()).unwrap()
     }
 

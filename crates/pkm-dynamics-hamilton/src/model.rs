@@ -25,9 +25,9 @@ pub struct ExtendedState {
 /// # Example
 /// ```
 /// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-/// use pkm_mechanisms::{Placement, RotaryDelta};
+/// use pkm_mechanisms::{Placement, RotaryDelta, presets};
 /// use nalgebra::Vector3;
-/// let model = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+/// let model = ExtendedModel::new(RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
 ///     &MassParameters::miller2004()).unwrap();
 /// let s = model.joint_motion(&Vector3::new(0.0, -0.2, -0.9), &Vector3::zeros(), &Vector3::zeros())
 ///     .unwrap();
@@ -49,9 +49,9 @@ pub struct ExtendedModel {
 /// # Example
 /// ```
 /// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-/// use pkm_mechanisms::{Placement, RotaryDelta};
+/// use pkm_mechanisms::{Placement, RotaryDelta, presets};
 /// use nalgebra::Vector3;
-/// let model = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+/// let model = ExtendedModel::new(RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
 ///     &MassParameters::miller2004()).unwrap();
 /// let s = model.joint_motion(&Vector3::new(0.0, -0.1, -0.8), &Vector3::new(0.0, 1.0, 0.5),
 ///     &Vector3::zeros()).unwrap();
@@ -417,12 +417,12 @@ impl ExtendedInertia<6> for ExtendedModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pkm_mechanisms::Placement;
+    use pkm_mechanisms::{Placement, presets};
 
     #[test]
     fn acceleration_level_ik_agrees_with_joint_motion() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();

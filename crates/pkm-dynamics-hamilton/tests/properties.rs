@@ -6,12 +6,12 @@ use nalgebra::{Vector3, Vector6};
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
 use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm_mechanisms::{Placement, RotaryDelta};
+use pkm_mechanisms::{Placement, RotaryDelta, presets};
 use proptest::prelude::*;
 
 fn nuwar() -> ExtendedModel {
     ExtendedModel::new(
-        RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+        RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
         &MassParameters::miller2004(),
     )
     .unwrap()
@@ -144,7 +144,7 @@ proptest! {
     ) {
         use pkm_dynamics_hamilton::forward::{ForwardForm, HamiltonForm};
         let mass = MassParameters { gravity: 0.0, ..MassParameters::miller2004() };
-        let m = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(), &mass).unwrap();
+        let m = ExtendedModel::new(RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(), &mass).unwrap();
         let s = m.joint_motion(&Vector3::new(0.0, y, -0.75), &Vector3::from(v), &Vector3::zeros()).unwrap();
         let form = HamiltonForm::new(&m, |_| Vector3::zeros(), 0.0).unwrap();
         let z0 = form.initial_state(&s.q, &s.qd);

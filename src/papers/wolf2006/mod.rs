@@ -23,7 +23,10 @@ use pkm_optimizers::LocalOptimum;
 /// # Errors
 /// [`ExperimentError`] when the problem cannot be built (it always can).
 pub fn section_4_1_problem(lambda: f64) -> Result<StewartTaskProblem, ExperimentError> {
-    pose_report::pose_problem(s4_1::DESIGN, pose_report::section_4_1_twist(lambda))
+    pose_report::pose_problem(
+        pkm_mechanisms::presets::wolf_shoham_stewart_s4_1(),
+        pose_report::section_4_1_twist(lambda),
+    )
 }
 
 /// The seeded multistart maximisation the §4.1 and §4.3 experiments run (20 starts in quick

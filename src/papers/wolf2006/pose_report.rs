@@ -3,7 +3,7 @@
 
 use crate::papers::{Comparison, ExperimentError, Mode, Source};
 use nalgebra::{Isometry3, Vector3};
-use pkm_mechanisms::{JointLayout, StewartTaskProblem};
+use pkm_mechanisms::{StewartDesign, StewartTaskProblem};
 use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
 use pkm_traits::Bounds;
@@ -38,13 +38,12 @@ pub(super) fn section_4_1_twist(lambda: f64) -> Twist {
 
 /// The §4.1 / §4.3 box: $-10 \le p_{x,y} \le 10$, $20 \le p_z \le 50$ (cm), $|\alpha| \le 30°$.
 pub(super) fn pose_problem(
-    design: [f64; 4],
+    design: StewartDesign,
     twist: Twist,
 ) -> Result<StewartTaskProblem, ExperimentError> {
     let xy = Bounds::new(-10.0, 10.0)?;
     Ok(StewartTaskProblem::new(
         design,
-        JointLayout::default(),
         Vector3::new(0.0, 0.0, 35.0),
         Vector3::zeros(),
         twist,

@@ -5,7 +5,9 @@
 use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
-use pkm_mechanisms::{JointLayout, StewartGough, StewartTaskProblem};
+use pkm_mechanisms::{
+    StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, presets,
+};
 use pkm_optimizers::{
     LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
     weighted_combination,
@@ -13,22 +15,23 @@ use pkm_optimizers::{
 use pkm_screw_theory::{Twist, line_set_rank};
 use pkm_traits::{Bounds, Objective};
 
+/// The paper's design [`presets::wolf_shoham_stewart_s4_2`] as the problem's variables
+/// $(x_1, x_2, x_3, x_4)$ (cm, cm, deg, deg).
 const PAPER_DESIGN: [f64; 4] = [3.5, 3.5, 15.0, 15.0];
 
 fn problem(twist: Twist) -> Result<StewartTaskProblem, ExperimentError> {
     let radius = Bounds::new(2.0, 6.0)?;
     let angle = Bounds::new(0.0, 30.0)?;
     Ok(StewartTaskProblem::new(
-        [4.0, 4.0, 15.0, 15.0],
-        JointLayout::default(),
+        StewartDesign::from_deg(4.0, 4.0, 15.0, 15.0),
         Vector3::new(0.0, 0.0, 40.0),
         Vector3::zeros(),
         twist,
     )?
-    .free_design(0, radius)?
-    .free_design(1, radius)?
-    .free_design(2, angle)?
-    .free_design(3, angle)?)
+    .free_design(StewartDesignVariable::BaseRadius, radius)
+    .free_design(StewartDesignVariable::PlatformRadius, radius)
+    .free_design(StewartDesignVariable::BaseSeparationDeg, angle)
+    .free_design(StewartDesignVariable::PlatformSeparationDeg, angle))
 }
 
 fn optimise(
@@ -61,12 +64,7 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         WeightedMean::NormalisedByWeights,
     )?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
-    let paper = StewartGough::new(
-        PAPER_DESIGN[0],
-        PAPER_DESIGN[1],
-        PAPER_DESIGN[2],
-        PAPER_DESIGN[3],
-    )?;
+    let paper = StewartGough::new(presets::wolf_shoham_stewart_s4_2())?;
     let rows: Vec<_> = paper
         .wrench_rows(&pose)?
         .row_iter()

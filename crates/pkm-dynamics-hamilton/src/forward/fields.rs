@@ -121,9 +121,9 @@ impl<'a, F: Fn(f64) -> Vector3<f64>> HamiltonForm<'a, F> {
     /// ```
     /// # use pkm_dynamics_hamilton::{ExtendedModel, MassParameters, DynamicsError};
     /// # use pkm_dynamics_hamilton::forward::HamiltonForm;
-    /// # use pkm_mechanisms::{Placement, RotaryDelta};
+    /// # use pkm_mechanisms::{Placement, RotaryDelta, presets};
     /// # use nalgebra::Vector3;
-    /// let delta = RotaryDelta::nuwar(Placement::canonical())?;
+    /// let delta = RotaryDelta::new(presets::nuwar(Placement::canonical()))?;
     /// let model = ExtendedModel::new(delta, &MassParameters::miller2004())?;
     /// assert!(HamiltonForm::new(&model, |_| Vector3::zeros(), 20.0).is_ok());
     /// assert!(HamiltonForm::new(&model, |_| Vector3::zeros(), -1.0).is_err());
@@ -271,14 +271,14 @@ impl<F: Fn(f64) -> Vector3<f64>> ForwardForm for AccelerationForm<'_, F> {
 mod tests {
     use super::*;
     use crate::MassParameters;
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
     use pkm_traits::IntegrationError;
 
     /// The Delta (α = β = 0) with all three forearm vectors $v_i = C_i - B_i$ zero: the plate on
     /// the vertical axis with every elbow on it, $\cos\theta = (r - R)/L_a$. Then $\Phi_q = 0$ and
     /// the saddle-point matrix has rank 6.
     fn collapsed() -> (ExtendedModel, State) {
-        let delta = RotaryDelta::delta(Placement::canonical()).unwrap();
+        let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
         let model = ExtendedModel::new(delta, &MassParameters::miller2004()).unwrap();
         let theta = ((0.03f64 - 0.194) / 0.26).acos();
         let z = -0.2928 - 0.26 * theta.sin();
@@ -330,7 +330,7 @@ mod tests {
     #[test]
     fn the_canonical_start_is_far_from_singular() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();
@@ -349,7 +349,7 @@ mod tests {
     #[test]
     fn baumgarte_gains_must_be_finite_and_non_negative() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();

@@ -155,13 +155,13 @@ mod tests {
     use crate::inverse::{self, Differencing};
     use crate::trajectory::{CycleReading, Trajectory};
     use crate::{ExtendedModel, MassParameters};
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
 
     #[test]
     #[allow(clippy::print_stdout)]
     fn operation_counts() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();

@@ -13,7 +13,7 @@ mod torques;
 use crate::papers::{Experiment, ExperimentError, LinePlot, LineSeries, SeriesStyle};
 use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm_mechanisms::{Placement, RotaryDelta};
+use pkm_mechanisms::{Placement, RotaryDelta, presets};
 
 /// The experiments of this part of the paper.
 pub fn experiments() -> Vec<Experiment> {
@@ -41,8 +41,8 @@ const CYCLE_TIME: f64 = 0.5;
 
 fn model(robot: Robot, placement: Placement) -> Result<ExtendedModel, ExperimentError> {
     let mechanism = match robot {
-        Robot::Nuwar => RotaryDelta::nuwar(placement)?,
-        Robot::Delta => RotaryDelta::delta(placement)?,
+        Robot::Nuwar => RotaryDelta::new(presets::nuwar(placement))?,
+        Robot::Delta => RotaryDelta::new(presets::miller_delta(placement))?,
     };
     Ok(ExtendedModel::new(
         mechanism,

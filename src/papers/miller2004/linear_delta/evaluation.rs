@@ -1,7 +1,9 @@
 //! The Linear Delta's performance indices for one design, and the weighted utility (Miller 2004,
 //! eqs. 1–4) as an [`Objective`] for the exhaustive search.
 
-use pkm_mechanisms::{CrossSection, LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+use pkm_mechanisms::{
+    CrossSection, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+};
 use pkm_traits::{Bounds, Objective, ObjectiveError, SlicedRegion};
 use pkm_workspace_indices::{
     GaussLegendre, GridMean, GridRule, IndexError, LANES, inverse_condition_number_3x3,
@@ -17,10 +19,10 @@ use std::sync::Mutex;
 /// # Errors
 /// [`ObjectiveError::Infeasible`] for an invalid design.
 pub fn linear_delta(design: &[f64; 4]) -> Result<LinearDelta, ObjectiveError> {
-    Ok(LinearDelta::new(
-        LinearDeltaRatios::from_slice(design),
-        1.0,
-    )?)
+    Ok(LinearDelta::new(LinearDeltaDesign {
+        ratios: LinearDeltaRatios::from_slice(design),
+        yr: 1.0,
+    })?)
 }
 
 /// $1/\kappa(J)$ at $(y, z)$, 0 outside the discs and on their boundaries (serial singularities).
