@@ -50,7 +50,7 @@ pub mod testkit;
 pub mod workspace;
 
 pub use dynamics::{
-    ExtendedInertia, IntegrationError, Integrator, RhsError, StepReport, VectorField,
+    IntegrationError, Integrator, RhsError, StepReport, VectorField,
 };
 pub use error::{DesignError, InvalidInput, KinematicsError, ObjectiveError};
 pub use kinematics::{
@@ -59,6 +59,6 @@ pub use kinematics::{
 };
 pub use lanes::Lanes;
 pub use objective::{Bounds, Constraints, Objective, Residuals};
-pub use progress::{Cancelled, Progress, Silent};
+pub use progress::{CancelOnly, Cancelled, Progress, Silent};
 pub use region::{Extents, SlicedRegion};
 pub use workspace::{ConstrainedWorkspace, ConstraintError, ConstraintKind, WorkspaceConstraint};
