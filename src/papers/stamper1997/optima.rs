@@ -5,10 +5,10 @@
 use super::problem::{Criterion, StamperProblem, design, estimate};
 use crate::papers::{Comparison, Context, ExperimentError, Mode, Outcome, Paper, Source};
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, OptimizeError, augmented_lagrangian, run_multistart,
+    AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, run_multistart,
     uniform_start_points,
 };
-use pkm_traits::{Bounds, Objective};
+use pkm_traits::{Bounds, CancelOnly, Objective};
 use pkm_workspace_indices::{HemisphereEstimate, Sampler};
 
 /// One optimisation study and the design the paper reports.
@@ -95,9 +95,12 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
             .map(feasible_start),
     );
     ctx.progress.check()?;
-    let polished = screened_starts(&problem, &starts, &settings, study.polished_starts);
+    let cancel = CancelOnly(ctx.progress);
+    let polished = screened_starts(&problem, &starts, &settings, study.polished_starts, &cancel);
     ctx.progress.check()?;
-    let best = run_multistart(&polished, |s| augmented_lagrangian(&problem, s, &settings))
+    let best = run_multistart(&polished, |s| {
+        augmented_lagrangian(&problem, Sense::Minimise, s, &settings, &cancel)
+    })
         .into_iter()
         .filter_map(Result::ok)
         .min_by(|a, b| a.value.total_cmp(&b.value))
@@ -217,6 +220,7 @@ fn screened_starts(
     starts: &[Vec<f64>],
     settings: &AugmentedLagrangianSettings,
     polished_starts: usize,
+    cancel: &CancelOnly<'_>,
 ) -> Vec<Vec<f64>> {
     let screening = problem.screening();
     let (max_outer, max_inner) = SCREENING_ITERATIONS;
@@ -226,7 +230,9 @@ fn screened_starts(
         feasibility: SCREENING_FEASIBILITY,
         ..*settings
     };
-    let values = run_multistart(starts, |s| augmented_lagrangian(&screening, s, &short));
+    let values = run_multistart(starts, |s| {
+        augmented_lagrangian(&screening, Sense::Minimise, s, &short, cancel)
+    });
     let mut ranked: Vec<(f64, usize)> = values
         .into_iter()
         .enumerate()

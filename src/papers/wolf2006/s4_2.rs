@@ -7,7 +7,7 @@ use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{JointLayout, StewartGough, StewartTaskProblem};
 use pkm_optimizers::{
-    LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
+    LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,
     weighted_combination,
 };
 use pkm_screw_theory::{Twist, line_set_rank};
@@ -37,14 +37,15 @@ fn optimise(
     context: &Context<'_>,
 ) -> Result<LocalOptimum, ExperimentError> {
     context.progress.check()?;
+    let starts = Multistart::new(context.mode.pick(20, 48), 42);
     Ok(multistart_levenberg_marquardt(
         problem,
         sense,
-        &[],
-        context.mode.pick(20, 48),
-        42,
+        &starts,
         &LmSettings::default(),
-    )?)
+        context.progress,
+    )?
+    .best)
 }
 
 /// Runs §4.2.
@@ -58,7 +59,6 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let combined = weighted_combination(
         &[max_t.design.clone(), min_r.design.clone()],
         &[1.0, 1.0],
-        WeightedMean::NormalisedByWeights,
     )?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
     let paper = StewartGough::new(
