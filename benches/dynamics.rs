@@ -6,9 +6,9 @@
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{BenchmarkGroup, Criterion};
 use pkm::dynamics_hamilton::inverse;
-use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use std::hint::black_box;
 
 /// The CPU time of the benchmarking thread (`/proc/thread-self/schedstat`, ns), beside the wall

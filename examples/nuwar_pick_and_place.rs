@@ -6,10 +6,10 @@
 
 use pkm::dynamics_hamilton::forward::{ForwardForm, HamiltonForm, SampledTorques};
 use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm::integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, integrate};
 use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::traits::Silent;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

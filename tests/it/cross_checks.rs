@@ -3,9 +3,9 @@
 
 use nalgebra::Vector3;
 use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 
 fn max_diff(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> f64 {
     a.iter()

@@ -33,7 +33,14 @@ fn ellipse_cycle() -> Trajectory {
         duration: 0.25,
         reverse: false,
     };
-    Trajectory::new(vec![go, Segment { reverse: true, ..go }]).unwrap()
+    Trajectory::new(vec![
+        go,
+        Segment {
+            reverse: true,
+            ..go
+        },
+    ])
+    .unwrap()
 }
 
 fn lagrangian(m: &ExtendedModel, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {

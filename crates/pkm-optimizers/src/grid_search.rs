@@ -358,7 +358,11 @@ impl RefinementSettings {
     pub fn validate(&self) -> Result<(), OptimizeError> {
         if !(3..=MAX_GRID_NODES).contains(&self.nodes_per_axis) {
             let n = self.nodes_per_axis as f64;
-            return Err(invalid("nodes_per_axis", n, "at least 3, at most MAX_GRID_NODES"));
+            return Err(invalid(
+                "nodes_per_axis",
+                n,
+                "at least 3, at most MAX_GRID_NODES",
+            ));
         }
         Ok(())
     }

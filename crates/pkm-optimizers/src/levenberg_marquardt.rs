@@ -208,7 +208,14 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
     settings.validate()?;
     progress.start("Levenberg-Marquardt", settings.max_iterations as u64);
     let counted = Counted::new(problem);
-    let result = run(&counted, sense, start, settings, progress, Report::Iterations);
+    let result = run(
+        &counted,
+        sense,
+        start,
+        settings,
+        progress,
+        Report::Iterations,
+    );
     progress.finish();
     result
 }
@@ -453,7 +460,10 @@ pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
         evaluations += n;
         match outcome {
             Ok(o) => {
-                if best.as_ref().is_none_or(|b| sense.improves(o.value, b.value)) {
+                if best
+                    .as_ref()
+                    .is_none_or(|b| sense.improves(o.value, b.value))
+                {
                     best = Some(o);
                 }
             }
@@ -516,7 +526,13 @@ fn residuals_and_jacobian<P: Residuals + ?Sized>(
     }
     problem.residuals(p, &mut r)?;
     let bounds = problem.problem.bounds();
-    let a = finite_differences::jacobian(&|q: &[f64], out: &mut [f64]| problem.residuals(q, out), bounds, p, m, rel)?;
+    let a = finite_differences::jacobian(
+        &|q: &[f64], out: &mut [f64]| problem.residuals(q, out),
+        bounds,
+        p,
+        m,
+        rel,
+    )?;
     Ok((r, Mat::from_fn(m, n, |i, j| a[i * n + j])))
 }
 

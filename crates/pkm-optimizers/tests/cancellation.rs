@@ -100,8 +100,15 @@ fn a_cancelled_levenberg_marquardt_stops_within_its_iteration() {
     let settings = LmSettings::default();
     let full = Counted::new();
     let done = levenberg_marquardt(&full, Sense::Minimise, &START, &settings, &Silent).unwrap();
-    assert!(done.termination.converged() && done.iterations > 4, "{done:?}");
-    assert_eq!(done.evaluations, full.count(), "the reported count is the problem's");
+    assert!(
+        done.termination.converged() && done.iterations > 4,
+        "{done:?}"
+    );
+    assert_eq!(
+        done.evaluations,
+        full.count(),
+        "the reported count is the problem's"
+    );
     // Cancelled once 3 iterations have begun: no more work than a run limited to 3 iterations.
     let three = Counted::new();
     let limited = LmSettings {
@@ -148,7 +155,11 @@ fn a_cancelled_multistart_runs_no_start_after_the_cancellation() {
     let m = Multistart::new(1 << 12, 5);
     let e = multistart_levenberg_marquardt(&parallel, Sense::Minimise, &m, &settings, &progress);
     assert_eq!(e, Err(OptimizeError::Cancelled));
-    assert!(parallel.count() < 64 * done.evaluations, "{}", parallel.count());
+    assert!(
+        parallel.count() < 64 * done.evaluations,
+        "{}",
+        parallel.count()
+    );
 }
 
 #[test]
@@ -156,7 +167,10 @@ fn a_cancelled_augmented_lagrangian_stops_within_its_outer_iteration() {
     let settings = AugmentedLagrangianSettings::default();
     let full = Counted::new();
     let done = augmented_lagrangian(&full, Sense::Minimise, &START, &settings, &Silent).unwrap();
-    assert!(done.termination.converged() && done.outer_iterations > 1, "{done:?}");
+    assert!(
+        done.termination.converged() && done.outer_iterations > 1,
+        "{done:?}"
+    );
     assert_eq!(done.evaluations, full.count());
     assert!(done.inner_iterations >= done.outer_iterations);
     let once = Counted::new();
@@ -171,7 +185,11 @@ fn a_cancelled_augmented_lagrangian_stops_within_its_outer_iteration() {
     let progress = CancelAfter::new(1);
     let e = augmented_lagrangian(&cancelled, Sense::Minimise, &START, &settings, &progress);
     assert_eq!(e, Err(OptimizeError::Cancelled));
-    assert!(cancelled.count() <= bound.evaluations, "{}", cancelled.count());
+    assert!(
+        cancelled.count() <= bound.evaluations,
+        "{}",
+        cancelled.count()
+    );
 }
 
 #[test]
@@ -211,8 +229,8 @@ fn maximising_is_a_sense_in_every_solver() {
     let b = Bounds::new(-5.0, 5.0).unwrap();
     let problem = Negated([b, b]);
     let settings = AugmentedLagrangianSettings::default();
-    let r = augmented_lagrangian(&problem, Sense::Maximise, &[2.0, -1.0], &settings, &Silent)
-        .unwrap();
+    let r =
+        augmented_lagrangian(&problem, Sense::Maximise, &[2.0, -1.0], &settings, &Silent).unwrap();
     assert!(r.termination.converged(), "{r:?}");
     assert!((r.value + 0.5).abs() < 1e-5, "{r:?}");
     assert!(r.design.iter().all(|x| (x - 0.5).abs() < 1e-5), "{r:?}");
@@ -222,7 +240,7 @@ fn maximising_is_a_sense_in_every_solver() {
     assert_eq!(best.best, vec![0.0, 0.0]);
     let worst = grid_search(&problem, Sense::Minimise, &grid, &Silent).unwrap();
     assert_eq!(worst.best, vec![-5.0, -5.0]);
-    assert_eq!(worst.best_value, -50.0);
+    assert!((worst.best_value + 50.0).abs() < 1e-12);
 }
 
 #[test]
@@ -267,7 +285,13 @@ fn settings_refuse_hostile_values() {
             &Silent,
         );
         assert!(
-            matches!(e, Err(OptimizeError::InvalidSetting { setting: "starts", .. })),
+            matches!(
+                e,
+                Err(OptimizeError::InvalidSetting {
+                    setting: "starts",
+                    ..
+                })
+            ),
             "{e:?}"
         );
     }

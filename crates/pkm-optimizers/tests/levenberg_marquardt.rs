@@ -208,8 +208,14 @@ fn a_variable_fixed_by_equal_bounds_stays_put_and_reports_finite_numbers() {
 fn termination_tells_convergence_from_the_iteration_limit() {
     let problem = Rosenbrock::new(true);
     let start = [-1.2, 1.0];
-    let converged =
-        levenberg_marquardt(&problem, Sense::Minimise, &start, &LmSettings::default(), &Silent).unwrap();
+    let converged = levenberg_marquardt(
+        &problem,
+        Sense::Minimise,
+        &start,
+        &LmSettings::default(),
+        &Silent,
+    )
+    .unwrap();
     assert!(converged.termination.converged(), "{converged:?}");
     assert!(converged.iterations < LmSettings::default().max_iterations);
     let one = LmSettings {
@@ -276,8 +282,14 @@ impl Residuals for Kink {
 #[test]
 fn an_objective_that_never_improves_reports_a_stall() {
     let problem = Kink([Bounds::new(-1.0, 1.0).unwrap()]);
-    let stalled =
-        levenberg_marquardt(&problem, Sense::Minimise, &[KINK], &LmSettings::default(), &Silent).unwrap();
+    let stalled = levenberg_marquardt(
+        &problem,
+        Sense::Minimise,
+        &[KINK],
+        &LmSettings::default(),
+        &Silent,
+    )
+    .unwrap();
     assert_eq!(stalled.termination, Termination::Stalled, "{stalled:?}");
     assert_eq!(stalled.iterations, 1);
     assert!(stalled.free_gradient_norm() > 1.0, "{stalled:?}");

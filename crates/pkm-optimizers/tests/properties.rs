@@ -3,7 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use pkm_optimizers::{
-    GridAxis, GridSearch, LatticeLevel, RefinementSettings, Sense, lattice_refined_search, refined_grid_search,
+    GridAxis, GridSearch, LatticeLevel, RefinementSettings, Sense, lattice_refined_search,
+    refined_grid_search,
 };
 use pkm_traits::{Bounds, Objective, ObjectiveError, Silent};
 use proptest::prelude::*;

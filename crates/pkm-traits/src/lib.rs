@@ -49,9 +49,7 @@ pub mod region;
 pub mod testkit;
 pub mod workspace;
 
-pub use dynamics::{
-    IntegrationError, Integrator, RhsError, StepReport, VectorField,
-};
+pub use dynamics::{IntegrationError, Integrator, RhsError, StepReport, VectorField};
 pub use error::{DesignError, InvalidInput, KinematicsError, ObjectiveError};
 pub use kinematics::{
     ClosedChain, ForwardKinematics, InverseKinematics, Joints, NewtonSettings, Task,

@@ -56,10 +56,8 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let (p_t, p_r) = (problem(translation)?, problem(rotation)?);
     let max_t = optimise(&p_t, Sense::Maximise, context)?;
     let min_r = optimise(&p_r, Sense::Minimise, context)?;
-    let combined = weighted_combination(
-        &[max_t.design.clone(), min_r.design.clone()],
-        &[1.0, 1.0],
-    )?;
+    let combined =
+        weighted_combination(&[max_t.design.clone(), min_r.design.clone()], &[1.0, 1.0])?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
     let paper = StewartGough::new(
         PAPER_DESIGN[0],

@@ -6,8 +6,7 @@ use pkm::papers::wolf2006::eq15_as_printed;
 use pkm_optimizers::{
     AugmentedLagrangianSettings, GridAxis, GridSearch, LatticeLevel, LmSettings, Multistart,
     RefinementSettings, Sense, augmented_lagrangian, grid_search, lattice_refined_search,
-    levenberg_marquardt, multistart_levenberg_marquardt, refined_grid_search,
-    weighted_combination,
+    levenberg_marquardt, multistart_levenberg_marquardt, refined_grid_search, weighted_combination,
 };
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent};
 use proptest::prelude::*;
@@ -164,7 +163,7 @@ proptest! {
         let multistart = Multistart::new(starts, seed).with_extra_starts(vec![vec![0.0; 3]; extra]);
         judge("Multistart::validate", || multistart.validate(), |_| {
             let total = starts.saturating_add(extra);
-            total >= 1 && total <= pkm_optimizers::MAX_STARTS
+            (1..=pkm_optimizers::MAX_STARTS).contains(&total)
         })?;
         if starts > 64 {
             // Large counts: refused or (up to MAX_STARTS) accepted, but not run here.
@@ -220,7 +219,9 @@ fn huge_counts_are_refused_before_allocating() {
     // Each axis is admissible, their product is not.
     let wide = GridAxis::new(0.0, 1.0, 1 << 13).unwrap();
     for keep in [false, true] {
-        super::expect(judge_err("GridSearch::new (huge)", || grid(vec![wide, wide], keep)));
+        super::expect(judge_err("GridSearch::new (huge)", || {
+            grid(vec![wide, wide], keep)
+        }));
     }
     super::expect(judge_err("GridSearch::new (no axis)", || {
         GridSearch::new(Vec::new())
@@ -238,7 +239,14 @@ fn huge_counts_are_refused_before_allocating() {
         max_levels: 3,
     };
     super::expect(judge_err("refined_grid_search (huge)", || {
-        refined_grid_search(&bowl, Sense::Minimise, &coarse, &[1e-3; 2], &settings, &Silent)
+        refined_grid_search(
+            &bowl,
+            Sense::Minimise,
+            &coarse,
+            &[1e-3; 2],
+            &settings,
+            &Silent,
+        )
     }));
     let settings = LmSettings {
         max_iterations: 5,

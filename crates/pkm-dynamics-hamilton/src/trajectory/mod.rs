@@ -133,7 +133,10 @@ pub(crate) mod tests {
             duration: duration / 2.0,
             reverse: false,
         };
-        let back = Segment { reverse: true, ..go };
+        let back = Segment {
+            reverse: true,
+            ..go
+        };
         Trajectory::new(vec![go, back]).unwrap_or_else(|e| panic!("{e}"))
     }
 

@@ -1,9 +1,9 @@
 //! Miller's elliptical pick-and-place cycle (§3.5) and the two readings of its cycle time,
 //! built from the general [`Trajectory`] of `pkm-dynamics-hamilton`.
 
+use nalgebra::Vector3;
 use pkm_dynamics_hamilton::DynamicsError;
 use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
-use nalgebra::Vector3;
 use std::f64::consts::PI;
 
 /// How "time to traverse the ellipse … and back to the start point → 0.5 s" is read.

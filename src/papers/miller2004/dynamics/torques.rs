@@ -2,13 +2,13 @@
 //! torques along it (Fig. 8) by Hamilton and Lagrange, and the Delta/NUWAR ratio.
 
 use super::{CYCLE_TIME, DT, Robot, canonical_trajectory, lines, model, placement_at};
+use super::{CycleReading, pick_and_place};
 use crate::papers::{
     Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source, Table,
     Verdict,
 };
 use nalgebra::Vector3;
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use super::{CycleReading, pick_and_place};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
 use pkm_mechanisms::Placement;
 

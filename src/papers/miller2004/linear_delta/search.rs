@@ -98,7 +98,7 @@ pub fn optimise(
     let coarse = GridSearch::new(coarse)?;
     let middle = lattice_refined_search(
         &coarse_utility,
-        Sense::Minimise,
+        Sense::Maximise,
         &coarse,
         &[MIDDLE],
         context.progress,
@@ -107,7 +107,7 @@ pub fn optimise(
     let window = GridSearch::new(lattice_window(&bounds, coarse.axes(), &middle.best, &FINE)?)?;
     let fine = lattice_refined_search(
         &fine_utility,
-        Sense::Minimise,
+        Sense::Maximise,
         &window,
         &[FINE],
         context.progress,
