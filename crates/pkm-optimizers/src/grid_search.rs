@@ -6,6 +6,7 @@
 
 use crate::error::OptimizeError;
 use crate::sense::Sense;
+use crate::termination::Termination;
 use pkm_traits::{Objective, ObjectiveError, Progress};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -159,6 +160,13 @@ pub struct GridResult {
     pub infeasible: usize,
     /// The landscape of the first (coarse) grid, when it was asked for.
     pub landscape: Option<Landscape>,
+    /// Why the search stopped: [`grid_search`] always after every node
+    /// ([`Termination::Converged`], criterion `"every node evaluated"`); [`refined_grid_search`]
+    /// with criterion `"resolution reached"`, or [`Termination::MaxIterations`] after
+    /// [`RefinementSettings::max_levels`] levels with a spacing still above the resolution;
+    /// [`crate::lattice_refined_search`] with criterion `"optimum inside every window"`, or
+    /// [`Termination::MaxIterations`] when a level's window still moved after its last repeat.
+    pub termination: Termination,
 }
 
 fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
@@ -336,6 +344,9 @@ pub fn grid_search<O: Objective + ?Sized>(
             axes: axes.to_vec(),
             values: landscape_values,
         }),
+        termination: Termination::Converged {
+            criterion: "every node evaluated",
+        },
     })
 }
 
@@ -406,8 +417,9 @@ pub fn refined_grid_search<O: Objective + ?Sized>(
     settings.validate()?;
     let mut result = grid_search(objective, sense, coarse, progress)?;
     let mut axes = coarse.axes.clone();
+    let resolved = |axes: &[GridAxis]| axes.iter().zip(resolution).all(|(a, r)| a.step() <= *r);
     for _ in 0..settings.max_levels {
-        if axes.iter().zip(resolution).all(|(a, r)| a.step() <= *r) {
+        if resolved(&axes) {
             break;
         }
         axes = refined_axes(
@@ -425,6 +437,13 @@ pub fn refined_grid_search<O: Objective + ?Sized>(
             result.best_value = level.best_value;
         }
     }
+    result.termination = if resolved(&axes) {
+        Termination::Converged {
+            criterion: "resolution reached",
+        }
+    } else {
+        Termination::MaxIterations
+    };
     Ok(result)
 }
 

@@ -5,7 +5,7 @@
 //! on the lattice of its own step, so the optimum is reported on the same lattice as a paper
 //! that tabulates its designs to two decimals.
 
-use crate::{GridAxis, GridResult, GridSearch, OptimizeError, Sense, grid_search};
+use crate::{GridAxis, GridResult, GridSearch, OptimizeError, Sense, Termination, grid_search};
 use pkm_traits::{Bounds, Objective, Progress};
 
 /// One refinement level of [`lattice_refined_search`].
@@ -35,6 +35,8 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
 ) -> Result<GridResult, OptimizeError> {
     let mut result = grid_search(objective, sense, coarse, progress)?;
     let coarse = coarse.axes();
+    // Whether some level's window still moved after its last repeat.
+    let mut exhausted = false;
     for level in levels {
         if !(level.step > 0.0 && level.step.is_finite()) {
             return Err(OptimizeError::InvalidSetting {
@@ -43,6 +45,7 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
                 requirement: "must be finite and > 0",
             });
         }
+        let mut window_moved = false;
         for _ in 0..MAX_REPEATS {
             let axes = lattice_window(objective.bounds(), coarse, &result.best, level)?;
             let local = grid_search(objective, sense, &GridSearch::new(axes.clone())?, progress)?;
@@ -53,11 +56,21 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
                 result.best_value = local.best_value;
                 result.best = local.best;
             }
-            if !(improved && on_open_edge(&axes, &result.best, objective.bounds(), level.step)) {
+            window_moved =
+                improved && on_open_edge(&axes, &result.best, objective.bounds(), level.step);
+            if !window_moved {
                 break;
             }
         }
+        exhausted |= window_moved;
     }
+    result.termination = if exhausted {
+        Termination::MaxIterations
+    } else {
+        Termination::Converged {
+            criterion: "optimum inside every window",
+        }
+    };
     Ok(result)
 }
 

@@ -13,8 +13,8 @@
 //!   work through it and checks [`pkm_traits::Progress::is_cancelled`] at least once per
 //!   iteration (or per evaluation). A cancelled run returns [`OptimizeError::Cancelled`], never
 //!   a partial result, so `?` carries a Ctrl-C through a whole study.
-//! - *Why it stopped.* The result of every iterative solver carries a [`Termination`] and its
-//!   counts (iterations, evaluations).
+//! - *Why it stopped.* The result of every solver carries a [`Termination`] and its counts
+//!   (iterations and evaluations; nodes for the grid searches).
 //! - *Derivatives.* Every finite difference goes through [`finite_differences`].
 //!
 //! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel
