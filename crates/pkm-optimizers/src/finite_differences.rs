@@ -19,13 +19,13 @@ use pkm_traits::{Bounds, ObjectiveError};
 
 /// Default relative step $\epsilon$ of first differences ([`crate::LmSettings::fd_step`],
 /// [`crate::AugmentedLagrangianSettings::fd_step`]), of the order of
-/// $\sqrt[3]{\varepsilon_{\mathrm{mach}}} \approx 6\cdot10^{-6}$, where the $O(h^2)$ truncation
+/// $\varepsilon_{\mathrm{mach}}^{1/3} \approx 6\cdot10^{-6}$, where the $O(h^2)$ truncation
 /// and the $O(\varepsilon_{\mathrm{mach}}/h)$ rounding of a central difference balance.
 pub const RELATIVE_STEP: f64 = 1e-6;
 
 /// Relative step of the central second differences, of the order of
-/// $\sqrt[4]{\varepsilon_{\mathrm{mach}}} \approx 10^{-4}$, where the $O(h^2)$ truncation and $O(\varepsilon_{\mathrm{mach}}/h^2)$ rounding of a
-/// second difference balance.
+/// $\varepsilon_{\mathrm{mach}}^{1/4} \approx 10^{-4}$, where the $O(h^2)$ truncation and the
+/// $O(\varepsilon_{\mathrm{mach}}/h^2)$ rounding of a second difference balance.
 pub const HESSIAN_RELATIVE_STEP: f64 = 1e-4;
 
 /// Smallest interval width used to scale a step, so that a zero-width interval still gets a

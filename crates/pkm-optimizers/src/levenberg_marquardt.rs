@@ -476,7 +476,8 @@ pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
     }
     let best = best.ok_or(OptimizeError::NoFeasibleDesign {
         evaluations: starts.len(),
-        last_reason: last_error.unwrap_or_else(|| "no starts".to_owned()),
+        // At least one start ran (validated), and every one ended infeasible.
+        last_reason: last_error.unwrap_or_default(),
     })?;
     Ok(MultistartOptimum {
         best,
