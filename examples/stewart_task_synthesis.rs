@@ -7,9 +7,9 @@
 
 use nalgebra::Vector3;
 use pkm_mechanisms::{StewartDesign, StewartTaskProblem};
-use pkm_optimizers::{LmSettings, Sense, multistart_levenberg_marquardt};
+use pkm_optimizers::{LmSettings, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
-use pkm_traits::Bounds;
+use pkm_traits::{Bounds, Silent};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Base radius x1, platform radius x2 (cm), base and platform joint separations x3, x4
@@ -33,11 +33,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let best = multistart_levenberg_marquardt(
         &problem,
         Sense::Maximise,
-        &[],
-        32,
-        7,
+        &Multistart::new(32, 7),
         &LmSettings::default(),
-    )?;
+        &Silent,
+    )?
+    .best;
     let (_, pose) = problem.evaluate(&best.design)?;
     let w = pose.rotation.scaled_axis();
     println!("F = {:.3}", best.value);

@@ -6,7 +6,7 @@
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3, Vector6};
 use pkm_dynamics_hamilton::forward::{AccelerationForm, HamiltonForm};
-use pkm_dynamics_hamilton::{DynamicsError, ExtendedModel, MassParameters};
+use pkm_dynamics_hamilton::{ConfigurationError, ExtendedModel, MassParameters};
 use pkm_mechanisms::{Placement, RotaryDelta, presets};
 use pkm_traits::VectorField;
 use proptest::prelude::*;
@@ -168,7 +168,7 @@ fn a_singular_phi_x_is_a_typed_error() {
     assert!(
         matches!(
             e,
-            DynamicsError::Singular {
+            ConfigurationError::Singular {
                 matrix: "Phi_x^T",
                 ..
             }

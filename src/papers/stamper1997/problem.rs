@@ -102,10 +102,10 @@ impl Objective for StamperProblem<'_> {
         self.check_dimension(x)?;
         let d = design(&self.evaluated(x))?;
         match self.criterion {
-            Criterion::Volume { ngrid } => Ok(-d.column_volume(ngrid)?),
+            Criterion::Volume { ngrid } => Ok(d.column_volume(ngrid)?),
             Criterion::Gci => {
                 estimate(&d, self.points)
-                    .map(|e| -e.gci)
+                    .map(|e| e.gci)
                     .map_err(|e| ObjectiveError::Infeasible {
                         reason: e.to_string(),
                     })

@@ -4,9 +4,9 @@
 use crate::papers::{Comparison, ExperimentError, Mode, Source};
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{StewartDesign, StewartTaskProblem};
-use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
+use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
-use pkm_traits::Bounds;
+use pkm_traits::{Bounds, Progress};
 
 /// $F$ at the paper's printed pose and at pkm's optimum, each against the printed `paper_f` with
 /// the 2 % tolerance of spec §6 (F is flat in orientation, so F values are compared, not
@@ -58,15 +58,17 @@ pub(super) fn pose_problem(
 pub(super) fn maximise(
     problem: &StewartTaskProblem,
     mode: Mode,
+    progress: &dyn Progress,
 ) -> Result<LocalOptimum, ExperimentError> {
+    let starts = Multistart::new(mode.pick(20, 64), 2006);
     Ok(multistart_levenberg_marquardt(
         problem,
         Sense::Maximise,
-        &[],
-        mode.pick(20, 64),
-        2006,
+        &starts,
         &LmSettings::default(),
-    )?)
+        progress,
+    )?
+    .best)
 }
 
 /// A pose printed by the paper: position, axis n (any length), angle α in degrees.

@@ -63,7 +63,7 @@ fn run(
     let f_paper_pose = mechanism.task_objective(&paper.isometry()?, &twist)?;
     context.progress.check()?;
     let problem = pose_problem(presets::wolf_shoham_stewart_s4_1(), twist)?;
-    let optimum = maximise(&problem, context.mode)?;
+    let optimum = maximise(&problem, context.mode, context.progress)?;
     let (_, pose) = problem.evaluate(&optimum.design)?;
     let note = "F at the paper's printed pose (n normalised), same-pattern layout";
     let [mut f_row, mut optimum_row] =

@@ -9,7 +9,7 @@ use pkm_mechanisms::{
     StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, presets,
 };
 use pkm_optimizers::{
-    LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
+    LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,
     weighted_combination,
 };
 use pkm_screw_theory::{Twist, line_set_rank};
@@ -40,14 +40,15 @@ fn optimise(
     context: &Context<'_>,
 ) -> Result<LocalOptimum, ExperimentError> {
     context.progress.check()?;
+    let starts = Multistart::new(context.mode.pick(20, 48), 42);
     Ok(multistart_levenberg_marquardt(
         problem,
         sense,
-        &[],
-        context.mode.pick(20, 48),
-        42,
+        &starts,
         &LmSettings::default(),
-    )?)
+        context.progress,
+    )?
+    .best)
 }
 
 /// Runs §4.2.
@@ -58,11 +59,8 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let (p_t, p_r) = (problem(translation)?, problem(rotation)?);
     let max_t = optimise(&p_t, Sense::Maximise, context)?;
     let min_r = optimise(&p_r, Sense::Minimise, context)?;
-    let combined = weighted_combination(
-        &[max_t.design.clone(), min_r.design.clone()],
-        &[1.0, 1.0],
-        WeightedMean::NormalisedByWeights,
-    )?;
+    let combined =
+        weighted_combination(&[max_t.design.clone(), min_r.design.clone()], &[1.0, 1.0])?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
     let paper = StewartGough::new(presets::wolf_shoham_stewart_s4_2())?;
     let rows: Vec<_> = paper

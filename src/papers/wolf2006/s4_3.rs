@@ -28,7 +28,7 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         StewartDesignVariable::PlatformSeparationDeg,
         Bounds::new(0.0, 30.0)?,
     );
-    let optimum = maximise(&problem, context.mode)?;
+    let optimum = maximise(&problem, context.mode, context.progress)?;
     let (mechanism, pose) = problem.evaluate(&optimum.design)?;
     let paper_f = 524.7;
     let note = "F at the paper's printed pose and upper angle 21.1 deg";

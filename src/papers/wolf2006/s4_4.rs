@@ -8,7 +8,7 @@ use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
 use pkm_mechanisms::{ThreeUpu, ThreeUpuDesign, UJointAxes, presets};
-use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
+use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
 
@@ -113,14 +113,15 @@ fn optimise(
         bounds: [tilt; 6],
     };
     context.progress.check()?;
+    let starts = Multistart::new(context.mode.pick(20, 32), 18);
     let optimum = multistart_levenberg_marquardt(
         &problem,
         sense,
-        &[],
-        context.mode.pick(20, 32),
-        18,
+        &starts,
         &LmSettings::default(),
-    )?;
+        context.progress,
+    )?
+    .best;
     Ok((optimum, problem))
 }
 

@@ -153,7 +153,6 @@ pub(crate) fn per_sample(
 mod tests {
     use super::*;
     use crate::inverse::{self, Differencing};
-    use crate::trajectory::{CycleReading, Trajectory};
     use crate::{ExtendedModel, MassParameters};
     use pkm_mechanisms::{Placement, RotaryDelta, presets};
 
@@ -165,7 +164,7 @@ mod tests {
             &MassParameters::miller2004(),
         )
         .unwrap();
-        let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+        let trajectory = crate::trajectory::tests::ellipse_cycle(0.5);
         let dt = 1e-3;
         let samples = inverse::sample(&model, &trajectory, dt).unwrap();
         let state = |k: usize| (samples[k].1.q, samples[k].1.qd, samples[k].1.qdd);

@@ -300,7 +300,7 @@ fn evaluate_missing(
     (eta1, eta2)
 }
 
-/// The utility $\eta = w_1\eta_1 + w_2\eta_2$ (eq. 3), negated for minimisation.
+/// The utility $\eta = w_1\eta_1 + w_2\eta_2$ (eq. 3), to be maximised (`Sense::Maximise`).
 #[derive(Debug)]
 pub struct Utility<'a> {
     /// Weight of manipulability.
@@ -348,7 +348,7 @@ impl Objective for Utility<'_> {
             expected: 4,
             got: design.len(),
         })?;
-        Ok(-self.indices(&design)?[2])
+        Ok(self.indices(&design)?[2])
     }
 }
 
