@@ -4,6 +4,8 @@
 
 pub mod commands;
 mod error;
+pub mod grid;
+pub mod indices;
 pub mod output;
 pub mod plot;
 pub mod progress;

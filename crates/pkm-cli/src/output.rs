@@ -91,10 +91,14 @@ impl Output {
     pub fn write_csv(
         &mut self,
         name: &str,
-        header: &[&str],
+        header: &[impl AsRef<str>],
         rows: impl IntoIterator<Item = Vec<String>>,
     ) -> Result<PathBuf, CliError> {
-        let mut text = header.join(",");
+        let mut text = header
+            .iter()
+            .map(AsRef::as_ref)
+            .collect::<Vec<_>>()
+            .join(",");
         text.push('\n');
         for row in rows {
             let _ = writeln!(text, "{}", row.join(","));

@@ -73,4 +73,10 @@ macro_rules! subcommands {
 subcommands! {
     /// Workspace volume ± standard error, η and GCI, slices and cross-sections of one design.
     Workspace => workspace,
+    /// Exhaustive grid over design variables, weighted utility, refinement, landscape.
+    Sweep => sweep,
+    /// Non-dominated designs of two or more indices and the weights that select each.
+    Pareto => pareto,
+    /// Joins the outputs of `--shard 1/N … N/N` into the result of a single run.
+    Merge => merge,
 }
