@@ -6,12 +6,11 @@ use crate::CliError;
 use crate::commands::workspace::constraints_of;
 use crate::indices::{Evaluator, IndexName, IndexSettings};
 use crate::study::StudyFile;
-use crate::study::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
+use crate::study::mechanism::{ConstraintsSpec, MechanismSpec};
 use crate::study::sampling::SamplingSpec;
 use crate::study::units::Real;
 use pkm_optimizers::{GridAxis, MAX_GRID_NODES};
-use pkm_traits::{ConstrainedWorkspace, Progress};
-use pkm_workspace_indices::Workspace;
+use pkm_traits::Progress;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -151,13 +150,6 @@ pub struct Prepared {
     pub evaluator: Evaluator,
 }
 
-struct CheckOnly;
-
-impl WorkspaceVisitor for CheckOnly {
-    type Output = ();
-    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(self, _: &Workspace<'_, M>) {}
-}
-
 /// The axis of one variable.
 fn axis<T>(file: &StudyFile<T>, v: &VariableSpec) -> Result<GridAxis, CliError> {
     let (from, to) = (v.from.0, v.to.0);
@@ -236,11 +228,6 @@ pub fn prepare(
         }
     }
     let constraints = constraints_of(file, &study.mechanism, study.constraints.as_ref())?;
-    if let Err(BuildError::Constraint(m)) = study.mechanism.with_workspace(&constraints, CheckOnly)
-    {
-        let span = study.constraints.as_ref().map_or(0..0, Spanned::span);
-        return Err(file.error_at(span, format!("[constraints]: {m}")));
-    }
     let points = match indices.iter().find(|(i, _)| i.needs_points()) {
         None => None,
         Some((index, span)) => {
@@ -356,9 +343,17 @@ pub fn landscape_header<'a>(
     header
 }
 
+/// What [`evaluate_or_write_shard`] did.
+#[derive(Debug)]
+pub enum GridOutcome {
+    /// A part of a split grid was written; the summary.
+    Shard(crate::Report),
+    /// Every node's outcome, for the command to finish.
+    Whole(Vec<NodeOutcome>),
+}
+
 /// Evaluates the nodes of `shard`. For a part of a split grid (N > 1) it writes that part's
-/// `results.json` (what `pkm merge` joins) and returns `None`; for the whole grid it returns
-/// every node's outcome for the command to finish.
+/// `results.json` (what `pkm merge` joins); for the whole grid it returns every node's outcome.
 ///
 /// # Errors
 /// As [`evaluate_nodes`]; I/O errors.
@@ -370,8 +365,7 @@ pub fn evaluate_or_write_shard(
     settings: IndexSettings,
     shard: Shard,
     context: &crate::Context,
-    report: &mut crate::Report,
-) -> Result<Option<Vec<NodeOutcome>>, CliError> {
+) -> Result<GridOutcome, CliError> {
     let total = prepared.grid.len();
     let range = shard.nodes(total);
     context.progress.phase("evaluating the grid");
@@ -383,8 +377,9 @@ pub fn evaluate_or_write_shard(
         &context.progress,
     )?;
     if shard.count == 1 {
-        return Ok(Some(outcomes));
+        return Ok(GridOutcome::Whole(outcomes));
     }
+    let mut report = crate::Report::default();
     let feasible = outcomes.iter().filter(|o| o.is_ok()).count();
     report.line(format!(
         "shard {}/{}: nodes {}..{} of {total} ({feasible} feasible); join the shards with pkm merge",
@@ -400,5 +395,5 @@ pub fn evaluate_or_write_shard(
     };
     let path = out.finish(command, echo, result)?;
     report.line(format!("wrote {}", path.display()));
-    Ok(None)
+    Ok(GridOutcome::Shard(report))
 }

@@ -23,9 +23,19 @@ fn f(v: &serde_json::Value) -> f64 {
 #[test]
 fn nuwar_workspace_matches_the_library() {
     let out = tempfile::tempdir().unwrap();
-    let results = run_study("workspace", &study("nuwar_workspace_quick.toml"), out.path(), &[]);
+    let results = run_study(
+        "workspace",
+        &study("nuwar_workspace_quick.toml"),
+        out.path(),
+        &[],
+    );
     assert_eq!(results["schema"], "pkm-cli/results/v1");
-    assert!(results["study"]["text"].as_str().unwrap().contains("rotary_delta"));
+    assert!(
+        results["study"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("rotary_delta")
+    );
 
     let placement = Placement {
         motor_plane_z: 0.0,
@@ -86,7 +96,19 @@ fn tsai_sweep_matches_the_library_and_refines_upwards() {
     .unwrap();
     let points = PointSet::new(domain, Sampler::Sobol { seed: 7 }, 2048, 2).unwrap();
     let (header, rows) = csv(&out.path().join("landscape.csv"));
-    assert_eq!(header, ["node", "a", "b", "volume", "eta", "gci", "utility", "infeasible"]);
+    assert_eq!(
+        header,
+        [
+            "node",
+            "a",
+            "b",
+            "volume",
+            "eta",
+            "gci",
+            "utility",
+            "infeasible"
+        ]
+    );
     assert_eq!(rows.len(), 9);
     let mut best: Option<(usize, f64)> = None;
     for (k, row) in rows.iter().enumerate() {
@@ -117,7 +139,12 @@ fn tsai_sweep_matches_the_library_and_refines_upwards() {
 #[test]
 fn linear_delta_row4_study_gives_the_experiments_optimum() {
     let out = tempfile::tempdir().unwrap();
-    let results = run_study("sweep", &study("linear_delta_row4_quick.toml"), out.path(), &[]);
+    let results = run_study(
+        "sweep",
+        &study("linear_delta_row4_quick.toml"),
+        out.path(),
+        &[],
+    );
     let context = Context {
         mode: Mode::Quick,
         progress: &Silent,
@@ -127,17 +154,33 @@ fn linear_delta_row4_study_gives_the_experiments_optimum() {
     let names = ["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1"];
     for (name, expected) in names.iter().zip(experiment.design) {
         let got = f(&optimum["design"][name]);
-        assert!(close(got, expected, SAME), "{name}: study {got}, experiment {expected}");
+        assert!(
+            close(got, expected, SAME),
+            "{name}: study {got}, experiment {expected}"
+        );
     }
-    assert!(close(f(&optimum["indices"]["eta1"]), experiment.indices[0], SAME));
-    assert!(close(f(&optimum["indices"]["eta2"]), experiment.indices[1], SAME));
+    assert!(close(
+        f(&optimum["indices"]["eta1"]),
+        experiment.indices[0],
+        SAME
+    ));
+    assert!(close(
+        f(&optimum["indices"]["eta2"]),
+        experiment.indices[1],
+        SAME
+    ));
     assert!(close(f(&optimum["utility"]), experiment.indices[2], SAME));
 }
 
 #[test]
 fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
     let out = tempfile::tempdir().unwrap();
-    let results = run_study("pareto", &study("linear_delta_pareto_quick.toml"), out.path(), &[]);
+    let results = run_study(
+        "pareto",
+        &study("linear_delta_pareto_quick.toml"),
+        out.path(),
+        &[],
+    );
     let (header, rows) = csv(&out.path().join("landscape.csv"));
     assert_eq!(header[1..4], ["l1_over_yr", "zr_over_yr", "l2_over_l1"]);
     // (node, η1, η2) of every feasible node, straight from the library.
@@ -147,18 +190,30 @@ fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
             let v: Vec<f64> = row[1..4].iter().map(|c| c.parse().unwrap()).collect();
             let design = [v[0], 0.0, v[1], v[2]];
             let (Ok(e1), Ok(e2)) = (eta1(&design, 8), eta2(&design)) else {
-                assert!(row[4].is_empty(), "infeasible for the library, not for pkm: {row:?}");
+                assert!(
+                    row[4].is_empty(),
+                    "infeasible for the library, not for pkm: {row:?}"
+                );
                 return None;
             };
-            assert!(close(row[4].parse().unwrap(), e1, SAME) && close(row[5].parse().unwrap(), e2, SAME));
+            assert!(
+                close(row[4].parse().unwrap(), e1, SAME)
+                    && close(row[5].parse().unwrap(), e2, SAME)
+            );
             Some((row[0].parse().unwrap(), e1, e2))
         })
         .collect();
     assert!(nodes.len() > 400);
     let dominated = |&(_, a1, a2): &(usize, f64, f64)| {
-        nodes.iter().any(|&(_, b1, b2)| b1 >= a1 && b2 >= a2 && (b1 > a1 || b2 > a2))
+        nodes
+            .iter()
+            .any(|&(_, b1, b2)| b1 >= a1 && b2 >= a2 && (b1 > a1 || b2 > a2))
     };
-    let expected: Vec<u64> = nodes.iter().filter(|n| !dominated(n)).map(|n| n.0 as u64).collect();
+    let expected: Vec<u64> = nodes
+        .iter()
+        .filter(|n| !dominated(n))
+        .map(|n| n.0 as u64)
+        .collect();
     let front = results["result"]["front"].as_array().unwrap();
     let got: Vec<u64> = front.iter().map(|p| p["node"].as_u64().unwrap()).collect();
     assert_eq!(got, expected);
@@ -167,7 +222,10 @@ fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
         let w = f64::from(k) / 40.0;
         let u = |&(_, e1, e2): &(usize, f64, f64)| w * e1 + (1.0 - w) * e2;
         let best = nodes.iter().max_by(|a, b| u(a).total_cmp(&u(b))).unwrap();
-        let p = front.iter().find(|p| p["node"].as_u64() == Some(best.0 as u64)).unwrap();
+        let p = front
+            .iter()
+            .find(|p| p["node"].as_u64() == Some(best.0 as u64))
+            .unwrap();
         let range = &p["weight_range"];
         assert!(
             f(&range[0]) <= w + 1e-9 && w <= f(&range[1]) + 1e-9,
@@ -178,7 +236,10 @@ fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
     // The weighting (1, 1) is the front's design at w = 1/2.
     let equal = &results["result"]["weighted_optima"][0];
     let node = equal["node"].as_u64().unwrap();
-    let p = front.iter().find(|p| p["node"].as_u64() == Some(node)).unwrap();
+    let p = front
+        .iter()
+        .find(|p| p["node"].as_u64() == Some(node))
+        .unwrap();
     assert!(f(&p["weight_range"][0]) <= 0.5 && 0.5 <= f(&p["weight_range"][1]));
     assert!(out.path().join("front.svg").exists());
 }

@@ -8,7 +8,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
-use crate::grid::{self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows};
+use crate::grid::{GridOutcome, self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows};
 use crate::indices::IndexName;
 use crate::output::{Output, StudyEcho};
 use crate::plot::{self, Marker, Scatter};
@@ -121,7 +121,6 @@ impl Run for Args {
         let requested = objectives(&file)?;
         let prepared = grid::prepare(&file, &requested)?;
         let indices: Vec<IndexName> = requested.iter().map(|(i, _)| *i).collect();
-        let mut report = Report::default();
         let shard = self.shard.unwrap_or(Shard::WHOLE);
         match grid::evaluate_or_write_shard(
             "pareto",
@@ -131,10 +130,9 @@ impl Run for Args {
             file.study.indices,
             shard,
             context,
-            &mut report,
         )? {
-            None => Ok(report),
-            Some(outcomes) => finish(&file, echo, &prepared, outcomes, context),
+            GridOutcome::Shard(report) => Ok(report),
+            GridOutcome::Whole(outcomes) => finish(&file, echo, &prepared, outcomes, context),
         }
     }
 }

@@ -11,7 +11,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
-use crate::grid::{
+use crate::grid::{GridOutcome, 
     self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows,
 };
 use crate::indices::{IndexName, IndexSettings};
@@ -196,14 +196,19 @@ impl Run for Args {
         let requested = requested_indices(&file)?;
         let prepared = grid::prepare(&file, &requested)?;
         let indices: Vec<IndexName> = requested.iter().map(|(i, _)| *i).collect();
-        let mut report = Report::default();
         let shard = self.shard.unwrap_or(Shard::WHOLE);
         let settings = file.study.indices;
         match grid::evaluate_or_write_shard(
-            "sweep", echo.clone(), &prepared, &indices, settings, shard, context, &mut report,
+            "sweep",
+            echo.clone(),
+            &prepared,
+            &indices,
+            settings,
+            shard,
+            context,
         )? {
-            None => Ok(report),
-            Some(outcomes) => finish(&file, echo, &prepared, outcomes, context),
+            GridOutcome::Shard(report) => Ok(report),
+            GridOutcome::Whole(outcomes) => finish(&file, echo, &prepared, outcomes, context),
         }
     }
 }

@@ -6,7 +6,7 @@ use super::{Context, Report, Run};
 use crate::CliError;
 use crate::output::{Output, StudyEcho, cell};
 use crate::plot::{self, Heatmap};
-use crate::study::mechanism::{ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
+use crate::study::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
 use crate::study::sampling::SamplingSpec;
 use crate::study::units::Metres;
 use crate::study::{self, StudyFile};
@@ -181,7 +181,8 @@ pub struct WorkspaceResult {
     pub slices: Vec<SliceSummary>,
 }
 
-/// Resolves a study's constraints, with the error at the `[constraints]` table.
+/// Resolves a study's constraints and checks that the mechanism can evaluate them, with the
+/// error at the `[constraints]` table.
 ///
 /// # Errors
 /// [`CliError::Study`] for a constraint that does not fit the mechanism.
@@ -190,12 +191,24 @@ pub fn constraints_of<T>(
     mechanism: &MechanismSpec,
     spec: Option<&toml::Spanned<ConstraintsSpec>>,
 ) -> Result<Vec<pkm_traits::WorkspaceConstraint>, CliError> {
-    match spec {
-        None => Ok(Vec::new()),
-        Some(spanned) => mechanism
-            .constraints(spanned.get_ref())
-            .map_err(|m| file.error_at(spanned.span(), format!("[constraints]: {m}"))),
+    let Some(spanned) = spec else {
+        return Ok(Vec::new());
+    };
+    let at = |m: String| file.error_at(spanned.span(), format!("[constraints]: {m}"));
+    let constraints = mechanism.constraints(spanned.get_ref()).map_err(at)?;
+    match mechanism.with_workspace(&constraints, CheckOnly) {
+        Err(BuildError::Constraint(m)) => Err(at(m)),
+        // An invalid base design is reported where it is used (a sweep varies it).
+        Ok(()) | Err(BuildError::Design(_)) => Ok(constraints),
     }
+}
+
+/// Builds the workspace only to check that its constraints apply.
+struct CheckOnly;
+
+impl WorkspaceVisitor for CheckOnly {
+    type Output = ();
+    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(self, _: &Workspace<'_, M>) {}
 }
 
 /// The axis-aligned box around a region (m).

@@ -1,17 +1,27 @@
 //! Running the `pkm` binary in tests.
-#![allow(dead_code, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(
+    dead_code,
+    unreachable_pub,
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic
+)]
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// A study file of `tests/studies/`.
 pub fn study(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/studies").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/studies")
+        .join(name)
 }
 
 /// An example study of `examples/studies/` at the workspace root.
 pub fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/studies")
+        .join(name)
 }
 
 /// Output of one run of the binary.
@@ -38,7 +48,12 @@ pub fn pkm(args: &[&str]) -> Run {
 
 /// Runs `pkm COMMAND FILE --out DIR EXTRA…`, asserts success and returns `results.json`.
 pub fn run_study(command: &str, file: &Path, out: &Path, extra: &[&str]) -> serde_json::Value {
-    let mut args = vec![command, file.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    let mut args = vec![
+        command,
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
     args.extend_from_slice(extra);
     let run = pkm(&args);
     assert!(run.ok, "pkm {args:?} failed: {}", run.stderr);
@@ -50,8 +65,15 @@ pub fn run_study(command: &str, file: &Path, out: &Path, extra: &[&str]) -> serd
 pub fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(str::to_owned).collect();
-    let rows = lines.map(|l| l.split(',').map(str::to_owned).collect()).collect();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
     (header, rows)
 }
 
