@@ -154,3 +154,14 @@ impl Output {
 pub fn cell(v: Option<f64>) -> String {
     v.map_or_else(String::new, |v| format!("{v}"))
 }
+
+/// A number for a summary line: at most 6 decimals, trailing zeros dropped (files keep every
+/// digit).
+pub fn short(v: f64) -> String {
+    let text = format!("{v:.6}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
+}

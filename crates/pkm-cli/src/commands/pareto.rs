@@ -10,7 +10,7 @@ use super::{Context, Report, Run};
 use crate::CliError;
 use crate::grid::{GridOutcome, self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows};
 use crate::indices::IndexName;
-use crate::output::{Output, StudyEcho};
+use crate::output::{Output, StudyEcho, short};
 use crate::plot::{self, Marker, Scatter};
 use crate::study::units::Real;
 use crate::study::{self, StudyFile};
@@ -310,22 +310,42 @@ pub fn finish(
     let infeasible = outcomes.len() - feasible.len();
     let mut report = Report::default();
     report.line(format!(
-        "{} nodes, {infeasible} infeasible; {} non-dominated designs",
+        "{} nodes, {infeasible} infeasible; {} non-dominated designs, {} selected by some \
+         weight w of w·{} + (1 − w)·{}",
         outcomes.len(),
-        front.len()
+        front.len(),
+        front.iter().filter(|p| p.weight_range.is_some()).count(),
+        indices[0].key(),
+        indices[1].key()
     ));
-    for p in &front {
+    let mut selected: Vec<&FrontPoint> = front.iter().filter(|p| p.weight_range.is_some()).collect();
+    selected.sort_by(|a, b| {
+        let lo = |p: &FrontPoint| p.weight_range.map_or(0.0, |r| r.0);
+        lo(a).total_cmp(&lo(b))
+    });
+    let values = |v: &[f64]| v.iter().map(|x| short(*x)).collect::<Vec<_>>().join(", ");
+    for p in selected {
         if let Some((lo, hi)) = p.weight_range {
-            let design: Vec<String> = p.design.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            let design: Vec<String> = grid
+                .names
+                .iter()
+                .zip(grid.design(p.node))
+                .map(|(k, v)| format!("{k} = {}", short(v)))
+                .collect();
             report.line(format!(
-                "  w in [{lo:.4}, {hi:.4}]: {} -> {:?}",
+                "  w in [{lo:.4}, {hi:.4}]: {} -> ({})",
                 design.join(", "),
-                p.values
+                values(&p.values)
             ));
         }
     }
     for o in &weighted_optima {
-        report.line(format!("weights {:?}: node {} {:?}", o.weights, o.node, o.values));
+        report.line(format!(
+            "weights ({}): node {} -> ({})",
+            values(&o.weights),
+            o.node,
+            values(&o.values)
+        ));
     }
     let result = ParetoResult {
         title: file.study.title.clone(),

@@ -15,7 +15,7 @@ use crate::grid::{GridOutcome,
     self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows,
 };
 use crate::indices::{IndexName, IndexSettings};
-use crate::output::{Output, StudyEcho, cell};
+use crate::output::{Output, StudyEcho, cell, short};
 use crate::plot::{self, Heatmap, Marker};
 use crate::study::units::Real;
 use crate::study::{self, StudyFile};
@@ -434,7 +434,7 @@ pub fn finish(
         let design: Vec<String> = grid
             .names
             .iter()
-            .filter_map(|k| p.design.get(k).map(|v| format!("{k} = {v}")))
+            .filter_map(|k| p.design.get(k).map(|v| format!("{k} = {}", short(*v))))
             .collect();
         let values: Vec<String> = p.indices.iter().map(|(k, v)| format!("{k} = {v:.6}")).collect();
         format!("{}; {}; U = {:.6}", design.join(", "), values.join(", "), p.utility)
