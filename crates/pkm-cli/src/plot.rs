@@ -271,17 +271,26 @@ fn draw_scatter<'a>(
         .label("non-dominated")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE.stroke_width(2)));
     chart.draw_series(plot.front.iter().map(|p| Circle::new(*p, 4, BLUE.filled())))?;
-    for m in &plot.markers {
-        let point = (m.x, m.y);
-        chart.draw_series(std::iter::once(Circle::new(point, 7, RED.stroke_width(2))))?;
-        chart.draw_series(std::iter::once(Text::new(
-            m.label.clone(),
-            point,
-            (FONT, LABEL).into_font().color(&RED),
-        )))?;
+    let x_range = range(all().map(|p| p.0));
+    let middle = 0.5 * (x_range.start + x_range.end);
+    for (k, m) in plot.markers.iter().enumerate() {
+        // Labels are stacked below their points and kept inside the plot: those in the right
+        // half end at their point.
+        let width = 8 * i32::try_from(m.label.chars().count()).unwrap_or(40);
+        let dx = if m.x > middle { -width - 10 } else { 10 };
+        let dy = 8 + 18 * i32::try_from(k).unwrap_or(0);
+        let label = EmptyElement::at((m.x, m.y))
+            + Circle::new((0, 0), 7, RED.stroke_width(2))
+            + Text::new(
+                m.label.clone(),
+                (dx, dy),
+                (FONT, LABEL).into_font().color(&RED),
+            );
+        chart.draw_series(std::iter::once(label))?;
     }
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::LowerLeft)
         .label_font((FONT, TICK))
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)

@@ -302,7 +302,10 @@ pub fn finish(
             .map(|o| Marker {
                 x: o.values[0],
                 y: o.values[1],
-                label: format!("w = {:?}", o.weights),
+                label: format!(
+                    "w = ({})",
+                    o.weights.iter().map(|w| short(*w)).collect::<Vec<_>>().join(", ")
+                ),
             })
             .collect(),
     };
