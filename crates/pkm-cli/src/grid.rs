@@ -397,3 +397,47 @@ pub fn evaluate_or_write_shard(
     report.line(format!("wrote {}", path.display()));
     Ok(GridOutcome::Shard(report))
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn shards_partition_the_grid_in_order() {
+        for total in [0usize, 1, 2, 7, 16016] {
+            for count in 1..=5 {
+                let mut next = 0;
+                for index in 1..=count {
+                    let nodes = Shard { index, count }.nodes(total);
+                    assert_eq!(nodes.start, next);
+                    next = nodes.end;
+                }
+                assert_eq!(next, total);
+            }
+        }
+        assert_eq!("2/3".parse::<Shard>(), Ok(Shard { index: 2, count: 3 }));
+        for bad in ["0/3", "4/3", "1/0", "x", "1/", "-1/3"] {
+            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn flat_and_multi_indices_are_inverse() {
+        let axes = vec![
+            GridAxis::new(0.0, 1.0, 3).unwrap(),
+            GridAxis::new(0.0, 1.0, 1).unwrap(),
+            GridAxis::new(-1.0, 1.0, 4).unwrap(),
+        ];
+        let grid = Grid {
+            names: vec!["a".into(), "b".into(), "c".into()],
+            axes,
+        };
+        assert_eq!(grid.len(), 12);
+        for flat in 0..grid.len() {
+            assert_eq!(grid.flat(&grid.multi_index(flat)), flat);
+        }
+        // The last variable runs fastest, as in pkm_optimizers::grid_search.
+        assert_eq!(grid.multi_index(5), [1, 0, 1]);
+    }
+}

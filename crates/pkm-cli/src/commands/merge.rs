@@ -4,7 +4,7 @@
 
 use super::{Context, Report, Run, pareto, sweep};
 use crate::CliError;
-use crate::grid::{self, GridStudy, ShardResult};
+use crate::grid::{self, GridStudy, Shard, ShardResult};
 use crate::output::{Results, SCHEMA, StudyEcho};
 use crate::study::{self, StudyFile};
 use std::path::{Path, PathBuf};
@@ -35,6 +35,13 @@ fn read_shard(dir: &Path) -> Result<Results<ShardResult>, CliError> {
             path.display()
         ))
     })?;
+    let Shard { index, count } = shard.shard;
+    if !(1 <= index && index <= count) {
+        return Err(CliError::Invalid(format!(
+            "{}: shard {index}/{count} is not a part I/N with 1 <= I <= N",
+            path.display()
+        )));
+    }
     Ok(Results {
         schema: results.schema,
         command: results.command,
@@ -48,7 +55,9 @@ fn read_shard(dir: &Path) -> Result<Results<ShardResult>, CliError> {
 /// Checks that `shards` are the N parts of one run and returns them in order.
 fn check(mut shards: Vec<(PathBuf, Results<ShardResult>)>) -> Result<Vec<Results<ShardResult>>, CliError> {
     shards.sort_by_key(|(_, s)| s.result.shard.index);
-    let (first_dir, first) = &shards[0];
+    let Some((first_dir, first)) = shards.first() else {
+        return Err(CliError::Invalid("no shard directories to merge".into()));
+    };
     let count = first.result.shard.count;
     let differs = |what: &str, dir: &Path| {
         CliError::Invalid(format!(
@@ -95,9 +104,12 @@ impl Run for Args {
             .map(|d| Ok((d.clone(), read_shard(d)?)))
             .collect::<Result<Vec<_>, CliError>>()?;
         let shards = check(shards)?;
-        let echo: StudyEcho = shards[0].study.clone();
-        let command = shards[0].command.clone();
-        let indices = shards[0].result.indices.clone();
+        let Some(first) = shards.first() else {
+            return Err(CliError::Invalid("no shard directories to merge".into()));
+        };
+        let echo: StudyEcho = first.study.clone();
+        let command = first.command.clone();
+        let indices = first.result.indices.clone();
         let outcomes: Vec<grid::NodeOutcome> = shards
             .into_iter()
             .flat_map(|s| s.result.outcomes)
