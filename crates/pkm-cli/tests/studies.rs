@@ -9,7 +9,10 @@ use nalgebra::Vector3;
 use pkm::papers::miller2004::linear_delta::evaluation::{Eta1Memo, eta1, eta2};
 use pkm::papers::miller2004::linear_delta::table2;
 use pkm::papers::{Context, Mode};
-use pkm_mechanisms::{Elbow, ElbowMode, Placement, RotaryDelta, Tsai3Dof};
+use pkm_mechanisms::{
+    Elbow, ElbowMode, LinearDelta, LinearDeltaMode, LinearDeltaRatios, Placement, RotaryDelta,
+    Tsai3Dof,
+};
 use pkm_traits::{Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
 
@@ -242,4 +245,40 @@ fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
         .unwrap();
     assert!(f(&p["weight_range"][0]) <= 0.5 && 0.5 <= f(&p["weight_range"][1]));
     assert!(out.path().join("front.svg").exists());
+}
+
+#[test]
+fn linear_delta_workspace_matches_the_library() {
+    let out = tempfile::tempdir().unwrap();
+    let results = run_study(
+        "workspace",
+        &study("linear_delta_workspace_quick.toml"),
+        out.path(),
+        &[],
+    );
+    let ratios = LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]);
+    let delta = LinearDelta::new(ratios, 0.2).unwrap();
+    let carriages = [WorkspaceConstraint::joint_range(-0.5, 0.5).unwrap()];
+    let region = Region::Box {
+        lower: Vector3::new(-1.2, -0.6, -0.6),
+        upper: Vector3::new(1.2, 0.6, 0.05),
+    };
+    let points = PointSet::new(
+        Domain::new(region).unwrap(),
+        Sampler::Sobol { seed: 1 },
+        4096,
+        4,
+    )
+    .unwrap();
+    let workspace = Workspace::new(&delta, &[LinearDeltaMode::PAPER], &carriages).unwrap();
+    let direct = workspace.volume_and_eta(&points, &Silent).unwrap();
+    let e = &results["result"]["estimate"];
+    assert!(direct.n_inside > 100);
+    assert_eq!(e["n_inside"].as_u64(), Some(direct.n_inside));
+    assert!(close(f(&e["volume"]), direct.volume, SAME));
+    assert!(close(f(&e["gci"]), direct.gci().unwrap(), SAME));
+    // Bounded by the cross-section area (YR² · A_W/YR²) times the carriage stroke.
+    let area =
+        pkm::papers::miller2004::linear_delta::evaluation::area(&[2.0, 0.0, 0.0, 0.63]).unwrap();
+    assert!(f(&e["volume"]) < 0.2 * 0.2 * area * 1.0);
 }
