@@ -10,8 +10,8 @@ use pkm::papers::miller2004::linear_delta::evaluation::{Eta1Memo, eta1, eta2};
 use pkm::papers::miller2004::linear_delta::table2;
 use pkm::papers::{Context, Mode};
 use pkm_mechanisms::{
-    Elbow, ElbowMode, LinearDelta, LinearDeltaMode, LinearDeltaRatios, Placement, RotaryDelta,
-    Tsai3Dof,
+    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
 };
 use pkm_traits::{Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
@@ -44,8 +44,16 @@ fn nuwar_workspace_matches_the_library() {
         motor_plane_z: 0.0,
         azimuth_motor_1: 0.0,
     };
-    let angles = (35.264389682754654f64.to_radians(), 60f64.to_radians());
-    let delta = RotaryDelta::new(0.15, 0.04, 0.2, 0.45, angles, placement).unwrap();
+    let delta = RotaryDelta::new(RotaryDeltaDesign {
+        base_radius: 0.15,
+        plate_offset: 0.04,
+        arm: 0.2,
+        forearm: 0.45,
+        alpha: 35.264389682754654f64.to_radians(),
+        beta: 60f64.to_radians(),
+        placement,
+    })
+    .unwrap();
     let limits = [
         WorkspaceConstraint::below(0.0).unwrap(),
         WorkspaceConstraint::joint_range((-40f64).to_radians(), 90f64.to_radians()).unwrap(),
@@ -116,7 +124,7 @@ fn tsai_sweep_matches_the_library_and_refines_upwards() {
     let mut best: Option<(usize, f64)> = None;
     for (k, row) in rows.iter().enumerate() {
         let (a, b): (f64, f64) = (row[1].parse().unwrap(), row[2].parse().unwrap());
-        let tsai = Tsai3Dof::from_degrees(a, b, 0.0, 0.0, 120.0, 240.0).unwrap();
+        let tsai = Tsai3Dof::new(TsaiDesign::from_deg(a, b, 0.0, 0.0, 120.0, 240.0)).unwrap();
         let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
         let e = ws.volume_and_eta(&points, &Silent).unwrap();
         let gci = e.gci().unwrap();
@@ -257,7 +265,7 @@ fn linear_delta_workspace_matches_the_library() {
         &[],
     );
     let ratios = LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]);
-    let delta = LinearDelta::new(ratios, 0.2).unwrap();
+    let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 0.2 }).unwrap();
     let carriages = [WorkspaceConstraint::joint_range(-0.5, 0.5).unwrap()];
     let region = Region::Box {
         lower: Vector3::new(-1.2, -0.6, -0.6),

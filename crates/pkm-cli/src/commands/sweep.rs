@@ -19,7 +19,7 @@ use crate::output::{Output, StudyEcho, cell, short};
 use crate::plot::{self, Heatmap, Marker};
 use crate::study::units::Real;
 use crate::study::{self, StudyFile};
-use pkm_optimizers::{GridAxis, LatticeLevel, grid_search, lattice_window};
+use pkm_optimizers::{GridAxis, GridSearch, LatticeLevel, Sense, grid_search, lattice_window};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Progress};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -298,14 +298,14 @@ fn refine(
         };
         if overrides.is_some() {
             let window = lattice_window(&bounds, grid_axes, &best, &lattice)?;
-            let stage = grid_search(&objective, &window, false, progress)?;
+            let stage = grid_search(&objective, Sense::Minimise, &GridSearch::new(window.clone())?, progress)?;
             evaluations += stage.evaluations;
             (best, best_value) = (stage.best, stage.best_value);
             coarse = window;
         }
         for _ in 0..MAX_REPEATS {
             let axes = lattice_window(&bounds, &coarse, &best, &lattice)?;
-            let local = grid_search(&objective, &axes, false, progress)?;
+            let local = grid_search(&objective, Sense::Minimise, &GridSearch::new(axes.clone())?, progress)?;
             evaluations += local.evaluations;
             let improved = local.best_value < best_value;
             if local.best_value <= best_value {

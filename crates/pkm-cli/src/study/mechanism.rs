@@ -11,8 +11,8 @@ use super::units::{
 use crate::CliError;
 use nalgebra::Vector3;
 use pkm_mechanisms::{
-    Elbow, ElbowMode, LinearDelta, LinearDeltaMode, LinearDeltaRatios, Placement, RotaryDelta,
-    Tsai3Dof,
+    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
 };
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
 use pkm_workspace_indices::{Region, Workspace};
@@ -491,14 +491,15 @@ fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
         motor_plane_z: s.motor_plane_z.0,
         azimuth_motor_1: s.azimuth_motor_1_deg.radians(),
     };
-    let delta = RotaryDelta::new(
-        s.base_radius.0,
-        s.plate_offset.0,
-        s.arm.0,
-        s.forearm.0,
-        (s.alpha_deg.radians(), s.beta_deg.radians()),
+    let delta = RotaryDelta::new(RotaryDeltaDesign {
+        base_radius: s.base_radius.0,
+        plate_offset: s.plate_offset.0,
+        arm: s.arm.0,
+        forearm: s.forearm.0,
+        alpha: s.alpha_deg.radians(),
+        beta: s.beta_deg.radians(),
         placement,
-    )
+    })
     .map_err(design_error)?;
     Ok(if s.turned_plate_offsets {
         delta.with_turned_plate_offsets()
@@ -508,14 +509,14 @@ fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
 }
 
 fn tsai(s: &TsaiSpec) -> Result<Tsai3Dof, BuildError> {
-    Tsai3Dof::from_degrees(
+    Tsai3Dof::new(TsaiDesign::from_deg(
         s.a.0,
         s.b.0,
         s.d_plus_e.0,
         s.c_minus_r.0,
         s.phi2_deg.0,
         s.phi3_deg.0,
-    )
+    ))
     .map_err(design_error)
 }
 
@@ -526,7 +527,7 @@ fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
         zr_over_yr: s.zr_over_yr.0,
         l2_over_l1: s.l2_over_l1.0,
     };
-    LinearDelta::new(ratios, s.yr.0).map_err(design_error)
+    LinearDelta::new(LinearDeltaDesign { ratios, yr: s.yr.0 }).map_err(design_error)
 }
 
 impl From<BuildError> for CliError {
