@@ -73,4 +73,12 @@ macro_rules! subcommands {
 subcommands! {
     /// Workspace volume ± standard error, η and GCI, slices and cross-sections of one design.
     Workspace => workspace,
+    /// Multistart constrained optimisation of a design, with first- and second-order checks.
+    Optimize => optimize,
+    /// Task-based synthesis (Wolf & Shoham): pose and geometry for weighted task twists, and
+    /// the 3-UPU singularity search.
+    Task => task,
+    /// Inverse dynamics (Hamilton and Lagrange) of a rotary Delta along a trajectory, and the
+    /// forward retrace with its constraint drift.
+    Dynamics => dynamics,
 }
