@@ -372,20 +372,88 @@ fn nuwar_dynamics_from_a_csv_matches_the_library_and_the_analytic_cycle() {
     assert!(close(r.lagrange.max, peak(&lagrange), 1e-15));
     // Against the analytic cycle the CSV was sampled from: Hamilton's torques from differenced
     // positions differ from those of the exact velocities by the O(dt²) error of the central
-    // differences (measured 0.4 % of the peak at dt = 2 ms); 2 % of the peak allows for it.
+    // differences. Measured at dt = 2 ms: 0.23 N m inside (0.4 % of the 60 N m peak) and
+    // 1.16 N m (1.9 %) at the two samples at each end, where the one-sided differences have
+    // four times the error constant; the bounds are about twice that.
     let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
     let exact = inverse::sample(&model, &cycle, dt).unwrap();
     let analytic = inverse::hamilton(&model, &exact, Differencing::Central).unwrap();
-    let gap = hamilton
-        .iter()
-        .zip(&analytic)
-        .map(|(h, e)| (h - e).amax())
-        .fold(0.0, f64::max);
-    assert!(gap < 0.02 * peak(&analytic), "gap {gap} vs peak {}", peak(&analytic));
+    let gaps: Vec<f64> = hamilton.iter().zip(&analytic).map(|(h, e)| (h - e).amax()).collect();
+    let n = gaps.len();
+    let interior = gaps[2..n - 2].iter().copied().fold(0.0, f64::max);
+    let ends = gaps[..2].iter().chain(&gaps[n - 2..]).copied().fold(0.0, f64::max);
+    let scale = peak(&analytic);
+    assert!(interior < 0.01 * scale, "interior gap {interior} vs peak {scale}");
+    assert!(ends < 0.04 * scale, "end gap {ends} vs peak {scale}");
     // The forward retrace follows the commanded positions within the interpolation and
-    // differencing error of 2 ms torque samples (the 1 ms budget of Miller's Fig. 9 run is
-    // 4e-4 m; it grows with dt²), with a small drift under Baumgarte stabilisation.
+    // differencing error of 2 ms torque samples: Miller's Fig. 9 run has 2.2e-4 m at 1 ms and
+    // the error grows as dt² (measured here 7.8e-4 m); the Baumgarte-stabilised drift
+    // (measured 2.3e-10 m) and the energy balance (1.7e-7 J) stay at the integrator's level.
     let f = r.forward.unwrap();
     assert!(f.max_position_error < 2e-3, "{}", f.max_position_error);
-    assert!(f.max_drift < 1e-6, "{}", f.max_drift);
+    assert!(f.max_drift < 1e-8, "{}", f.max_drift);
+    assert!(f.max_energy_balance < 1e-5, "{}", f.max_energy_balance);
+}
+
+/// The error of `pkm COMMAND` on the study `text` (written to a temporary file).
+fn study_error(command: &str, text: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text).unwrap();
+    let cli = Cli::parse_from([
+        "pkm",
+        command,
+        path.to_str().unwrap(),
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+        "--quiet",
+    ]);
+    let e = run(&cli).expect_err("the study is invalid").to_string();
+    assert!(!dir.path().join("out/results.json").exists(), "{e}");
+    e
+}
+
+/// `text` with the first `from` replaced by `to` (which must occur).
+fn edited(name: &str, from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(studies().join(name)).unwrap();
+    assert!(text.contains(from), "{from}");
+    text.replacen(from, to, 1)
+}
+
+/// The 1-based line of the first line of `text` that starts with `prefix`.
+fn line_of(text: &str, prefix: &str) -> usize {
+    text.lines().position(|l| l.starts_with(prefix)).unwrap() + 1
+}
+
+#[test]
+fn bad_study_files_are_refused_at_their_line_with_the_expected_unit() {
+    // An unknown key, at its line.
+    let text = edited("tsai_volume_optimize.toml", "columns = 128", "colums = 128");
+    let e = study_error("optimize", &text);
+    assert!(e.contains(&format!(":{}:", line_of(&text, "colums"))) && e.contains("colums"), "{e}");
+    // A variable the mechanism does not have.
+    let text = edited("tsai_volume_optimize.toml", "c_minus_r = [0.0, 0.3]", "c = [0.0, 0.3]");
+    let e = study_error("optimize", &text);
+    assert!(e.contains("unknown design variable `c`") && e.contains("phi2_deg"), "{e}");
+    // A twist point that is not a length.
+    let text = edited("stewart_task_synthesis.toml", "point = [0.02, 0.03, 0.06]", "point = [0.02, \"a\", 0.06]");
+    let e = study_error("task", &text);
+    assert!(e.contains(&format!(":{}:", line_of(&text, "point"))) && e.contains("metres"), "{e}");
+    // A twist with neither form.
+    let text = edited("stewart_task_synthesis.toml", "point = [0.02, 0.03, 0.06]", "");
+    let e = study_error("task", &text);
+    assert!(e.contains("expected either `vector`"), "{e}");
+    // A negative mass, and a CSV row that is not four numbers, at its CSV line.
+    let text = edited("nuwar_dynamics_csv.toml", "plate = 0.2807", "plate = -0.2807");
+    let e = study_error("dynamics", &text);
+    assert!(e.contains("m_p"), "{e}");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("t.csv"), "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2\n").unwrap();
+    let text = edited(
+        "nuwar_dynamics_csv.toml",
+        "csv = \"nuwar_pick_and_place.csv\"",
+        &format!("csv = {:?}", dir.path().join("t.csv").display().to_string()),
+    );
+    let e = study_error("dynamics", &text);
+    assert!(e.contains("line 3: 3 values"), "{e}");
 }
