@@ -90,10 +90,8 @@ impl Constraints for TsaiVolume {
 
 #[test]
 fn tsai_volume_optimisation_matches_the_library_run() {
-    let (results, _out) = run_study::<OptimizeResult>(
-        "optimize",
-        &studies().join("tsai_volume_optimize.toml"),
-    );
+    let (results, _out) =
+        run_study::<OptimizeResult>("optimize", &studies().join("tsai_volume_optimize.toml"));
     let r = results.result;
     let b = |lo, hi| Bounds::new(lo, hi).unwrap();
     let problem = TsaiVolume([b(0.02, 1.0), b(0.02, 1.0), b(0.0, 0.5), b(0.0, 0.3)]);
@@ -115,9 +113,18 @@ fn tsai_volume_optimisation_matches_the_library_run() {
     }
     let best = best.unwrap();
     assert_eq!(r.variables, ["a", "b", "d_plus_e", "c_minus_r"]);
-    assert!(close(r.maximum, -best.value, 1e-12), "{} vs {}", r.maximum, -best.value);
+    assert!(
+        close(r.maximum, -best.value, 1e-12),
+        "{} vs {}",
+        r.maximum,
+        -best.value
+    );
     for (name, v) in r.variables.iter().zip(&best.design) {
-        assert!(close(r.design[name], *v, 1e-12), "{name}: {} vs {v}", r.design[name]);
+        assert!(
+            close(r.design[name], *v, 1e-12),
+            "{name}: {} vs {v}",
+            r.design[name]
+        );
     }
     // Independent of the optimiser: the reported maximum is the volume of the reported design,
     // which satisfies the constraint, and the legs stayed where the study holds them.
@@ -186,7 +193,12 @@ fn stewart_task_synthesis_matches_the_library_multistart() {
         &LmSettings::default(),
     )
     .unwrap();
-    assert!(close(r.objective, best.value, 1e-12), "{} vs {}", r.objective, best.value);
+    assert!(
+        close(r.objective, best.value, 1e-12),
+        "{} vs {}",
+        r.objective,
+        best.value
+    );
     let names = ["x", "y", "z", "u_x", "u_y", "u_z"];
     for (name, v) in names.iter().zip(&best.design) {
         assert!((r.optimum[*name] - v).abs() < 1e-12, "{name}");
@@ -230,7 +242,12 @@ fn weighted_copies_of_one_twist_are_that_twist() {
     )
     .unwrap();
     // 0.25 F + 0.75 F = F: the same maximum, and each part's F is the total.
-    assert!(close(r.objective, best.value, 1e-9), "{} vs {}", r.objective, best.value);
+    assert!(
+        close(r.objective, best.value, 1e-9),
+        "{} vs {}",
+        r.objective,
+        best.value
+    );
     assert_eq!(r.twists.len(), 2);
     for t in &r.twists {
         assert!(close(t.f, r.objective, 1e-9));
@@ -275,10 +292,16 @@ impl Residuals for UpuSigmaMin {
         let upu = ThreeUpu::new(0.2, 0.1, tilted_axes(30.0))?;
         let [a, b, c] = [v[3], v[4], v[5]].map(f64::to_radians);
         let pose = pose_from_task(&Task::<6>::new(v[0], v[1], v[2], a, b, c)).unwrap();
-        let rows = upu.wrench_rows(&pose).map_err(|e| ObjectiveError::Infeasible {
-            reason: e.to_string(),
-        })?;
-        r[0] = rows.singular_values().iter().copied().fold(f64::INFINITY, f64::min);
+        let rows = upu
+            .wrench_rows(&pose)
+            .map_err(|e| ObjectiveError::Infeasible {
+                reason: e.to_string(),
+            })?;
+        r[0] = rows
+            .singular_values()
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
         Ok(())
     }
 }
@@ -290,7 +313,14 @@ fn three_upu_singularity_search_matches_the_library_multistart() {
     let r = results.result;
     let b = |lo, hi| Bounds::new(lo, hi).unwrap();
     let angle = b(-20.0, 20.0);
-    let problem = UpuSigmaMin([b(-0.05, 0.05), b(-0.05, 0.05), b(0.0, 0.3), angle, angle, angle]);
+    let problem = UpuSigmaMin([
+        b(-0.05, 0.05),
+        b(-0.05, 0.05),
+        b(0.0, 0.3),
+        angle,
+        angle,
+        angle,
+    ]);
     let best = multistart_levenberg_marquardt(
         &problem,
         Sense::Minimise,
@@ -302,7 +332,11 @@ fn three_upu_singularity_search_matches_the_library_multistart() {
     .unwrap();
     let names = ["x", "y", "z", "rx_deg", "ry_deg", "rz_deg"];
     for (name, v) in names.iter().zip(&best.design) {
-        assert!((r.optimum[*name] - v).abs() < 1e-12, "{name}: {} vs {v}", r.optimum[*name]);
+        assert!(
+            (r.optimum[*name] - v).abs() < 1e-12,
+            "{name}: {} vs {v}",
+            r.optimum[*name]
+        );
     }
     assert!((r.objective - best.value).abs() < 1e-15);
     // A singular pose: the twist most nearly reciprocal to the rows has F = σ_min² by the
@@ -356,7 +390,14 @@ fn nuwar_dynamics_from_a_csv_matches_the_library_and_the_analytic_cycle() {
     let a = Differencing::Central.apply(&v, dt);
     let three = |x: &Vector6<f64>| Vector3::new(x[0], x[1], x[2]);
     let samples: Vec<_> = (0..p.len())
-        .map(|k| (rows[k][0], model.joint_motion(&three(&p[k]), &three(&v[k]), &three(&a[k])).unwrap()))
+        .map(|k| {
+            (
+                rows[k][0],
+                model
+                    .joint_motion(&three(&p[k]), &three(&v[k]), &three(&a[k]))
+                    .unwrap(),
+            )
+        })
         .collect();
     let hamilton = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
     let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact).unwrap();
@@ -378,12 +419,23 @@ fn nuwar_dynamics_from_a_csv_matches_the_library_and_the_analytic_cycle() {
     let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
     let exact = inverse::sample(&model, &cycle, dt).unwrap();
     let analytic = inverse::hamilton(&model, &exact, Differencing::Central).unwrap();
-    let gaps: Vec<f64> = hamilton.iter().zip(&analytic).map(|(h, e)| (h - e).amax()).collect();
+    let gaps: Vec<f64> = hamilton
+        .iter()
+        .zip(&analytic)
+        .map(|(h, e)| (h - e).amax())
+        .collect();
     let n = gaps.len();
     let interior = gaps[2..n - 2].iter().copied().fold(0.0, f64::max);
-    let ends = gaps[..2].iter().chain(&gaps[n - 2..]).copied().fold(0.0, f64::max);
+    let ends = gaps[..2]
+        .iter()
+        .chain(&gaps[n - 2..])
+        .copied()
+        .fold(0.0, f64::max);
     let scale = peak(&analytic);
-    assert!(interior < 0.01 * scale, "interior gap {interior} vs peak {scale}");
+    assert!(
+        interior < 0.01 * scale,
+        "interior gap {interior} vs peak {scale}"
+    );
     assert!(ends < 0.04 * scale, "end gap {ends} vs peak {scale}");
     // The forward retrace follows the commanded positions within the interpolation and
     // differencing error of 2 ms torque samples: Miller's Fig. 9 run has 2.2e-4 m at 1 ms and
@@ -430,25 +482,54 @@ fn bad_study_files_are_refused_at_their_line_with_the_expected_unit() {
     // An unknown key, at its line.
     let text = edited("tsai_volume_optimize.toml", "columns = 128", "colums = 128");
     let e = study_error("optimize", &text);
-    assert!(e.contains(&format!(":{}:", line_of(&text, "colums"))) && e.contains("colums"), "{e}");
+    assert!(
+        e.contains(&format!(":{}:", line_of(&text, "colums"))) && e.contains("colums"),
+        "{e}"
+    );
     // A variable the mechanism does not have.
-    let text = edited("tsai_volume_optimize.toml", "c_minus_r = [0.0, 0.3]", "c = [0.0, 0.3]");
+    let text = edited(
+        "tsai_volume_optimize.toml",
+        "c_minus_r = [0.0, 0.3]",
+        "c = [0.0, 0.3]",
+    );
     let e = study_error("optimize", &text);
-    assert!(e.contains("unknown design variable `c`") && e.contains("phi2_deg"), "{e}");
+    assert!(
+        e.contains("unknown design variable `c`") && e.contains("phi2_deg"),
+        "{e}"
+    );
     // A twist point that is not a length.
-    let text = edited("stewart_task_synthesis.toml", "point = [0.02, 0.03, 0.06]", "point = [0.02, \"a\", 0.06]");
+    let text = edited(
+        "stewart_task_synthesis.toml",
+        "point = [0.02, 0.03, 0.06]",
+        "point = [0.02, \"a\", 0.06]",
+    );
     let e = study_error("task", &text);
-    assert!(e.contains(&format!(":{}:", line_of(&text, "point"))) && e.contains("metres"), "{e}");
+    assert!(
+        e.contains(&format!(":{}:", line_of(&text, "point"))) && e.contains("metres"),
+        "{e}"
+    );
     // A twist with neither form.
-    let text = edited("stewart_task_synthesis.toml", "point = [0.02, 0.03, 0.06]", "");
+    let text = edited(
+        "stewart_task_synthesis.toml",
+        "point = [0.02, 0.03, 0.06]",
+        "",
+    );
     let e = study_error("task", &text);
     assert!(e.contains("expected either `vector`"), "{e}");
     // A negative mass, and a CSV row that is not four numbers, at its CSV line.
-    let text = edited("nuwar_dynamics_csv.toml", "plate = 0.2807", "plate = -0.2807");
+    let text = edited(
+        "nuwar_dynamics_csv.toml",
+        "plate = 0.2807",
+        "plate = -0.2807",
+    );
     let e = study_error("dynamics", &text);
     assert!(e.contains("m_p"), "{e}");
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("t.csv"), "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2\n").unwrap();
+    std::fs::write(
+        dir.path().join("t.csv"),
+        "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2\n",
+    )
+    .unwrap();
     let text = edited(
         "nuwar_dynamics_csv.toml",
         "csv = \"nuwar_pick_and_place.csv\"",

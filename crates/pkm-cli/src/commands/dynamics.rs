@@ -561,6 +561,9 @@ fn dynamics_error(e: DynamicsError) -> CliError {
     CliError::Invalid(e.to_string())
 }
 
+/// Extended states at their sample times.
+pub type Samples = Vec<(f64, ExtendedState)>;
+
 /// The samples and the commanded positions of the study's trajectory.
 ///
 /// # Errors
@@ -570,7 +573,7 @@ fn dynamics_error(e: DynamicsError) -> CliError {
 pub fn samples_of(
     file: &StudyFile<DynamicsStudy>,
     model: &ExtendedModel,
-) -> Result<(Vec<(f64, ExtendedState)>, Vec<Vector3<f64>>), CliError> {
+) -> Result<(Samples, Vec<Vector3<f64>>), CliError> {
     let spec = &file.study.trajectory;
     let forms = usize::from(spec.pick_and_place.is_some())
         + usize::from(!spec.segments.is_empty())
