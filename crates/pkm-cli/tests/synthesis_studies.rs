@@ -538,3 +538,63 @@ fn bad_study_files_are_refused_at_their_line_with_the_expected_unit() {
     let e = study_error("dynamics", &text);
     assert!(e.contains("line 3: 3 values"), "{e}");
 }
+
+/// `results.json` of `pkm COMMAND STUDY --threads N`.
+fn results_with_threads(command: &str, study: &str, threads: usize) -> String {
+    let out = tempfile::tempdir().unwrap();
+    let path = studies().join(study);
+    let threads = threads.to_string();
+    let cli = Cli::parse_from([
+        "pkm",
+        command,
+        path.to_str().unwrap(),
+        "--out",
+        out.path().to_str().unwrap(),
+        "--threads",
+        &threads,
+        "--quiet",
+    ]);
+    run(&cli).unwrap();
+    std::fs::read_to_string(out.path().join("results.json")).unwrap()
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    for (command, study) in [
+        ("task", "stewart_task_synthesis.toml"),
+        ("task", "three_upu_singularity.toml"),
+        ("optimize", "tsai_volume_optimize.toml"),
+    ] {
+        let one = results_with_threads(command, study, 1);
+        assert_eq!(one, results_with_threads(command, study, 3), "{study}");
+    }
+}
+
+#[test]
+fn a_cancelled_run_stops_without_results() {
+    use pkm_cli::Context;
+    use pkm_cli::progress::{CancelFlag, Spinner};
+    let flag = CancelFlag::default();
+    flag.set();
+    let out = tempfile::tempdir().unwrap();
+    let context = Context {
+        out: out.path().to_path_buf(),
+        progress: Spinner::hidden(flag),
+    };
+    let load = |name: &str| studies().join(name);
+    let optimize = pkm_cli::study::load(&load("tsai_volume_optimize.toml")).unwrap();
+    let task = pkm_cli::study::load(&load("three_upu_singularity.toml")).unwrap();
+    let dynamics = pkm_cli::study::load(&load("nuwar_dynamics_csv.toml")).unwrap();
+    let outcomes = [
+        pkm_cli::commands::optimize::compute(&optimize, &context).map(|_| ()),
+        pkm_cli::commands::task::compute(&task, &context).map(|_| ()),
+        pkm_cli::commands::dynamics::compute(&dynamics, &context).map(|_| ()),
+    ];
+    for outcome in outcomes {
+        assert!(
+            matches!(outcome, Err(pkm_cli::CliError::Cancelled)),
+            "{outcome:?}"
+        );
+    }
+    assert!(!out.path().join("results.json").exists());
+}
