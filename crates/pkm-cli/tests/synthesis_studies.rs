@@ -598,3 +598,47 @@ fn a_cancelled_run_stops_without_results() {
     }
     assert!(!out.path().join("results.json").exists());
 }
+
+/// Runs `pkm COMMAND` on `text` written to a temporary study file.
+fn run_text<R: DeserializeOwned>(command: &str, text: &str) -> Results<R> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("study.toml");
+    std::fs::write(&path, text).unwrap();
+    run_study::<R>(command, &path).0
+}
+
+#[test]
+fn the_built_in_cycle_gives_the_library_torques() {
+    let text = edited(
+        "nuwar_dynamics_csv.toml",
+        "csv = \"nuwar_pick_and_place.csv\"",
+        "pick_and_place = { cycle_time = 0.5 }\ndt = 0.001",
+    );
+    let r = run_text::<DynamicsResult>("dynamics", &text).result;
+    let model = nuwar();
+    let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let samples = inverse::sample(&model, &cycle, 1e-3).unwrap();
+    let hamilton = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
+    let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact).unwrap();
+    let peak = |t: &[Vector3<f64>]| t.iter().map(|t| t.amax()).fold(0.0, f64::max);
+    assert_eq!(r.samples, 501);
+    assert!(close(r.hamilton.max, peak(&hamilton), 1e-15));
+    assert!(close(r.lagrange.max, peak(&lagrange), 1e-15));
+    // The 1 ms retrace of Miller's Fig. 9 (its experiment's budget: 4e-4 m).
+    assert!(r.forward.unwrap().max_position_error < 4e-4);
+}
+
+#[test]
+fn the_largest_three_upu_f_for_a_unit_rotation_is_three() {
+    // The constraint couples [0; u_i] contribute (u_i·ω)² ≤ 1 each and the legs of a zero-pitch
+    // twist through the apex nothing, so F ≤ 3|ω|² = 3, reached with every couple along ω.
+    let text = "[mechanism.three_upu]\nbase_radius = 0.2\nplatform_radius = 0.1\n\
+        [task]\ngoal = \"maximise\"\npose = { position = [0.0, 0.0, 0.1] }\n\
+        [task.variables]\nbeta1_deg = [-90, 90]\ngamma1_deg = [-90, 90]\nbeta2_deg = [-90, 90]\n\
+        gamma2_deg = [-90, 90]\nbeta3_deg = [-90, 90]\ngamma3_deg = [-90, 90]\n\
+        [[task.twists]]\naxis = [-0.94, 0.35, 0.0]\npoint = [0.0, 0.0, 0.2]\n\
+        [task.starts]\ncount = 8\nseed = 18\n";
+    let r = run_text::<TaskResult>("task", text).result;
+    assert!((r.objective - 3.0).abs() < 1e-9, "{}", r.objective);
+    assert!(r.optimality.free_gradient_max < 1e-6);
+}

@@ -48,7 +48,7 @@ pub struct DynamicsStudy {
     /// Its masses.
     pub masses: MassesSpec,
     /// The plate's motion.
-    pub trajectory: TrajectorySpec,
+    pub trajectory: toml::Spanned<TrajectorySpec>,
     /// How the dynamics are computed.
     #[serde(default)]
     pub dynamics: DynamicsSection,
@@ -574,13 +574,13 @@ pub fn samples_of(
     file: &StudyFile<DynamicsStudy>,
     model: &ExtendedModel,
 ) -> Result<(Samples, Vec<Vector3<f64>>), CliError> {
-    let spec = &file.study.trajectory;
+    let spec = file.study.trajectory.get_ref();
     let forms = usize::from(spec.pick_and_place.is_some())
         + usize::from(!spec.segments.is_empty())
         + usize::from(spec.csv.is_some());
     if forms != 1 {
         return Err(file.error_at(
-            0..0,
+            file.study.trajectory.span(),
             "[trajectory]: expected exactly one of pick_and_place, [[trajectory.segments]], csv",
         ));
     }
