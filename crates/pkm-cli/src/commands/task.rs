@@ -361,7 +361,7 @@ enum UpuResiduals {
     Det,
 }
 
-/// The 3-UPU over any subset of [`UPU_NAMES`].
+/// The 3-UPU over any subset of [`UPU_VARIABLES`].
 #[derive(Debug, Clone)]
 pub struct UpuProblem {
     values: [f64; 14],
