@@ -21,6 +21,7 @@ mod stewart_task;
 mod three_upu;
 mod tsai3dof;
 mod workspace_models;
+mod wrench_system;
 
 pub use jacobian_lanes::JacobianLanes;
 pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
@@ -31,3 +32,4 @@ pub use stewart_layout::{AngleMode, JointLayout, Pairing};
 pub use stewart_task::StewartTaskProblem;
 pub use three_upu::{ThreeUpu, UJointAxes};
 pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof};
+pub use wrench_system::WrenchSystem;
