@@ -27,6 +27,7 @@ mod cross_section_indices;
 mod error;
 mod estimator;
 mod gauss_legendre;
+mod local;
 mod parallel;
 mod points;
 mod region;
@@ -48,6 +49,7 @@ pub use cross_section_indices::{
 pub use error::IndexError;
 pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volume_and_eta};
 pub use gauss_legendre::GaussLegendre;
+pub use local::{LocalIndices, inverse_condition_at, local_indices};
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
 pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
 pub use region::{Domain, Region};
