@@ -47,7 +47,7 @@ impl HemisphereEstimate {
 ///
 /// # Errors
 /// [`IndexError::EmptySample`] for no points, [`IndexError::Invalid`] for a radius that is
-/// not finite and positive, [`IndexError::Cancelled`].
+/// not finite and positive or whose hemisphere's volume overflows, [`IndexError::Cancelled`].
 ///
 /// # Example
 /// ```
@@ -78,6 +78,13 @@ where
         });
     }
     let v_h = 2.0 * PI * radius.powi(3) / 3.0;
+    if !v_h.is_finite() {
+        return Err(IndexError::Invalid {
+            what: "radius",
+            value: radius,
+            requirement: "the hemisphere's volume 2πR³/3 must be finite",
+        });
+    }
     let e = integrate_slice(unit_points, 1, v_h, progress, |p| local(&(p * radius)))?;
     Ok(HemisphereEstimate {
         n: e.n_points,

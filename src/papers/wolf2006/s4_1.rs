@@ -5,7 +5,7 @@ use super::pose_report::{
     PaperPose, maximise, objective_rows, pose_problem, pose_rows, section_4_1_twist,
 };
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
-use pkm_mechanisms::StewartGough;
+use pkm_mechanisms::{StewartGough, WrenchSystem};
 
 pub(super) const DESIGN: [f64; 4] = [12.0, 8.0, 30.0, 8.0];
 

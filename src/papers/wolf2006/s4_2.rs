@@ -5,7 +5,7 @@
 use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
-use pkm_mechanisms::{JointLayout, StewartGough, StewartTaskProblem};
+use pkm_mechanisms::{JointLayout, StewartGough, StewartTaskProblem, WrenchSystem};
 use pkm_optimizers::{
     LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
     weighted_combination,
