@@ -5,8 +5,8 @@
 //! Run: `cargo run --release --example tsai_workspace [full]`.
 #![allow(clippy::print_stdout)]
 
-use pkm::papers::{self, Context, Mode};
 use nalgebra::Vector3;
+use pkm::papers::{self, Context, Mode};
 use pkm_mechanisms::{Elbow, Tsai3Dof};
 use pkm_traits::Silent;
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, local_indices};
@@ -19,7 +19,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         center: Vector3::zeros(),
         radius: design.reach(),
     };
-    let points = PointSet::new(Domain::new(hemisphere)?, Sampler::Sobol { seed: 1 }, 1 << 15, 8)?;
+    let points = PointSet::new(
+        Domain::new(hemisphere)?,
+        Sampler::Sobol { seed: 1 },
+        1 << 15,
+        8,
+    )?;
     let e = workspace.volume_and_eta(&points, &Silent)?;
     println!(
         "W = {:.4} ± {:.4}, η = {:.4} ± {:.4}, GCI = η/W = {:.4}",

@@ -57,6 +57,7 @@ fn linear_delta_passes_the_conformance_kit() {
         testkit::check_closure(&d, mode, &poses, 1e-12).unwrap();
         testkit::check_jacobians_against_central_differences(&d, mode, &poses, 1e-6, 1e-7).unwrap();
         testkit::check_ik_fk_round_trip(&d, mode, &poses, 1e-3, 1e-9).unwrap();
+        testkit::check_velocity_jacobian_at(&d, mode, &poses, 1e-12).unwrap();
     }
 }
 
@@ -67,9 +68,7 @@ fn velocity_jacobian_is_minus_jq_inverse_jx() {
     for x in poses(&d) {
         let q = d.inverse_kinematics(&x, LinearDeltaMode::PAPER).unwrap();
         let j = d.jacobian(&x, &q).unwrap();
-        let j_yz = d
-            .velocity_jacobian_at(&x, LinearDeltaMode::PAPER)
-            .unwrap();
+        let j_yz = d.velocity_jacobian_at(&x, LinearDeltaMode::PAPER).unwrap();
         assert!((j - j_yz).amax() < 1e-12);
     }
 }

@@ -9,7 +9,7 @@ use pkm_mechanisms::{
 use pkm_screw_theory::{PluckerLine, Twist, reciprocal_product_vectors};
 use pkm_traits::testkit::{
     check_closure, check_ik_fk_round_trip, check_jacobians_against_central_differences,
-    check_traits,
+    check_traits, check_velocity_jacobian_at,
 };
 use pkm_traits::{Bounds, InverseKinematics, Objective, Residuals, Task};
 use proptest::prelude::*;
@@ -286,9 +286,11 @@ fn three_upu_passes_the_conformance_kit() {
     let upu = park_upu();
     let poses = upu_positions();
     let closure = check_closure(&upu, (), &poses, 1e-12).unwrap();
-    let jacobians = check_jacobians_against_central_differences(&upu, (), &poses, 1e-6, 1e-7).unwrap();
+    let jacobians =
+        check_jacobians_against_central_differences(&upu, (), &poses, 1e-6, 1e-7).unwrap();
     let round_trip = check_ik_fk_round_trip(&upu, (), &poses, 1e-3, 1e-9).unwrap();
-    for report in [closure, jacobians, round_trip] {
+    let velocity = check_velocity_jacobian_at(&upu, (), &poses, 1e-15).unwrap();
+    for report in [closure, jacobians, round_trip, velocity] {
         assert_eq!(report.checked, poses.len());
     }
 }
@@ -302,7 +304,9 @@ fn three_upu_velocity_jacobian_is_the_leg_rows_of_eq_18() {
     let velocity = Vector3::new(0.3, -1.2, 0.7);
     for p in upu_positions() {
         let j = upu.velocity_jacobian_at(&p, ()).unwrap();
-        let rows = upu.wrench_rows(&Isometry3::translation(p.x, p.y, p.z)).unwrap();
+        let rows = upu
+            .wrench_rows(&Isometry3::translation(p.x, p.y, p.z))
+            .unwrap();
         for i in 0..3 {
             let direction = Vector3::new(rows[(i, 0)], rows[(i, 1)], rows[(i, 2)]);
             assert!((j.row(i).transpose() - direction).amax() < 1e-15);
@@ -339,7 +343,12 @@ fn three_upu_kinematics_reject_degenerate_poses() {
 fn wrench_systems_share_the_task_objective() {
     let sg = StewartGough::new(12.0, 8.0, 8.0, 8.0).unwrap();
     let upu = park_upu();
-    let pose = platform_pose(Vector3::new(1.0, -2.0, 40.0), Vector3::new(0.2, 0.1, 1.0), 0.2).unwrap();
+    let pose = platform_pose(
+        Vector3::new(1.0, -2.0, 40.0),
+        Vector3::new(0.2, 0.1, 1.0),
+        0.2,
+    )
+    .unwrap();
     let twist = Twist::new(Vector3::new(0.1, -0.3, 0.2), Vector3::new(0.5, 0.4, -1.0));
     let systems: [&dyn WrenchSystem; 2] = [&sg, &upu];
     for m in systems {

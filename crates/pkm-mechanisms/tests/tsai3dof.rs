@@ -6,7 +6,7 @@ use nalgebra::{Matrix3, Vector3};
 use pkm_mechanisms::{Elbow, LegBranch, Tsai3Dof};
 use pkm_traits::testkit::{
     check_closure, check_ik_fk_round_trip, check_jacobians_against_central_differences,
-    check_traits,
+    check_traits, check_velocity_jacobian_at,
 };
 use pkm_traits::{ClosedChain, InverseKinematics, KinematicsError};
 
@@ -88,7 +88,8 @@ fn centre_of_symmetric_design_matches_closed_form() {
     // Spec §1: legs 0/120/240, d+e = c-r = 0, P = (0,0,z): 1/cond = min(q, 1/q),
     // q = |cos th2| / (sqrt 2 |sin th2|); 0.803344 at a = .44, b = .56, z = .5.
     let d = gci_design();
-    let j = d.velocity_jacobian_at(&Vector3::new(0.0, 0.0, 0.5), [Elbow::Out; 3])
+    let j = d
+        .velocity_jacobian_at(&Vector3::new(0.0, 0.0, 0.5), [Elbow::Out; 3])
         .unwrap();
     assert!((1.0 / cond(&j) - 0.803344).abs() < 1e-6);
 }
@@ -105,6 +106,7 @@ fn conformance() {
             check_closure(&d, mode, &poses(), 1e-12).unwrap();
             check_jacobians_against_central_differences(&d, mode, &poses(), 1e-6, 1e-6).unwrap();
             check_ik_fk_round_trip(&d, mode, &poses(), 1e-3, 1e-9).unwrap();
+            check_velocity_jacobian_at(&d, mode, &poses(), 1e-12).unwrap();
         }
     }
 }

@@ -15,8 +15,7 @@
 
 use crate::{
     HemisphereEstimate, IndexError, PointSet, Slice, VolumeEstimate, hemisphere_estimate,
-    inverse_condition_at, inverse_condition_number_3x3, workspace_volume,
-    workspace_volume_and_eta,
+    inverse_condition_at, inverse_condition_number_3x3, workspace_volume, workspace_volume_and_eta,
 };
 use nalgebra::Vector3;
 use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};

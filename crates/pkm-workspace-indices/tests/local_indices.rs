@@ -78,13 +78,19 @@ impl InverseKinematics<3, 3> for SingularOnAPlane {
     type WorkingMode = ();
     fn inverse_kinematics(&self, x: &Task<3>, _: ()) -> Result<Joints<3>, KinematicsError> {
         // q = x / x₁ off the plane; on it only x = 0 closes, for every q: take q = 0.
-        Ok(if x[0] == 0.0 { Joints::zeros() } else { x / x[0] })
+        Ok(if x[0] == 0.0 {
+            Joints::zeros()
+        } else {
+            x / x[0]
+        })
     }
 }
 
 #[test]
 fn local_indices_of_a_diagonal_jacobian_are_its_closed_forms() {
-    let m = Diagonal { scales: [4.0, -2.0, 0.5] };
+    let m = Diagonal {
+        scales: [4.0, -2.0, 0.5],
+    };
     let x = Vector3::new(0.1, 0.2, -0.3);
     let local = local_indices(&m, &x, ()).unwrap();
     // σ = |d_i|: σ_min = 0.5, σ_max = 4, 1/κ = 1/8, w = |det D| = 4.
@@ -101,7 +107,10 @@ fn local_indices_of_a_diagonal_jacobian_are_its_closed_forms() {
     assert!((local_indices(&planar, &x2, ()).unwrap().manipulability - 3.0).abs() < 1e-14);
     // Outside the unit ball: the IK's error, typed.
     let far = Vector3::new(2.0, 0.0, 0.0);
-    assert!(matches!(local_indices(&m, &far, ()), Err(KinematicsError::Unreachable { .. })));
+    assert!(matches!(
+        local_indices(&m, &far, ()),
+        Err(KinematicsError::Unreachable { .. })
+    ));
     assert!(inverse_condition_at(&m, &far, ()).is_err());
 }
 
@@ -109,10 +118,19 @@ fn local_indices_of_a_diagonal_jacobian_are_its_closed_forms() {
 fn local_indices_are_scale_invariant_where_they_should_be() {
     // Scaling J by 2^k scales σ and w (w by 2^{3k}) and leaves 1/κ, also past the range where
     // the SVD is run on a rescaled matrix.
-    let base = local_indices(&Diagonal { scales: [4.0, -2.0, 0.5] }, &Vector3::zeros(), ()).unwrap();
+    let base = local_indices(
+        &Diagonal {
+            scales: [4.0, -2.0, 0.5],
+        },
+        &Vector3::zeros(),
+        (),
+    )
+    .unwrap();
     for k in [-300, -120, 120, 300] {
         let s = 2f64.powi(k);
-        let m = Diagonal { scales: [4.0 * s, -2.0 * s, 0.5 * s] };
+        let m = Diagonal {
+            scales: [4.0 * s, -2.0 * s, 0.5 * s],
+        };
         match local_indices(&m, &Vector3::zeros(), ()) {
             Ok(l) => {
                 assert_eq!(l.inverse_condition, base.inverse_condition, "k = {k}");
@@ -120,7 +138,10 @@ fn local_indices_are_scale_invariant_where_they_should_be() {
                 assert!(l.manipulability.is_finite());
             }
             // w = 4 · 2^{3k} overflows for k = 300: typed.
-            Err(e) => assert!(k == 300 && matches!(e, KinematicsError::Singular { .. }), "{e}"),
+            Err(e) => assert!(
+                k == 300 && matches!(e, KinematicsError::Singular { .. }),
+                "{e}"
+            ),
         }
     }
 }
@@ -172,12 +193,19 @@ fn local_indices_of_the_three_upu_match_finite_differences() {
         let local = local_indices(&upu, &p, ()).unwrap();
         assert!((local.sigma_min - sigma.min()).abs() < 1e-8, "{p}");
         assert!((local.sigma_max - sigma.max()).abs() < 1e-8, "{p}");
-        assert!((local.manipulability - j_fd.determinant().abs()).abs() < 1e-8, "{p}");
+        assert!(
+            (local.manipulability - j_fd.determinant().abs()).abs() < 1e-8,
+            "{p}"
+        );
         let fast = inverse_condition_at(&upu, &p, ()).unwrap();
         assert!((fast - sigma.min() / sigma.max()).abs() < 1e-8, "{p}");
         // The closed-form 3×3 kernel loses digits where two singular values coincide (the
         // symmetric home pose): 7e-9 there, 1e-11 elsewhere.
-        assert!((fast - local.inverse_condition).abs() < 2e-8, "{p}: {fast} vs {}", local.inverse_condition);
+        assert!(
+            (fast - local.inverse_condition).abs() < 2e-8,
+            "{p}: {fast} vs {}",
+            local.inverse_condition
+        );
         checked += 1;
     }
     assert_eq!(checked, 4);
@@ -187,7 +215,9 @@ fn local_indices_of_the_three_upu_match_finite_differences() {
 /// η = (1/κ) W, on any domain; both estimators return exactly η/W.
 #[test]
 fn gci_is_eta_over_the_volume() {
-    let m = Diagonal { scales: [4.0, -2.0, 0.5] };
+    let m = Diagonal {
+        scales: [4.0, -2.0, 0.5],
+    };
     let ws = Workspace::new(&m, &[()], &[]).unwrap();
     let domain = Domain::new(Region::Box {
         lower: Vector3::repeat(-1.0),
@@ -203,21 +233,34 @@ fn gci_is_eta_over_the_volume() {
     let ball = 4.0 * std::f64::consts::PI / 3.0;
     assert!((e.volume - ball).abs() < 5.0 * e.volume_se + 1e-3, "{e:?}");
     // The hemisphere path on scaled unit points.
-    let unit = Sampler::Sobol { seed: 2 }.unit_hemisphere_points(1 << 12).unwrap();
+    let unit = Sampler::Sobol { seed: 2 }
+        .unit_hemisphere_points(1 << 12)
+        .unwrap();
     let h = ws.hemisphere_estimate(&unit, 0.9, &Silent).unwrap();
     assert_eq!(h.gci().unwrap(), h.eta / h.volume);
     // The whole hemisphere of radius 0.9 lies in the unit ball: W is its volume exactly.
     assert!((h.volume - 2.0 * std::f64::consts::PI * 0.9_f64.powi(3) / 3.0).abs() < 1e-12);
     assert!((h.gci().unwrap() - 0.125).abs() < 1e-14);
     // An empty workspace has no GCI.
-    let none = ws.hemisphere_estimate(&unit.iter().map(|p| p + Vector3::new(0.0, 0.0, 5.0)).collect::<Vec<_>>(), 1.0, &Silent).unwrap();
+    let none = ws
+        .hemisphere_estimate(
+            &unit
+                .iter()
+                .map(|p| p + Vector3::new(0.0, 0.0, 5.0))
+                .collect::<Vec<_>>(),
+            1.0,
+            &Silent,
+        )
+        .unwrap();
     assert_eq!(none.n_inside, 0);
     assert_eq!(none.gci(), None);
 }
 
 #[test]
 fn a_slice_of_a_constant_index_is_the_index_inside_the_ball() {
-    let m = Diagonal { scales: [4.0, -2.0, 0.5] };
+    let m = Diagonal {
+        scales: [4.0, -2.0, 0.5],
+    };
     let ws = Workspace::new(&m, &[()], &[]).unwrap();
     let slice = ws.inverse_condition_slice(0.5, 1.0, 8).unwrap();
     let mut inside = 0;

@@ -337,16 +337,18 @@ fn the_tsai_workspace_through_the_traits_matches_the_stamper_kernel() {
     let unit = sampler.unit_hemisphere_points(20_000).unwrap();
     // The closure the Stamper studies were written with before the generic entry point.
     let stamper = hemisphere_estimate(&unit, radius, &Silent, |p| {
-        tsai.velocity_jacobian_at(p, [Elbow::Out; 3])
-            .map_or_else(
-                |e| matches!(e, KinematicsError::Singular { .. }).then_some(0.0),
-                |j| Some(inverse_condition_number_3x3(&j)),
-            )
+        tsai.velocity_jacobian_at(p, [Elbow::Out; 3]).map_or_else(
+            |e| matches!(e, KinematicsError::Singular { .. }).then_some(0.0),
+            |j| Some(inverse_condition_number_3x3(&j)),
+        )
     })
     .unwrap();
     let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
     let generic = ws.hemisphere_estimate(&unit, radius, &Silent).unwrap();
-    assert_eq!(generic, stamper, "the generic entry point is the Stamper kernel, bit for bit");
+    assert_eq!(
+        generic, stamper,
+        "the generic entry point is the Stamper kernel, bit for bit"
+    );
     let domain = Domain::new(Region::Hemisphere {
         center: Vector3::zeros(),
         radius,

@@ -65,11 +65,8 @@ pub(super) fn run_slice(
 ) -> Result<Outcome, ExperimentError> {
     let d = design(&paper_design)?;
     let n = ctx.mode.pick(60, 240);
-    let slice = Workspace::new(&d, &[[Elbow::Out; 3]], &[])?.inverse_condition_slice(
-        0.5,
-        d.reach(),
-        n,
-    )?;
+    let slice =
+        Workspace::new(&d, &[[Elbow::Out; 3]], &[])?.inverse_condition_slice(0.5, d.reach(), n)?;
     let (max, x, y) = slice.max().unwrap_or((0.0, f64::NAN, f64::NAN));
     let source = Source::new(id, Paper::Stamper1997, figure);
     let row = source

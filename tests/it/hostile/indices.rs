@@ -95,9 +95,14 @@ proptest! {
 /// What every `local_indices` answer must satisfy: finite, ordered, 1/κ a ratio, and
 /// $\sigma_{\min}^N \le w \le \sigma_{\max}^N$.
 fn local_indices_hold(l: &LocalIndices) -> bool {
-    let finite = [l.inverse_condition, l.sigma_min, l.sigma_max, l.manipulability]
-        .iter()
-        .all(|v| v.is_finite());
+    let finite = [
+        l.inverse_condition,
+        l.sigma_min,
+        l.sigma_max,
+        l.manipulability,
+    ]
+    .iter()
+    .all(|v| v.is_finite());
     finite
         && ratio(&l.inverse_condition)
         && 0.0 <= l.sigma_min
@@ -159,8 +164,16 @@ fn local_indices_of_extreme_scales_are_typed_or_finite() {
             continue;
         };
         let p = Vector3::new(0.0, 0.0, 1.5 * a);
-        super::expect(judge("local_indices (extreme scale)", || local_indices(&d, &p, [Elbow::Out; 3]), local_indices_hold));
-        super::expect(judge("inverse_condition_at (extreme scale)", || inverse_condition_at(&d, &p, [Elbow::Out; 3]), ratio));
+        super::expect(judge(
+            "local_indices (extreme scale)",
+            || local_indices(&d, &p, [Elbow::Out; 3]),
+            local_indices_hold,
+        ));
+        super::expect(judge(
+            "inverse_condition_at (extreme scale)",
+            || inverse_condition_at(&d, &p, [Elbow::Out; 3]),
+            ratio,
+        ));
     }
 }
 
@@ -186,8 +199,9 @@ fn huge_counts_are_refused_before_allocating() {
         }));
         let tsai = tsai();
         let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
-        super::expect(judge_err("Workspace::inverse_condition_slice (huge)", || {
-            ws.inverse_condition_slice(0.5, 1.0, n)
-        }));
+        super::expect(judge_err(
+            "Workspace::inverse_condition_slice (huge)",
+            || ws.inverse_condition_slice(0.5, 1.0, n),
+        ));
     }
 }

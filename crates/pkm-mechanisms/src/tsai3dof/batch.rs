@@ -55,7 +55,11 @@ impl Tsai3Dof {
     /// reaches: the scalar elbow-out kernel's formulas with divisions by $b$, $\rho$, $2a$ and
     /// $L$ turned into products with reciprocals computed once (a lane division is slow).
     #[inline(always)]
-    fn elbow_out_row<const N: usize>(&self, leg: usize, p: &[Lanes<N>; 3]) -> ([Lanes<N>; 3], [bool; N]) {
+    fn elbow_out_row<const N: usize>(
+        &self,
+        leg: usize,
+        p: &[Lanes<N>; 3],
+    ) -> ([Lanes<N>; 3], [bool; N]) {
         let (cp, sp) = self.trig[leg];
         let a = self.a;
         let (pu, pv, pw) = (p[0] * cp + p[1] * sp + self.h, p[1] * cp - p[0] * sp, p[2]);

@@ -105,7 +105,10 @@ impl Tsai3Dof {
     /// when `p` lies outside the workspace (some leg has $|p_v| > b$ or $|\cos\beta| > 1$);
     /// [`KinematicsError::Singular`] where eq. 7 is not finite ($\sin\theta_3 = 0$,
     /// $\sin(\theta_1 - \theta_2) = 0$, $\rho = 0$ or $L = 0$).
-    fn velocity_jacobian_elbow_out(&self, p: &Vector3<f64>) -> Result<Matrix3<f64>, KinematicsError> {
+    fn velocity_jacobian_elbow_out(
+        &self,
+        p: &Vector3<f64>,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
         if let Some(value) = p.iter().copied().find(|v| !v.is_finite()) {
             return Err(KinematicsError::NonFinite { what: "p", value });
         }
