@@ -7,12 +7,12 @@
 
 use nalgebra::Vector3;
 use pkm::papers::{self, Context, Mode};
-use pkm_mechanisms::{Elbow, Tsai3Dof};
+use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
 use pkm_traits::Silent;
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, local_indices};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0)?;
+    let design = Tsai3Dof::new(presets::stamper_max_gci())?;
     // The workspace of the elbow-out branch, without further constraints.
     let workspace = Workspace::new(&design, &[[Elbow::Out; 3]], &[])?;
     let hemisphere = Region::Hemisphere {

@@ -15,12 +15,12 @@ use pkm_traits::KinematicsError;
 /// # Example
 /// ```
 /// use nalgebra::{Isometry3, Vector3};
-/// use pkm_mechanisms::{StewartGough, ThreeUpu, UJointAxes, WrenchSystem};
+/// use pkm_mechanisms::{StewartDesign, StewartGough, ThreeUpu, WrenchSystem, presets};
 /// use pkm_screw_theory::Twist;
 /// let lift = Twist::new(Vector3::zeros(), Vector3::z());
 /// let pose = Isometry3::translation(0.0, 0.0, 40.0);
-/// let sg = StewartGough::new(12.0, 8.0, 8.0, 8.0)?;
-/// let upu = ThreeUpu::new(20.0, 10.0, ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians())))?;
+/// let sg = StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 8.0, 8.0))?;
+/// let upu = ThreeUpu::new(presets::park_3upu())?;
 /// let systems: [&dyn WrenchSystem; 2] = [&sg, &upu];
 /// for m in systems {
 ///     // Every leg resists a vertical lift: F > 0.

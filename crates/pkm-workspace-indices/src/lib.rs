@@ -18,10 +18,10 @@
 //!
 //! ```
 //! use nalgebra::Vector3;
-//! use pkm_mechanisms::{Elbow, Tsai3Dof};
+//! use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
 //! use pkm_traits::Silent;
 //! use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, local_indices};
-//! let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0)?;
+//! let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
 //! let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[])?;
 //! let hemisphere = Region::Hemisphere { center: Vector3::zeros(), radius: tsai.reach() };
 //! let points = PointSet::new(Domain::new(hemisphere)?, Sampler::Sobol { seed: 7 }, 4096, 4)?;

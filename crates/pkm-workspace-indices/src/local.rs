@@ -48,9 +48,9 @@ pub struct LocalIndices {
 /// # Example
 /// ```
 /// use nalgebra::Vector3;
-/// use pkm_mechanisms::{Elbow, Tsai3Dof};
+/// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
 /// use pkm_workspace_indices::inverse_condition_at;
-/// let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0)?;
+/// let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
 /// // Spec §1: 1/κ = 0.803344 at the centre, z = 0.5.
 /// let r = inverse_condition_at(&tsai, &Vector3::new(0.0, 0.0, 0.5), [Elbow::Out; 3])?;
 /// assert!((r - 0.803344).abs() < 1e-6);
@@ -86,10 +86,10 @@ where
 /// # Example
 /// ```
 /// use nalgebra::Vector3;
-/// use pkm_mechanisms::{ThreeUpu, UJointAxes};
+/// use pkm_mechanisms::{ThreeUpu, presets};
 /// use pkm_traits::InverseKinematics;
 /// use pkm_workspace_indices::local_indices;
-/// let upu = ThreeUpu::new(20.0, 10.0, ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians())))?;
+/// let upu = ThreeUpu::new(presets::park_3upu())?;
 /// let p = Vector3::new(1.0, -2.0, 50.0);
 /// let local = local_indices(&upu, &p, ())?;
 /// // For a square J, √det(JJᵀ) = |det J|.

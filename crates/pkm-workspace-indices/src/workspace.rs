@@ -26,9 +26,9 @@ use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
 /// ```
 /// use nalgebra::Vector3;
 /// use pkm_traits::{Silent, WorkspaceConstraint};
-/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 /// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
-/// let delta = RotaryDelta::delta(Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.0 })?;
+/// let delta = RotaryDelta::new(presets::miller_delta(Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.0 }))?;
 /// let below = WorkspaceConstraint::below(0.0)?;
 /// let arm_limits = WorkspaceConstraint::joint_range(-0.5, 1.5)?;
 /// let ws = Workspace::new(&delta, &[ElbowMode::Out], &[below, arm_limits])?;
@@ -173,9 +173,9 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
     /// # Example
     /// ```
     /// use pkm_traits::Silent;
-    /// use pkm_mechanisms::{Elbow, Tsai3Dof};
+    /// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
     /// use pkm_workspace_indices::{Sampler, Workspace};
-    /// let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0)?;
+    /// let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
     /// let unit = Sampler::Sobol { seed: 7 }.unit_hemisphere_points(20_000)?;
     /// let e = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[])?
     ///     .hemisphere_estimate(&unit, tsai.reach(), &Silent)?;

@@ -3,7 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::float_cmp)]
 
 use nalgebra::{Matrix3, SMatrix, Vector2, Vector3};
-use pkm_mechanisms::{ThreeUpu, UJointAxes};
+use pkm_mechanisms::{ThreeUpu, presets};
 use pkm_traits::{
     ClosedChain, ConstrainedWorkspace, InverseKinematics, Joints, KinematicsError, Silent, Task,
 };
@@ -165,12 +165,7 @@ fn at_an_inverse_kinematic_singularity_the_condition_index_is_its_limit_zero() {
 /// Jacobian of its inverse kinematics, $\partial q / \partial x$.
 #[test]
 fn local_indices_of_the_three_upu_match_finite_differences() {
-    let upu = ThreeUpu::new(
-        20.0,
-        10.0,
-        ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians())),
-    )
-    .unwrap();
+    let upu = ThreeUpu::new(presets::park_3upu()).unwrap();
     let h = 1e-5;
     let mut checked = 0;
     for p in [

@@ -5,30 +5,33 @@
 use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
-use pkm_mechanisms::{JointLayout, StewartGough, StewartTaskProblem, WrenchSystem};
+use pkm_mechanisms::{
+    StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, WrenchSystem, presets,
+};
 use pkm_optimizers::{
-    LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
+    LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,
     weighted_combination,
 };
 use pkm_screw_theory::{Twist, line_set_rank};
 use pkm_traits::{Bounds, Objective};
 
+/// The paper's design [`presets::wolf_shoham_stewart_s4_2`] as the problem's variables
+/// $(x_1, x_2, x_3, x_4)$ (cm, cm, deg, deg).
 const PAPER_DESIGN: [f64; 4] = [3.5, 3.5, 15.0, 15.0];
 
 fn problem(twist: Twist) -> Result<StewartTaskProblem, ExperimentError> {
     let radius = Bounds::new(2.0, 6.0)?;
     let angle = Bounds::new(0.0, 30.0)?;
     Ok(StewartTaskProblem::new(
-        [4.0, 4.0, 15.0, 15.0],
-        JointLayout::default(),
+        StewartDesign::from_deg(4.0, 4.0, 15.0, 15.0),
         Vector3::new(0.0, 0.0, 40.0),
         Vector3::zeros(),
         twist,
     )?
-    .free_design(0, radius)?
-    .free_design(1, radius)?
-    .free_design(2, angle)?
-    .free_design(3, angle)?)
+    .free_design(StewartDesignVariable::BaseRadius, radius)
+    .free_design(StewartDesignVariable::PlatformRadius, radius)
+    .free_design(StewartDesignVariable::BaseSeparationDeg, angle)
+    .free_design(StewartDesignVariable::PlatformSeparationDeg, angle))
 }
 
 fn optimise(
@@ -37,14 +40,15 @@ fn optimise(
     context: &Context<'_>,
 ) -> Result<LocalOptimum, ExperimentError> {
     context.progress.check()?;
+    let starts = Multistart::new(context.mode.pick(20, 48), 42);
     Ok(multistart_levenberg_marquardt(
         problem,
         sense,
-        &[],
-        context.mode.pick(20, 48),
-        42,
+        &starts,
         &LmSettings::default(),
-    )?)
+        context.progress,
+    )?
+    .best)
 }
 
 /// Runs §4.2.
@@ -55,18 +59,10 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let (p_t, p_r) = (problem(translation)?, problem(rotation)?);
     let max_t = optimise(&p_t, Sense::Maximise, context)?;
     let min_r = optimise(&p_r, Sense::Minimise, context)?;
-    let combined = weighted_combination(
-        &[max_t.design.clone(), min_r.design.clone()],
-        &[1.0, 1.0],
-        WeightedMean::NormalisedByWeights,
-    )?;
+    let combined =
+        weighted_combination(&[max_t.design.clone(), min_r.design.clone()], &[1.0, 1.0])?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
-    let paper = StewartGough::new(
-        PAPER_DESIGN[0],
-        PAPER_DESIGN[1],
-        PAPER_DESIGN[2],
-        PAPER_DESIGN[3],
-    )?;
+    let paper = StewartGough::new(presets::wolf_shoham_stewart_s4_2())?;
     let rows: Vec<_> = paper
         .wrench_rows(&pose)?
         .row_iter()

@@ -5,7 +5,8 @@
 use super::{config, hostile_count, hostile_f64, hostile_vec3, judge, judge_err, judge_value};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use pkm_mechanisms::{
-    Elbow, LinearDelta, LinearDeltaMode, LinearDeltaRatios, ThreeUpu, Tsai3Dof, UJointAxes,
+    Elbow, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios, ThreeUpu,
+    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, presets,
 };
 use pkm_traits::{Extents, Silent, SlicedRegion};
 use pkm_workspace_indices::{
@@ -111,7 +112,7 @@ fn local_indices_hold(l: &LocalIndices) -> bool {
 }
 
 fn tsai() -> Tsai3Dof {
-    Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap()
+    Tsai3Dof::new(presets::stamper_max_gci()).unwrap()
 }
 
 proptest! {
@@ -132,15 +133,15 @@ proptest! {
             judge("local_indices (Tsai3Dof)", || local_indices(&tsai, &p, [Elbow::Out; 3]), local_indices_hold)?;
         }
         let ratios = LinearDeltaRatios { l1_over_yr: 2.0, ya_over_yr: 0.0, zr_over_yr: 0.0, l2_over_l1: 0.63 };
-        let delta = LinearDelta::new(ratios, 1.0).unwrap();
+        let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
         judge("inverse_condition_at (LinearDelta)", || inverse_condition_at(&delta, &x, LinearDeltaMode::PAPER), ratio)?;
         judge("local_indices (LinearDelta)", || local_indices(&delta, &x, LinearDeltaMode::PAPER), local_indices_hold)?;
-        if let Ok(upu) = ThreeUpu::new(20.0, 10.0, [UJointAxes::park(0.3); 3]) {
+        if let Ok(upu) = ThreeUpu::new(ThreeUpuDesign { upper: [UJointAxes::park(0.3); 3], ..presets::park_3upu() }) {
             judge("inverse_condition_at (ThreeUpu)", || inverse_condition_at(&upu, &(x * scale), ()), ratio)?;
             judge("local_indices (ThreeUpu)", || local_indices(&upu, &(x * scale), ()), local_indices_hold)?;
         }
         // A design with hostile lengths, when valid, and hostile slice and hemisphere settings.
-        if let Ok(d) = Tsai3Dof::from_degrees(design.0, design.1, 0.0, 0.0, 120.0, 240.0) {
+        if let Ok(d) = Tsai3Dof::new(TsaiDesign::from_deg(design.0, design.1, 0.0, 0.0, 120.0, 240.0)) {
             judge("local_indices (hostile Tsai3Dof)", || local_indices(&d, &x, [Elbow::Out; 3]), local_indices_hold)?;
         }
         let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
@@ -160,7 +161,7 @@ proptest! {
 #[test]
 fn local_indices_of_extreme_scales_are_typed_or_finite() {
     for a in [1e-300, 1e-150, 1e150, 1e300] {
-        let Ok(d) = Tsai3Dof::from_degrees(a, a * 1.3, 0.0, 0.0, 120.0, 240.0) else {
+        let Ok(d) = Tsai3Dof::new(TsaiDesign::from_deg(a, a * 1.3, 0.0, 0.0, 120.0, 240.0)) else {
             continue;
         };
         let p = Vector3::new(0.0, 0.0, 1.5 * a);

@@ -21,9 +21,9 @@ impl Tsai3Dof {
     /// # Example
     /// ```
     /// use nalgebra::Vector3;
-    /// use pkm_mechanisms::{Elbow, Tsai3Dof};
+    /// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
     /// use pkm_traits::InverseKinematics;
-    /// let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    /// let design = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     /// let p = Vector3::new(0.1, -0.2, 0.5);
     /// let lanes = design.velocity_jacobian_elbow_out_lanes(&[p, Vector3::new(0.0, 0.0, 5.0)]);
     /// let scalar = design.velocity_jacobian_at(&p, [Elbow::Out; 3]).unwrap();
@@ -93,7 +93,7 @@ impl Tsai3Dof {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::float_cmp)]
     use super::*;
-    use crate::Elbow;
+    use crate::{Elbow, TsaiDesign, presets};
     use nalgebra::Matrix3;
     use pkm_traits::{InverseKinematics, KinematicsError};
     use proptest::prelude::*;
@@ -110,8 +110,8 @@ mod tests {
 
     fn designs() -> [Tsai3Dof; 2] {
         [
-            Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap(),
-            Tsai3Dof::from_degrees(0.3, 0.5, 0.1, -0.05, 100.0, 230.0).unwrap(),
+            Tsai3Dof::new(presets::stamper_max_gci()).unwrap(),
+            Tsai3Dof::new(TsaiDesign::from_deg(0.3, 0.5, 0.1, -0.05, 100.0, 230.0)).unwrap(),
         ]
     }
 
