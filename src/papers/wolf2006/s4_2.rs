@@ -6,7 +6,7 @@ use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{
-    StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, presets,
+    StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, WrenchSystem, presets,
 };
 use pkm_optimizers::{
     LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,

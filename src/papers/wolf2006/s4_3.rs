@@ -5,7 +5,7 @@ use super::pose_report::{
     PaperPose, maximise, objective_rows, pose_problem, pose_rows, section_4_1_twist,
 };
 use crate::papers::{Context, ExperimentError, Outcome, Paper, Source};
-use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartGough, presets};
+use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartGough, WrenchSystem, presets};
 use pkm_traits::Bounds;
 
 /// Runs §4.3.
