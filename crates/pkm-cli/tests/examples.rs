@@ -5,6 +5,9 @@
 mod common;
 
 use common::example;
+use pkm_cli::commands::dynamics::DynamicsStudy;
+use pkm_cli::commands::optimize::OptimizeStudy;
+use pkm_cli::commands::task::TaskStudy;
 use pkm_cli::commands::workspace::WorkspaceStudy;
 use pkm_cli::commands::{pareto, sweep};
 use pkm_cli::grid::{self, GridStudy};
@@ -24,6 +27,13 @@ fn the_example_studies_are_valid() {
         study::load(&example("linear_delta_pareto.toml")).unwrap();
     let prepared = grid::prepare(&file, &pareto::requested(&file).unwrap()).unwrap();
     assert!(prepared.grid.len() > 1000);
+    let _: study::StudyFile<OptimizeStudy> =
+        study::load(&example("tsai_volume_optimize.toml")).unwrap();
+    for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
+        let _: study::StudyFile<TaskStudy> = study::load(&example(name)).unwrap();
+    }
+    let _: study::StudyFile<DynamicsStudy> =
+        study::load(&example("nuwar_dynamics_csv.toml")).unwrap();
     let listed: Vec<String> = std::fs::read_dir(example(""))
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -31,7 +41,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        4,
+        8,
         "a new example study needs a check here: {listed:?}"
     );
 }

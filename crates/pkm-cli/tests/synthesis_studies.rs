@@ -7,8 +7,8 @@
 use clap::Parser;
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
 use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm::dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::screw_theory::Twist;
 use pkm_cli::commands::dynamics::DynamicsResult;
 use pkm_cli::commands::optimize::OptimizeResult;
@@ -16,14 +16,14 @@ use pkm_cli::commands::task::TaskResult;
 use pkm_cli::output::Results;
 use pkm_cli::{Cli, run};
 use pkm_mechanisms::{
-    JointLayout, Placement, RotaryDelta, StewartGough, StewartTaskProblem, ThreeUpu, Tsai3Dof,
-    UJointAxes, pose_from_task,
+    Placement, RotaryDelta, StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
+    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
 };
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, LmSettings, Sense, augmented_lagrangian,
+    AugmentedLagrangianSettings, LmSettings, Multistart, Sense, augmented_lagrangian,
     multistart_levenberg_marquardt, uniform_start_points,
 };
-use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Task};
+use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent, Task};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
@@ -161,8 +161,7 @@ fn section_4_1_twist() -> Twist {
 
 fn stewart_problem(twist: Twist) -> StewartTaskProblem {
     StewartTaskProblem::new(
-        [0.12, 0.08, 30.0, 8.0],
-        JointLayout::default(),
+        StewartDesign::from_deg(0.12, 0.08, 30.0, 8.0),
         Vector3::new(0.0, 0.0, 0.35),
         Vector3::zeros(),
         twist,
@@ -193,12 +192,12 @@ fn stewart_task_synthesis_matches_the_library_multistart() {
     let best = multistart_levenberg_marquardt(
         &problem,
         Sense::Maximise,
-        &[],
-        20,
-        2006,
+        &Multistart::new(20, 2006),
         &LmSettings::default(),
+        &Silent,
     )
-    .unwrap();
+    .unwrap()
+    .best;
     assert!(
         close(r.objective, best.value, 1e-12),
         "{} vs {}",
@@ -211,7 +210,7 @@ fn stewart_task_synthesis_matches_the_library_multistart() {
     }
     // Independent of the problem's own evaluation: F of the library's platform at the
     // reported pose, and the leg lengths there.
-    let sg = StewartGough::new(0.12, 0.08, 30.0, 8.0).unwrap();
+    let sg = StewartGough::new(StewartDesign::from_deg(0.12, 0.08, 30.0, 8.0)).unwrap();
     let pose = pose_of(&r);
     let f = sg.task_objective(&pose, &section_4_1_twist()).unwrap();
     assert!(close(f, r.objective, 1e-9), "{f} vs {}", r.objective);
@@ -241,12 +240,12 @@ fn weighted_copies_of_one_twist_are_that_twist() {
     let best = multistart_levenberg_marquardt(
         &stewart_problem(section_4_1_twist()),
         Sense::Maximise,
-        &[],
-        20,
-        2006,
+        &Multistart::new(20, 2006),
         &LmSettings::default(),
+        &Silent,
     )
-    .unwrap();
+    .unwrap()
+    .best;
     // 0.25 F + 0.75 F = F: the same maximum, and each part's F is the total.
     assert!(
         close(r.objective, best.value, 1e-9),
@@ -264,8 +263,18 @@ fn weighted_copies_of_one_twist_are_that_twist() {
 /// directly.
 struct UpuSigmaMin([Bounds; 6]);
 
+/// Park's 3-UPU at base radius 0.2 m and platform radius 0.1 m, joints tilted by 30°.
+fn upu_design() -> ThreeUpuDesign {
+    ThreeUpuDesign {
+        base_radius: 0.2,
+        platform_radius: 0.1,
+        azimuths: presets::PARK_AZIMUTHS_DEG.map(f64::to_radians),
+        upper: tilted_axes(30.0),
+    }
+}
+
 fn tilted_axes(gamma_deg: f64) -> [UJointAxes; 3] {
-    ThreeUpu::PARK_AZIMUTHS.map(|t| {
+    presets::PARK_AZIMUTHS_DEG.map(|t| {
         let UJointAxes { u1, u2 } = UJointAxes::park(t.to_radians());
         let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), 0.0)
             * Rotation3::from_axis_angle(&Unit::new_normalize(u1), gamma_deg.to_radians());
@@ -295,7 +304,7 @@ impl Residuals for UpuSigmaMin {
         1
     }
     fn residuals(&self, v: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
-        let upu = ThreeUpu::new(0.2, 0.1, tilted_axes(30.0))?;
+        let upu = ThreeUpu::new(upu_design())?;
         let [a, b, c] = [v[3], v[4], v[5]].map(f64::to_radians);
         let pose = pose_from_task(&Task::<6>::new(v[0], v[1], v[2], a, b, c)).unwrap();
         let rows = upu
@@ -330,12 +339,12 @@ fn three_upu_singularity_search_matches_the_library_multistart() {
     let best = multistart_levenberg_marquardt(
         &problem,
         Sense::Minimise,
-        &[],
-        16,
-        44,
+        &Multistart::new(16, 44),
         &LmSettings::default(),
+        &Silent,
     )
-    .unwrap();
+    .unwrap()
+    .best;
     let names = ["x", "y", "z", "rx_deg", "ry_deg", "rz_deg"];
     for (name, v) in names.iter().zip(&best.design) {
         assert!(
@@ -351,13 +360,13 @@ fn three_upu_singularity_search_matches_the_library_multistart() {
     assert!(w.sigma_min < 1e-6, "sigma_min = {}", w.sigma_min);
     assert!((w.most_reciprocal_f - w.sigma_min * w.sigma_min).abs() < 1e-12);
     let chi = Twist::from_vector(Vector6::from(w.most_reciprocal_twist));
-    let upu = ThreeUpu::new(0.2, 0.1, tilted_axes(30.0)).unwrap();
+    let upu = ThreeUpu::new(upu_design()).unwrap();
     assert!(upu.task_objective(&pose_of(&r), &chi).unwrap() < 1e-12);
     assert!(w.rank < 6 && w.det.abs() < 1e-6);
 }
 
 fn nuwar() -> ExtendedModel {
-    let nuwar = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+    let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
     ExtendedModel::new(nuwar, &MassParameters::miller2004()).unwrap()
 }
 
@@ -422,7 +431,7 @@ fn nuwar_dynamics_from_a_csv_matches_the_library_and_the_analytic_cycle() {
     // differences. Measured at dt = 2 ms: 0.23 N m inside (0.4 % of the 60 N m peak) and
     // 1.16 N m (1.9 %) at the two samples at each end, where the one-sided differences have
     // four times the error constant; the bounds are about twice that.
-    let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let cycle = pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
     let exact = inverse::sample(&model, &cycle, dt).unwrap();
     let analytic = inverse::hamilton(&model, &exact, Differencing::Central).unwrap();
     let gaps: Vec<f64> = hamilton
@@ -622,7 +631,7 @@ fn the_built_in_cycle_gives_the_library_torques() {
     );
     let r = run_text::<DynamicsResult>("dynamics", &text).result;
     let model = nuwar();
-    let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let cycle = pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
     let samples = inverse::sample(&model, &cycle, 1e-3).unwrap();
     let hamilton = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
     let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact).unwrap();

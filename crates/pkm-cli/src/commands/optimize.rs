@@ -23,13 +23,13 @@ use crate::plot::{self, Marker, Scatter};
 use crate::study::mechanism::{MechanismSpec, TsaiSpec};
 use crate::study::{self, StudyFile};
 use nalgebra::{DMatrix, DVector, Vector3};
-use pkm_mechanisms::{Tsai3Dof, TsaiDesign};
+use pkm_mechanisms::{Elbow, Tsai3Dof, TsaiDesign};
 use pkm_optimizers::{
     AugmentedLagrangianSettings, ConstrainedResult, OptimizeError, Sense, augmented_lagrangian,
     run_multistart, uniform_start_points,
 };
 use pkm_traits::{Bounds, CancelOnly, Constraints, Objective, ObjectiveError, Progress, Silent};
-use pkm_workspace_indices::{Sampler, hemisphere_estimate, inverse_condition_number_3x3};
+use pkm_workspace_indices::{Sampler, Workspace};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -103,7 +103,10 @@ fn default_check_step() -> f64 {
 pub enum TsaiObjective {
     /// Workspace volume $W$ inside the hemisphere of radius $a + b + d + e$ (eq. 3), m³.
     Volume,
-    /// Global condition index $\eta / W$ (eq. 8), dimensionless.
+    /// Stamper's "global condition index" of eq. 8, the condition integral
+    /// $\eta = \int_W 1/\kappa \, dW$, m³.
+    Eta,
+    /// The Gosselin–Angeles global condition index $\eta / W$, dimensionless.
     Gci,
 }
 
@@ -112,6 +115,7 @@ impl TsaiObjective {
     pub fn name(self) -> &'static str {
         match self {
             Self::Volume => "volume",
+            Self::Eta => "eta",
             Self::Gci => "gci",
         }
     }
@@ -212,15 +216,18 @@ pub fn tsai_objective(
 ) -> Result<f64, ObjectiveError> {
     match objective {
         TsaiObjective::Volume => Ok(design.column_volume(columns)?),
-        TsaiObjective::Gci => hemisphere_estimate(points, design.reach(), &Silent, |p| {
-            design
-                .jacobian_eq7(p)
-                .map(|j| inverse_condition_number_3x3(&j))
-        })
-        .map(|e| e.gci)
-        .map_err(|e| ObjectiveError::Infeasible {
-            reason: e.to_string(),
-        }),
+        TsaiObjective::Eta | TsaiObjective::Gci => {
+            let infeasible = |reason: String| ObjectiveError::Infeasible { reason };
+            let e = Workspace::new(design, &[[Elbow::Out; 3]], &[])
+                .and_then(|w| w.hemisphere_estimate(points, design.reach(), &Silent))
+                .map_err(|e| infeasible(e.to_string()))?;
+            match objective {
+                TsaiObjective::Gci => e
+                    .gci()
+                    .ok_or_else(|| infeasible("empty workspace: GCI = η/W undefined".into())),
+                _ => Ok(e.eta),
+            }
+        }
     }
 }
 
@@ -334,7 +341,7 @@ pub fn problem_of(file: &StudyFile<OptimizeStudy>) -> Result<TsaiProblem, CliErr
         limits.push(c.get_ref().at_most);
     }
     let points = match o.objective {
-        TsaiObjective::Gci => Sampler::MonteCarlo {
+        TsaiObjective::Eta | TsaiObjective::Gci => Sampler::MonteCarlo {
             seed: o.points_seed,
         }
         .unit_hemisphere_points(o.points)?,

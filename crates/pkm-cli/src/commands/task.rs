@@ -20,7 +20,8 @@ use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3, Vector6};
 use pkm::screw_theory::{Twist, line_set_rank, task_residuals};
 use pkm_mechanisms::{
     AngleMode, JointLayout, Pairing, StewartDesign, StewartDesignVariable, StewartGough,
-    StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes, pose_from_task, presets,
+    StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task,
+    presets,
 };
 use pkm_optimizers::{
     ActiveBound, LmSettings, LocalOptimum, OptimizeError, Sense, levenberg_marquardt,
