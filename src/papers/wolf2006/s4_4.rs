@@ -91,11 +91,7 @@ impl Residuals for UpperAxesProblem {
     fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
         self.check_dimension(design)?;
         let upu = ThreeUpu::new(park_with_axes(tilted_axes(design)))?;
-        let rows = upu
-            .wrench_rows(&self.pose)
-            .map_err(|e| ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            })?;
+        let rows = upu.wrench_rows(&self.pose).map_err(ObjectiveError::from)?;
         r.copy_from_slice(task_residuals(&rows, &self.twist).as_slice());
         Ok(())
     }
