@@ -40,6 +40,9 @@ pub struct Axis {
     pub point: Vector3<f64>,
     /// Its direction (any non-zero length).
     pub direction: Vector3<f64>,
+    /// The drawn length, centred on `point` (a joint axis); `None` draws the line across the
+    /// scene, centred on its point nearest the skeleton's centroid (a screw axis).
+    pub length: Option<f64>,
 }
 
 impl Axis {
@@ -71,6 +74,7 @@ impl Axis {
             label: label.into(),
             point,
             direction,
+            length: None,
         })
     }
 }
@@ -177,6 +181,15 @@ impl Scene {
             check_vector("axis direction", i, &axis.direction)?;
             if axis.direction.amax() == 0.0 {
                 return Err(DrawError::ZeroDirection { index: i });
+            }
+            if let Some(length) = axis.length {
+                if !(length > 0.0 && length <= MAX_COORDINATE) {
+                    return Err(DrawError::InvalidOption {
+                        name: "axis length",
+                        value: length,
+                        requirement: "must be positive and at most 1e12",
+                    });
+                }
             }
         }
         for (i, path) in self.paths.iter().enumerate() {
@@ -319,8 +332,9 @@ fn check_vector(what: &'static str, index: usize, v: &Vector3<f64>) -> Result<()
 }
 
 /// Renders `scene` as an SVG document: for every view of `options`, the links as lines coloured
-/// by [`LinkKind`], the points as markers by [`PointKind`], the axes, trajectories and
-/// boundaries, at one scale in both directions of a view.
+/// by [`LinkKind`], the points as markers by [`PointKind`], the axes (one colour and one legend
+/// entry per distinct label), trajectories and boundaries, at one scale in both directions of a
+/// view.
 ///
 /// # Errors
 /// [`Scene::validate`]'s and the options' [`DrawError`]s; [`DrawError::Backend`] if plotters

@@ -29,7 +29,6 @@ pub(crate) const LINK_COLOURS: [(LinkKind, RGBColor, u32); 4] = [
     (LinkKind::Platform, RGBColor(20, 140, 60), 3),
 ];
 
-const AXIS_COLOUR: RGBColor = RGBColor(230, 130, 0);
 const TRAJECTORY_COLOUR: RGBColor = RGBColor(140, 40, 170);
 const BOUNDARY_COLOUR: RGBColor = RGBColor(0, 150, 160);
 
@@ -75,8 +74,9 @@ pub(crate) fn svg(scene: &Scene, options: &DrawOptions) -> Result<String, DrawEr
     Ok(buffer)
 }
 
-/// Each axis as a segment: centred on its point nearest the skeleton's centroid, as long as
-/// 2.4 times the skeleton's radius about the centroid (1 when the skeleton is a point).
+/// Each axis as a segment: of its own length about its point, or centred on its point nearest
+/// the skeleton's centroid and as long as 2.4 times the skeleton's radius about the centroid (1
+/// when the skeleton is a point).
 fn axis_segments(scene: &Scene) -> Vec<(Vector3<f64>, Vector3<f64>)> {
     let points = &scene.skeleton.points;
     let n = points.len().max(1) as f64;
@@ -87,14 +87,44 @@ fn axis_segments(scene: &Scene) -> Vec<(Vector3<f64>, Vector3<f64>)> {
         .iter()
         .map(|p| (p.position - centroid).norm())
         .fold(0.0, f64::max);
-    let half = if radius > 0.0 { 1.2 * radius } else { 1.0 };
+    let across = if radius > 0.0 { 1.2 * radius } else { 1.0 };
     scene
         .axes
         .iter()
         .map(|axis| {
             let d = axis.direction / axis.direction.norm();
-            let nearest = axis.point + d * (centroid - axis.point).dot(&d);
-            (nearest - d * half, nearest + d * half)
+            let (centre, half) = match axis.length {
+                Some(length) => (axis.point, 0.5 * length),
+                None => (axis.point + d * (centroid - axis.point).dot(&d), across),
+            };
+            (centre - d * half, centre + d * half)
+        })
+        .collect()
+}
+
+/// Colours of the axes, by the order in which their labels first appear.
+const AXIS_COLOURS: [RGBColor; 6] = [
+    RGBColor(230, 130, 0),
+    RGBColor(200, 0, 140),
+    RGBColor(120, 80, 20),
+    RGBColor(0, 170, 200),
+    RGBColor(120, 140, 0),
+    RGBColor(90, 60, 200),
+];
+
+/// For each axis, its colour index and whether it is the first with its label (and so gets the
+/// legend entry).
+fn axis_colours(scene: &Scene) -> Vec<(usize, bool)> {
+    let mut labels: Vec<&str> = Vec::new();
+    scene
+        .axes
+        .iter()
+        .map(|axis| match labels.iter().position(|l| *l == axis.label) {
+            Some(k) => (k, false),
+            None => {
+                labels.push(&axis.label);
+                (labels.len() - 1, true)
+            }
         })
         .collect()
 }
@@ -215,16 +245,21 @@ fn draw_view(
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], style));
     }
 
-    for (axis, (a, b)) in scene.axes.iter().zip(segments) {
-        let style = AXIS_COLOUR.stroke_width(2);
-        chart
+    for ((axis, (a, b)), (colour, first)) in
+        scene.axes.iter().zip(segments).zip(axis_colours(scene))
+    {
+        let style = AXIS_COLOURS[colour % AXIS_COLOURS.len()].stroke_width(2);
+        let drawn = chart
             .draw_series(std::iter::once(PathElement::new(
                 [project(a), project(b)],
                 style,
             )))
-            .map_err(backend)?
-            .label(axis.label.as_str())
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], style));
+            .map_err(backend)?;
+        if first {
+            drawn
+                .label(axis.label.as_str())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], style));
+        }
     }
 
     for p in points {

@@ -143,8 +143,27 @@ fn the_svg_is_deterministic_and_shows_the_extras() {
     ] {
         assert!(first.contains(text), "{text}");
     }
-    // The axis: one orange line per view (and one in the legend).
+    // The axis: one orange line per view (and one in the legend); joint axes of one label share
+    // a colour and a legend entry.
     assert_eq!(first.matches("stroke=\"#E68200\"").count(), 5);
+    let joint = |point: Vector3<f64>| Axis {
+        label: "joint axis".into(),
+        point,
+        direction: Vector3::x(),
+        length: Some(0.05),
+    };
+    let joints = scene
+        .clone()
+        .with_axis(joint(Vector3::zeros()))
+        .with_axis(joint(Vector3::new(0.0, 0.0, -0.5)));
+    let svg = render_svg(&joints, &options).unwrap();
+    assert_eq!(svg.matches("stroke=\"#C8008C\"").count(), 2 * 4 + 1);
+    let mut bad = joints;
+    bad.axes[1].length = Some(f64::NAN);
+    assert!(matches!(
+        render_svg(&bad, &options),
+        Err(DrawError::InvalidOption { .. })
+    ));
     let csv = scene.to_csv();
     let rows: Vec<&str> = csv.lines().collect();
     let n = &scene.skeleton;
@@ -219,6 +238,7 @@ fn hostile_input_is_a_typed_error() {
         label: "none".into(),
         point: Vector3::zeros(),
         direction: Vector3::zeros(),
+        length: None,
     });
     assert!(matches!(
         render_svg(&scene, &options),
