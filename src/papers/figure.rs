@@ -38,6 +38,19 @@ pub enum FigureKind {
         /// The marked points, in the map's coordinates.
         markers: Vec<Marker>,
     },
+    /// A robot at a pose in front, side, top and 3-D views (`pkm-draw`), with its axes,
+    /// trajectories and workspace points.
+    Robot(RobotDrawing),
+}
+
+/// A drawing of a robot: what `pkm_draw::render_svg` draws, and the length unit of its
+/// coordinates.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RobotDrawing {
+    /// The skeleton and the extra elements.
+    pub scene: pkm_draw::Scene,
+    /// Length unit of the coordinates (`"m"`, `"cm"`, `"R"`).
+    pub unit: String,
 }
 
 /// A labelled point drawn on a figure.

@@ -15,7 +15,9 @@ pub mod stamper1997;
 pub mod wolf2006;
 
 pub use comparison::{Comparison, Source, Verdict};
-pub use figure::{Figure, FigureKind, Heatmap, LinePlot, LineSeries, Marker, SeriesStyle, Table};
+pub use figure::{
+    Figure, FigureKind, Heatmap, LinePlot, LineSeries, Marker, RobotDrawing, SeriesStyle, Table,
+};
 
 use pkm_traits::Progress;
 use serde::Serialize;
