@@ -24,6 +24,25 @@ pub struct Figure {
     pub kind: FigureKind,
 }
 
+impl Figure {
+    /// A drawing of a robot (see [`FigureKind::Robot`]) with coordinates in `unit`.
+    pub fn robot(
+        name: impl Into<String>,
+        title: impl Into<String>,
+        scene: pkm_draw::Scene,
+        unit: &str,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            title: title.into(),
+            kind: FigureKind::Robot(RobotDrawing {
+                scene,
+                unit: unit.to_owned(),
+            }),
+        }
+    }
+}
+
 /// The kinds of figure `xtask` renders.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum FigureKind {

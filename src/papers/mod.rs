@@ -152,6 +152,9 @@ pub enum ExperimentError {
     /// A dynamics computation failed.
     #[error(transparent)]
     Dynamics(#[from] pkm_dynamics_hamilton::DynamicsError),
+    /// A drawing of a robot could not be made.
+    #[error(transparent)]
+    Draw(#[from] pkm_draw::DrawError),
     /// The run was cancelled.
     #[error("cancelled")]
     Cancelled,

@@ -10,7 +10,7 @@ use plotters::prelude::*;
 use std::ops::Range;
 
 const FONT: &str = "sans-serif";
-const TITLE: u32 = 24;
+const TITLE: u32 = 20;
 const VIEW_NAME: u32 = 16;
 const TICK: u32 = 12;
 const LABEL: u32 = 11;
@@ -287,16 +287,47 @@ fn draw_view(
     }
 
     if legend {
+        let position = emptiest_corner(&all, chart.x_range(), chart.y_range());
         chart
             .configure_series_labels()
             .label_font((FONT, TICK))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
+            .position(position)
             .draw()
             .map_err(backend)?;
     }
     Ok(())
+}
+
+/// The corner of the plot with the fewest of `points` in its outer 40 % × 40 %, for the legend
+/// (upper right first on ties).
+fn emptiest_corner(points: &[(f64, f64)], u: Range<f64>, v: Range<f64>) -> SeriesLabelPosition {
+    let (du, dv) = (0.4 * (u.end - u.start), 0.4 * (v.end - v.start));
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let count = |right: bool, upper: bool| {
+        points
+            .iter()
+            .filter(|(x, y)| {
+                let horizontal = if right { *x >= u.end - du } else { *x <= u.start + du };
+                let vertical = if upper { *y >= v.end - dv } else { *y <= v.start + dv };
+                horizontal && vertical
+            })
+            .count()
+    };
+    let mut best = (SeriesLabelPosition::UpperRight, usize::MAX);
+    for (position, right, upper) in corners {
+        let n = count(right, upper);
+        if n < best.1 {
+            best = (position, n);
+        }
+    }
+    best.0
 }
 
 #[cfg(test)]
@@ -312,6 +343,8 @@ mod tests {
         for (x, y) in points {
             assert!(u.contains(&x) && v.contains(&y));
         }
+        let corner = emptiest_corner(&[(1.9, 0.9), (1.8, 0.1)], u.clone(), v.clone());
+        assert!(matches!(corner, SeriesLabelPosition::UpperLeft));
         let (u, v) = ranges(&[(3.0, 3.0)], (100, 100));
         assert!(u.end > u.start && v.end > v.start && u.contains(&3.0));
     }

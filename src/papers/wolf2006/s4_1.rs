@@ -2,9 +2,10 @@
 //! $F$ (eq. 14) for the twists with λ = 1 and λ = 0.
 
 use super::pose_report::{
-    PaperPose, maximise, objective_rows, pose_problem, pose_rows, section_4_1_twist,
+    PaperPose, maximise, objective_rows, optimal_pose_drawing, pose_problem, pose_rows,
+    section_4_1_twist,
 };
-use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use pkm_mechanisms::StewartGough;
 
 pub(super) const DESIGN: [f64; 4] = [12.0, 8.0, 30.0, 8.0];
@@ -35,7 +36,7 @@ pub(super) fn run_lambda1(context: &Context<'_>) -> Result<Outcome, ExperimentEr
     run(
         context,
         "wolf2006.s4_1.lambda1",
-        1.0,
+        (1.0, "Fig. 4"),
         &PAPER_POSE_LAMBDA1,
         400.3,
     )
@@ -46,7 +47,7 @@ pub(super) fn run_lambda0(context: &Context<'_>) -> Result<Outcome, ExperimentEr
     run(
         context,
         "wolf2006.s4_1.lambda0",
-        0.0,
+        (0.0, "Fig. 5"),
         &PAPER_POSE_LAMBDA0,
         PAPER_F_LAMBDA0,
     )
@@ -55,7 +56,7 @@ pub(super) fn run_lambda0(context: &Context<'_>) -> Result<Outcome, ExperimentEr
 fn run(
     context: &Context<'_>,
     id: &str,
-    lambda: f64,
+    (lambda, figure): (f64, &str),
     paper: &PaperPose,
     paper_f: f64,
 ) -> Result<Outcome, ExperimentError> {
@@ -66,7 +67,7 @@ fn run(
     context.progress.check()?;
     let problem = pose_problem(DESIGN, twist)?;
     let optimum = maximise(&problem, context.mode)?;
-    let (_, pose) = problem.evaluate(&optimum.design)?;
+    let (optimal, pose) = problem.evaluate(&optimum.design)?;
     let note = "F at the paper's printed pose (n normalised), same-pattern layout";
     let [mut f_row, mut optimum_row] =
         objective_rows(&source, paper_f, (f_paper_pose, note), optimum.value);
@@ -95,8 +96,15 @@ fn run(
     let mut comparisons = vec![f_row, optimum_row];
     comparisons.extend(evidence);
     comparisons.extend(pose_rows(&source, &pose, paper, &optimum));
+    let drawing = optimal_pose_drawing(&optimal, &pose, &twist, lambda)?;
+    let name = format!("{}_optimal_pose", figure.replace(". ", "").to_lowercase());
+    let title = format!(
+        "{figure}: pkm's optimal platform pose for the λ = {lambda} twist (F = {:.1}), task axis",
+        optimum.value
+    );
     Ok(Outcome {
         comparisons,
+        figures: vec![Figure::robot(name, title, drawing, "cm")],
         ..Outcome::default()
     })
 }

@@ -3,9 +3,10 @@
 //! then combine the two optima with eq. 15 (equal weights, $\sum w_i q_i / \sum w_i$).
 
 use super::pose_report::kkt_rows;
-use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
-use pkm_mechanisms::{JointLayout, StewartGough, StewartTaskProblem};
+use pkm_draw::{Axis, Scene};
+use pkm_mechanisms::{JointLayout, Skeleton, StewartGough, StewartTaskProblem};
 use pkm_optimizers::{
     LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
     weighted_combination,
@@ -127,8 +128,30 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         &max_t,
     ));
     comparisons.extend(kkt_rows(&source.with_id("wolf2006.s4_2.rotation"), &min_r));
+    let figure = combined_drawing(&combined, &pose, &translation, &rotation)?;
     Ok(Outcome {
         comparisons,
+        figures: vec![figure],
         ..Outcome::default()
     })
+}
+
+/// Fig. 7: the eq. 15 combination of the two optimal geometries at the task pose, with the axes
+/// of both task twists (the platform normal).
+fn combined_drawing(
+    design: &[f64],
+    pose: &Isometry3<f64>,
+    translation: &Twist,
+    rotation: &Twist,
+) -> Result<Figure, ExperimentError> {
+    let [x1, x2, x3, x4] = [0, 1, 2, 3].map(|k| design.get(k).copied().unwrap_or(f64::NAN));
+    let mechanism = StewartGough::new(x1, x2, x3, x4)?;
+    let centre = pose.translation.vector;
+    let scene = Scene::new(Skeleton::stewart_gough(&mechanism, pose)?)
+        .with_axis(Axis::of_twist("translation task (maximise F)", translation, centre)?)
+        .with_axis(Axis::of_twist("rotation task (minimise F)", rotation, centre)?);
+    let title = format!(
+        "Fig. 7: pkm's geometry for the peg-in-hole task pair, x = ({x1:.2}, {x2:.2},          {x3:.1}°, {x4:.1}°)"
+    );
+    Ok(Figure::robot("fig7_optimized_geometry", title, scene, "cm"))
 }
