@@ -314,8 +314,16 @@ fn emptiest_corner(points: &[(f64, f64)], u: Range<f64>, v: Range<f64>) -> Serie
         points
             .iter()
             .filter(|(x, y)| {
-                let horizontal = if right { *x >= u.end - du } else { *x <= u.start + du };
-                let vertical = if upper { *y >= v.end - dv } else { *y <= v.start + dv };
+                let horizontal = if right {
+                    *x >= u.end - du
+                } else {
+                    *x <= u.start + du
+                };
+                let vertical = if upper {
+                    *y >= v.end - dv
+                } else {
+                    *y <= v.start + dv
+                };
                 horizontal && vertical
             })
             .count()

@@ -3,9 +3,7 @@
 //! random numbers, then re-evaluated with the paper's design on one fresh point set.
 
 use super::problem::{Criterion, StamperProblem, design, estimate};
-use crate::papers::{
-    Comparison, Context, ExperimentError, Figure, Mode, Outcome, Paper, Source,
-};
+use crate::papers::{Comparison, Context, ExperimentError, Figure, Mode, Outcome, Paper, Source};
 use nalgebra::Vector3;
 use pkm_draw::{PathKind, Scene};
 use pkm_mechanisms::{LegBranch, Skeleton};

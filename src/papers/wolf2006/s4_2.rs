@@ -148,8 +148,16 @@ fn combined_drawing(
     let mechanism = StewartGough::new(x1, x2, x3, x4)?;
     let centre = pose.translation.vector;
     let scene = Scene::new(Skeleton::stewart_gough(&mechanism, pose)?)
-        .with_axis(Axis::of_twist("translation task (maximise F)", translation, centre)?)
-        .with_axis(Axis::of_twist("rotation task (minimise F)", rotation, centre)?);
+        .with_axis(Axis::of_twist(
+            "translation task (maximise F)",
+            translation,
+            centre,
+        )?)
+        .with_axis(Axis::of_twist(
+            "rotation task (minimise F)",
+            rotation,
+            centre,
+        )?);
     let title = format!(
         "Fig. 7: pkm's geometry for the peg-in-hole task pair, x = ({x1:.2}, {x2:.2},          {x3:.1}°, {x4:.1}°)"
     );

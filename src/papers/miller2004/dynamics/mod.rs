@@ -11,9 +11,9 @@ mod start_angles;
 mod torques;
 
 use crate::papers::{Experiment, ExperimentError, LinePlot, LineSeries, SeriesStyle};
+use pkm_draw::{Axis, PathKind, Scene};
 use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm_draw::{Axis, PathKind, Scene};
 use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, Skeleton};
 
 /// The experiments of this part of the paper.

@@ -1,9 +1,7 @@
 //! `miller2004.dynamics.trajectory`, `.nuwar`, `.delta`: the pick-and-place cycle, the motor
 //! torques along it (Fig. 8) by Hamilton and Lagrange, and the Delta/NUWAR ratio.
 
-use super::{
-    CYCLE_TIME, DT, Robot, canonical_trajectory, drawing, lines, model, placement_at,
-};
+use super::{CYCLE_TIME, DT, Robot, canonical_trajectory, drawing, lines, model, placement_at};
 use crate::papers::{
     Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source, Table,
     Verdict,
@@ -269,7 +267,12 @@ fn robot_outcome(
         format!(
             "Fig. {number}: layout of the {label} ({angles}), motor axes, at the start of the cycle"
         ),
-        drawing(robot, Placement::canonical(), &canonical_trajectory()?, true)?,
+        drawing(
+            robot,
+            Placement::canonical(),
+            &canonical_trajectory()?,
+            true,
+        )?,
         "m",
     );
     Ok((
