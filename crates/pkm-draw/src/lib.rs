@@ -182,14 +182,14 @@ impl Scene {
             if axis.direction.amax() == 0.0 {
                 return Err(DrawError::ZeroDirection { index: i });
             }
-            if let Some(length) = axis.length {
-                if !(length > 0.0 && length <= MAX_COORDINATE) {
-                    return Err(DrawError::InvalidOption {
-                        name: "axis length",
-                        value: length,
-                        requirement: "must be positive and at most 1e12",
-                    });
-                }
+            if let Some(length) = axis.length
+                && !(length > 0.0 && length <= MAX_COORDINATE)
+            {
+                return Err(DrawError::InvalidOption {
+                    name: "axis length",
+                    value: length,
+                    requirement: "must be positive and at most 1e12",
+                });
             }
         }
         for (i, path) in self.paths.iter().enumerate() {
