@@ -9,7 +9,7 @@
 
 use criterion::{Criterion, Throughput};
 use nalgebra::Vector3;
-use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta};
+use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 use pkm::workspace_indices::{
     Accumulator, LANES, Sampler, chunked_reduce, inverse_condition_number_3x3,
     inverse_condition_number_3x3_lanes,
@@ -75,10 +75,10 @@ where
 
 /// The paper's Delta in the peer's frame.
 pub(crate) fn peer_delta() -> Option<RotaryDelta> {
-    RotaryDelta::delta(Placement {
+    RotaryDelta::new(presets::miller_delta(Placement {
         motor_plane_z: 0.0,
         azimuth_motor_1: 0.0,
-    })
+    }))
     .ok()
 }
 

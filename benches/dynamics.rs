@@ -6,9 +6,9 @@
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{BenchmarkGroup, Criterion};
 use pkm::dynamics_hamilton::inverse;
-use pkm::dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::mechanisms::{Placement, RotaryDelta, presets};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use std::hint::black_box;
 
 /// The CPU time of the benchmarking thread (`/proc/thread-self/schedstat`, ns), beside the wall
@@ -60,7 +60,7 @@ fn cpu_criterion() -> Criterion<ThreadCpuTime> {
 }
 
 fn nuwar() -> ExtendedModel {
-    let mechanism = RotaryDelta::nuwar(Placement::canonical()).expect("paper design");
+    let mechanism = RotaryDelta::new(presets::nuwar(Placement::canonical())).expect("paper design");
     ExtendedModel::new(mechanism, &MassParameters::miller2004()).expect("paper masses")
 }
 
@@ -88,7 +88,7 @@ pub(crate) fn inverse_dynamics(c: &mut Criterion) {
 
 fn inverse_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
     let model = nuwar();
-    let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
+    let trajectory = pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
     let dt = 1e-3;
     let samples = inverse::sample(&model, &trajectory, dt).expect("reachable");
     let (prev, now, next) = (samples[135].1, samples[136].1, samples[137].1);
@@ -142,7 +142,7 @@ fn forward_benches<M: Measurement>(group: &mut BenchmarkGroup<'_, M>) {
     use pkm::integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, integrate};
     use pkm::traits::VectorField;
     let model = nuwar();
-    let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
+    let trajectory = pick_and_place(0.5, CycleReading::RoundTrip).expect("cycle");
     let dt = 1e-3;
     let samples = inverse::sample(&model, &trajectory, dt).expect("reachable");
     let tau = inverse::hamilton(&model, &samples, inverse::Differencing::Central).expect("torques");

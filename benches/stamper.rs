@@ -3,14 +3,14 @@
 
 use crate::delta_kernel::lane_sums;
 use criterion::{Criterion, Throughput};
-use pkm::mechanisms::Tsai3Dof;
+use pkm::mechanisms::{Tsai3Dof, presets};
 use pkm::workspace_indices::{
     Sampler, hemisphere_estimate, inverse_condition_number_3x3, inverse_condition_number_3x3_lanes,
 };
 use pkm_traits::Silent;
 
 pub(crate) fn gci_kernel(c: &mut Criterion) {
-    let Ok(design) = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0) else {
+    let Ok(design) = Tsai3Dof::new(presets::stamper_max_gci()) else {
         return;
     };
     let Ok(points) = (Sampler::MonteCarlo { seed: 1 }).unit_hemisphere_points(1 << 20) else {
@@ -41,7 +41,7 @@ pub(crate) fn gci_kernel(c: &mut Criterion) {
 /// The same kernel lane-parallel ([`Tsai3Dof::jacobian_eq7_lanes`] and
 /// `inverse_condition_number_3x3_lanes`), same points, same sums.
 pub(crate) fn gci_kernel_batch(c: &mut Criterion) {
-    let Ok(design) = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0) else {
+    let Ok(design) = Tsai3Dof::new(presets::stamper_max_gci()) else {
         return;
     };
     let Ok(points) = (Sampler::MonteCarlo { seed: 1 }).unit_hemisphere_points(1 << 20) else {

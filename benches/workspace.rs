@@ -3,7 +3,7 @@
 //! one core and on two, and of one row of the (α, β) sweep (`sweep_volumes`).
 
 use criterion::{Criterion, Throughput};
-use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta};
+use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 use pkm::workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, sweep_volumes};
 use pkm_traits::{Silent, WorkspaceConstraint};
 
@@ -22,7 +22,7 @@ fn sector_points(n: u64) -> Option<PointSet> {
 
 pub(crate) fn membership_kernel(c: &mut Criterion) {
     let (Ok(nuwar), Ok(below), Some(points)) = (
-        RotaryDelta::nuwar(study_placement()),
+        RotaryDelta::new(presets::nuwar(study_placement())),
         WorkspaceConstraint::below(0.0),
         sector_points(1 << 20),
     ) else {
@@ -50,7 +50,12 @@ pub(crate) fn membership_kernel(c: &mut Criterion) {
     };
     let designs: Vec<RotaryDelta> = (0..=90)
         .filter_map(|b| {
-            RotaryDelta::prototype((0.6, f64::from(b).to_radians()), study_placement()).ok()
+            RotaryDelta::new(presets::miller_prototype(
+                0.6,
+                f64::from(b).to_radians(),
+                study_placement(),
+            ))
+            .ok()
         })
         .collect();
     let workspaces: Vec<_> = designs

@@ -6,16 +6,16 @@
 
 use pkm::dynamics_hamilton::forward::{ForwardForm, HamiltonForm, SampledTorques};
 use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm::dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm::integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, integrate};
-use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::mechanisms::{Placement, RotaryDelta, presets};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::traits::Silent;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let nuwar = RotaryDelta::nuwar(Placement::canonical())?;
+    let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical()))?;
     let model = ExtendedModel::new(nuwar, &MassParameters::miller2004())?;
-    let cycle = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip)?;
+    let cycle = pick_and_place(0.5, CycleReading::RoundTrip)?;
     let dt = 1e-3;
     let samples = inverse::sample(&model, &cycle, dt)?;
     let hamilton = inverse::hamilton(&model, &samples, Differencing::Central)?;

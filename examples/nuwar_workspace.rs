@@ -3,7 +3,7 @@
 //! Run: `cargo run --release --example nuwar_workspace`.
 #![allow(clippy::print_stdout)]
 
-use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, RotaryDeltaDesign};
 use pkm_traits::{Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, ratio_standard_error};
 
@@ -14,16 +14,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         motor_plane_z: 0.0,
         azimuth_motor_1: 0.0,
     };
-    let delta = RotaryDelta::new(0.15, 0.04, 0.2, 0.45, (0.0, 0.0), placement)?;
-    let alpha = (1.0 / 2f64.sqrt()).atan(); // orthogonal motor axes
-    let nuwar_like = RotaryDelta::new(
-        0.15,
-        0.04,
-        0.2,
-        0.45,
-        (alpha, 60f64.to_radians()),
+    let design = RotaryDeltaDesign {
+        base_radius: 0.15,
+        plate_offset: 0.04,
+        arm: 0.2,
+        forearm: 0.45,
+        alpha: 0.0,
+        beta: 0.0,
         placement,
-    )?;
+    };
+    let delta = RotaryDelta::new(design)?;
+    let nuwar_like = RotaryDelta::new(RotaryDeltaDesign {
+        alpha: (1.0 / 2f64.sqrt()).atan(), // orthogonal motor axes
+        beta: 60f64.to_radians(),
+        ..design
+    })?;
 
     // Its limits: plate below the motors, arms between 40° up and 90° down (elbow out), ball
     // joints bent by at most 35°, links of neighbouring legs at least 30 mm apart.

@@ -6,14 +6,15 @@
 #![allow(clippy::print_stdout)]
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{JointLayout, StewartTaskProblem};
-use pkm_optimizers::{LmSettings, Sense, multistart_levenberg_marquardt};
+use pkm_mechanisms::{StewartDesign, StewartTaskProblem};
+use pkm_optimizers::{LmSettings, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
-use pkm_traits::Bounds;
+use pkm_traits::{Bounds, Silent};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    // x1 base radius, x2 platform radius (cm), x3 base and x4 platform joint separations (deg).
-    let design = [12.0, 8.0, 30.0, 8.0];
+    // Base radius x1, platform radius x2 (cm), base and platform joint separations x3, x4
+    // (printed in degrees; the design holds radians).
+    let design = StewartDesign::from_deg(12.0, 8.0, 30.0, 8.0);
     // The task: a screw with axis direction s through s0 and pitch λ, χ = [s ; s0 × s + λ s].
     let s = Vector3::new(2.0, 2.0, 1.0).normalize();
     let s0 = Vector3::new(2.0, 3.0, 6.0);
@@ -21,7 +22,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let xy = Bounds::new(-10.0, 10.0)?;
     let problem = StewartTaskProblem::new(
         design,
-        JointLayout::default(),
         Vector3::new(0.0, 0.0, 35.0),
         Vector3::zeros(),
         twist,
@@ -33,11 +33,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let best = multistart_levenberg_marquardt(
         &problem,
         Sense::Maximise,
-        &[],
-        32,
-        7,
+        &Multistart::new(32, 7),
         &LmSettings::default(),
-    )?;
+        &Silent,
+    )?
+    .best;
     let (_, pose) = problem.evaluate(&best.design)?;
     let w = pose.rotation.scaled_axis();
     println!("F = {:.3}", best.value);

@@ -4,12 +4,12 @@
 #![allow(clippy::print_stdout)]
 
 use pkm::papers::{self, Context, Mode};
-use pkm_mechanisms::Tsai3Dof;
+use pkm_mechanisms::{Tsai3Dof, presets};
 use pkm_traits::Silent;
 use pkm_workspace_indices::{Sampler, hemisphere_estimate, inverse_condition_number_3x3};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0)?;
+    let design = Tsai3Dof::new(presets::stamper_max_gci())?;
     let points = Sampler::MonteCarlo { seed: 1 }.unit_hemisphere_points(200_000)?;
     let e = hemisphere_estimate(&points, design.reach(), &Silent, |p| {
         design

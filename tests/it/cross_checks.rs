@@ -3,9 +3,9 @@
 
 use nalgebra::Vector3;
 use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm::dynamics_hamilton::trajectory::{CycleReading, Trajectory};
 use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm::mechanisms::{Placement, RotaryDelta};
+use pkm::mechanisms::{Placement, RotaryDelta, presets};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 
 fn max_diff(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> f64 {
     a.iter()
@@ -19,10 +19,10 @@ fn max_diff(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> f64 {
 /// sides they agree far better than against exact accelerations.
 #[test]
 fn hamilton_converges_to_lagrange_at_second_order() {
-    let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let trajectory = pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
     for mechanism in [
-        RotaryDelta::nuwar(Placement::canonical()).unwrap(),
-        RotaryDelta::delta(Placement::canonical()).unwrap(),
+        RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
+        RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap(),
     ] {
         let m = ExtendedModel::new(mechanism, &MassParameters::miller2004()).unwrap();
         let gap = |dt: f64| {

@@ -2,7 +2,7 @@
 //! $1/\kappa$), and the rotary Delta kernel against the NumPy peer.
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{ElbowMode, JacobianLanes, Placement, RotaryDelta, Tsai3Dof};
+use pkm_mechanisms::{ElbowMode, JacobianLanes, Placement, RotaryDelta, Tsai3Dof, presets};
 use pkm_traits::{ClosedChain, InverseKinematics, Silent};
 use pkm_workspace_indices::{
     Accumulator, LANES, Sampler, chunked_reduce, inverse_condition_number_3x3,
@@ -15,10 +15,10 @@ use pkm_workspace_indices::{
 /// ($w_i = z$ for $\alpha = \beta = 0$), and its root $\operatorname{atan2}(B, A) +
 /// \arccos(C/\rho)$ is pkm's [`ElbowMode::Out`] modulo $2\pi$.
 fn peer_delta() -> RotaryDelta {
-    RotaryDelta::delta(Placement {
+    RotaryDelta::new(presets::miller_delta(Placement {
         motor_plane_z: 0.0,
         azimuth_motor_1: 0.0,
-    })
+    }))
     .unwrap()
 }
 
@@ -107,7 +107,7 @@ fn delta_batch_kernel_equals_the_scalar_kernel_per_point() {
 
 #[test]
 fn tsai_batch_kernel_equals_the_scalar_kernel_per_point() {
-    let m = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let m = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     let points: Vec<Vector3<f64>> = Sampler::MonteCarlo { seed: 4 }
         .unit_hemisphere_points(40_000)
         .unwrap()

@@ -1,11 +1,11 @@
 //! Monte Carlo estimates are bit-identical for 1, 2 and 8 rayon threads.
 
-use pkm_mechanisms::Tsai3Dof;
+use pkm_mechanisms::{Tsai3Dof, presets};
 use pkm_traits::Silent;
 use pkm_workspace_indices::{Sampler, hemisphere_estimate, inverse_condition_number_3x3};
 
 fn stamper_estimate_bits() -> [u64; 4] {
-    let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let design = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     let points = Sampler::MonteCarlo { seed: 7 }
         .unit_hemisphere_points(50_000)
         .unwrap();

@@ -8,22 +8,25 @@ use pkm_draw::{
     SkeletonPoint, View, render_skeleton_svg, render_svg,
 };
 use pkm_mechanisms::{
-    ElbowMode, LegBranch, LinearDelta, LinearDeltaMode, LinearDeltaRatios, Placement, RotaryDelta,
-    StewartGough, ThreeUpu, Tsai3Dof, UJointAxes, platform_pose,
+    ElbowMode, LegBranch, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, StewartDesign, StewartGough, ThreeUpu, Tsai3Dof, TsaiDesign,
+    platform_pose, presets,
 };
 use pkm_screw_theory::Twist;
 
 fn skeletons() -> Vec<(&'static str, Skeleton)> {
-    let delta = RotaryDelta::delta(Placement::canonical()).unwrap();
-    let nuwar = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+    let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
+    let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
     let p = Vector3::new(0.0, -0.2, -0.9);
-    let linear =
-        LinearDelta::new(LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]), 1.0).unwrap();
-    let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.1, 0.0, 120.0, 240.0).unwrap();
-    let sg = StewartGough::new(12.0, 8.0, 30.0, 8.0).unwrap();
+    let linear = LinearDelta::new(LinearDeltaDesign {
+        ratios: LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]),
+        yr: 1.0,
+    })
+    .unwrap();
+    let tsai = Tsai3Dof::new(TsaiDesign::from_deg(0.44, 0.56, 0.1, 0.0, 120.0, 240.0)).unwrap();
+    let sg = StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 30.0, 8.0)).unwrap();
     let pose = platform_pose(Vector3::new(1.0, 0.0, 30.0), Vector3::x(), 0.2).unwrap();
-    let azimuths = ThreeUpu::PARK_AZIMUTHS.map(f64::to_radians);
-    let upu = ThreeUpu::new(20.0, 10.0, azimuths.map(UJointAxes::park)).unwrap();
+    let upu = ThreeUpu::new(presets::park_3upu()).unwrap();
     let up = Isometry3::translation(0.0, 0.0, 40.0);
     vec![
         (
@@ -53,10 +56,7 @@ fn skeletons() -> Vec<(&'static str, Skeleton)> {
             .unwrap(),
         ),
         ("stewart", Skeleton::stewart_gough(&sg, &pose).unwrap()),
-        (
-            "3-upu",
-            Skeleton::three_upu(&upu, (20.0, 10.0), &up).unwrap(),
-        ),
+        ("3-upu", Skeleton::three_upu(&upu, &up).unwrap()),
     ]
 }
 

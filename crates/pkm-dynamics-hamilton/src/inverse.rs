@@ -9,7 +9,7 @@
 //! Lagrange forms $\dot p = M\ddot q + \dot M\dot q$ from accelerations.
 
 use crate::trajectory::Trajectory;
-use crate::{DynamicsError, ExtendedModel, ExtendedState};
+use crate::{ConfigurationError, DynamicsError, ExtendedModel, ExtendedState};
 use nalgebra::{Vector3, Vector6};
 
 /// Two-point differencing of a sampled signal on a uniform grid.
@@ -70,33 +70,25 @@ pub fn sample(
         .map(|k| {
             let t = k as f64 * dt;
             let m = trajectory.sample(t);
-            let s = model.joint_motion(&m.p, &m.v, &m.a).map_err(|e| at(e, t))?;
+            let s = model.joint_motion(&m.p, &m.v, &m.a).map_err(|e| e.at(t))?;
             Ok((t, s))
         })
         .collect()
-}
-
-fn at(e: DynamicsError, t: f64) -> DynamicsError {
-    match e {
-        DynamicsError::Unreachable { source, .. } => DynamicsError::Unreachable { t, source },
-        DynamicsError::Singular { matrix, .. } => DynamicsError::Singular { matrix, t },
-        DynamicsError::NonFinite { what, .. } => DynamicsError::NonFinite { what, t },
-        other => other,
-    }
 }
 
 /// The motor torques for a given momentum rate $\dot p$ (steps 2 and 3 of §3.3), i.e.
 /// [`Configuration::hamilton_torques`](crate::Configuration::hamilton_torques) at `q`.
 ///
 /// # Errors
-/// [`DynamicsError::Singular`] when $\Phi_x$ (a direct-kinematic singularity) is singular,
-/// [`DynamicsError::NonFinite`] for a non-finite torque (times are NaN; callers set them).
+/// [`ConfigurationError::Singular`] when $\Phi_x$ (a direct-kinematic singularity) is
+/// singular, [`ConfigurationError::NonFinite`] for a non-finite torque (a configuration has no
+/// time: [`hamilton`] and [`lagrange`] attach the sample's).
 pub fn torques(
     model: &ExtendedModel,
     q: &Vector6<f64>,
     qd: &Vector6<f64>,
     p_rate: &Vector6<f64>,
-) -> Result<Vector3<f64>, DynamicsError> {
+) -> Result<Vector3<f64>, ConfigurationError> {
     model.at(q).hamilton_torques(qd, p_rate)
 }
 
@@ -173,7 +165,7 @@ pub fn hamilton(
         .collect();
     let rates = differencing.apply(&momenta, dt);
     (configurations.iter().zip(samples).zip(&rates))
-        .map(|((c, (t, s)), r)| c.hamilton_torques(&s.qd, r).map_err(|e| at(e, *t)))
+        .map(|((c, (t, s)), r)| c.hamilton_torques(&s.qd, r).map_err(|e| e.at(*t)))
         .collect()
 }
 
@@ -198,7 +190,7 @@ pub fn lagrange(
         }
     };
     (samples.iter().zip(&qdd))
-        .map(|((t, s), a)| lagrange_torques(model, &s.q, &s.qd, a).map_err(|e| at(e, *t)))
+        .map(|((t, s), a)| lagrange_torques(model, &s.q, &s.qd, a).map_err(|e| e.at(*t)))
         .collect()
 }
 
@@ -212,7 +204,7 @@ pub fn lagrange_torques(
     q: &Vector6<f64>,
     qd: &Vector6<f64>,
     qdd: &Vector6<f64>,
-) -> Result<Vector3<f64>, DynamicsError> {
+) -> Result<Vector3<f64>, ConfigurationError> {
     model.at(q).lagrange_torques(qd, qdd)
 }
 
@@ -221,11 +213,11 @@ mod tests {
     use super::*;
     use crate::MassParameters;
     use crate::trajectory::{MotionLaw, Path, Segment};
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
     use pkm_traits::KinematicsError;
 
     fn nuwar() -> ExtendedModel {
-        let m = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+        let m = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
         ExtendedModel::new(m, &MassParameters::miller2004()).unwrap()
     }
 
@@ -261,7 +253,7 @@ mod tests {
             model.joint_motion(&m.p, &m.v, &m.a)
         };
         assert!(reach(t - dt).is_ok());
-        assert!(matches!(reach(t), Err(DynamicsError::Unreachable { .. })));
+        assert!(matches!(reach(t), Err(ConfigurationError::Unreachable(_))));
         // The message names both.
         let message = DynamicsError::Unreachable { t, source }.to_string();
         assert!(
@@ -273,8 +265,7 @@ mod tests {
     #[test]
     fn failures_of_one_sample_carry_its_time() {
         let model = nuwar();
-        let reading = crate::trajectory::CycleReading::RoundTrip;
-        let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
+        let trajectory = crate::trajectory::tests::ellipse_cycle(0.5);
         let mut samples = sample(&model, &trajectory, 1e-3).unwrap();
         samples[7].1.qd[3] = f64::NAN;
         let e = hamilton(&model, &samples, Differencing::Backward).unwrap_err();
@@ -287,11 +278,10 @@ mod tests {
     #[test]
     fn the_step_is_read_from_the_sample_times() {
         let model = nuwar();
-        let reading = crate::trajectory::CycleReading::RoundTrip;
-        let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
+        let trajectory = crate::trajectory::tests::ellipse_cycle(0.5);
         // Bit for bit the step given to `sample`, also where (t_n - t_0)/n is not (0.3 s, 0.1 ms).
         for duration in [0.5, 0.3] {
-            let trajectory = Trajectory::pick_and_place(duration, reading).unwrap();
+            let trajectory = crate::trajectory::tests::ellipse_cycle(duration);
             for dt in [1e-3, 1e-4, 2.5e-3, 1.0 / 3000.0] {
                 let samples = sample(&model, &trajectory, dt).unwrap();
                 let step = sample_step(&samples).unwrap();
@@ -319,8 +309,7 @@ mod tests {
     #[test]
     fn unevenly_spaced_or_too_few_samples_are_typed_errors() {
         let model = nuwar();
-        let reading = crate::trajectory::CycleReading::RoundTrip;
-        let trajectory = Trajectory::pick_and_place(0.5, reading).unwrap();
+        let trajectory = crate::trajectory::tests::ellipse_cycle(0.5);
         let samples = sample(&model, &trajectory, 1e-3).unwrap();
         let differenced = Accelerations::Differenced(Differencing::Central);
         let rejects = |samples: &[(f64, ExtendedState)], setting: &str, value: f64| {

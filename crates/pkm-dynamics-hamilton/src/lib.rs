@@ -4,7 +4,7 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`trajectory`] | motion laws × path shapes, the paper's elliptical pick-and-place cycle (§3.5) |
+//! | [`trajectory`] | motion laws × path shapes (§3.5) |
 //! | [`mass`] | the mass model of the rotary Delta family (rod or lumped forearms) |
 //! | [`model`] | $M(q)$, $L_q$, $\Phi$, $\Phi_q$, $\dot\Phi_q$ in $q = (x, y, z, \theta_1, \theta_2, \theta_3)$ |
 //! | [`inverse`] | inverse dynamics: Hamilton's three steps (§3.3) and Lagrange |
@@ -24,6 +24,6 @@ pub mod mass;
 pub mod model;
 pub mod trajectory;
 
-pub use error::DynamicsError;
+pub use error::{ConfigurationError, DynamicsError};
 pub use mass::{ForearmModel, MassParameters};
 pub use model::{Configuration, ExtendedModel, ExtendedState};

@@ -2,12 +2,12 @@
 //! (Miller 2004 §3.2, eqs. 8–12): mass matrix, Lagrangian gradient, constraints and their
 //! Jacobians.
 
-use crate::DynamicsError;
+use crate::ConfigurationError;
 use crate::kernel::{self, Constants, Leg};
 use crate::mass::{Coefficients, MassParameters};
 use nalgebra::{Matrix6, SMatrix, Vector3, Vector6};
 use pkm_mechanisms::{ElbowMode, RotaryDelta};
-use pkm_traits::{ClosedChain, DesignError, ExtendedInertia, InverseKinematics};
+use pkm_traits::{ClosedChain, DesignError, InverseKinematics};
 
 /// Positions, velocities and accelerations in the extended space.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,9 +25,9 @@ pub struct ExtendedState {
 /// # Example
 /// ```
 /// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-/// use pkm_mechanisms::{Placement, RotaryDelta};
+/// use pkm_mechanisms::{Placement, RotaryDelta, presets};
 /// use nalgebra::Vector3;
-/// let model = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+/// let model = ExtendedModel::new(RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
 ///     &MassParameters::miller2004()).unwrap();
 /// let s = model.joint_motion(&Vector3::new(0.0, -0.2, -0.9), &Vector3::zeros(), &Vector3::zeros())
 ///     .unwrap();
@@ -49,9 +49,9 @@ pub struct ExtendedModel {
 /// # Example
 /// ```
 /// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-/// use pkm_mechanisms::{Placement, RotaryDelta};
+/// use pkm_mechanisms::{Placement, RotaryDelta, presets};
 /// use nalgebra::Vector3;
-/// let model = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+/// let model = ExtendedModel::new(RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
 ///     &MassParameters::miller2004()).unwrap();
 /// let s = model.joint_motion(&Vector3::new(0.0, -0.1, -0.8), &Vector3::new(0.0, 1.0, 0.5),
 ///     &Vector3::zeros()).unwrap();
@@ -211,6 +211,19 @@ impl ExtendedModel {
         self.constraint_jacobian_rate(q, qd) * qd
     }
 
+    /// The potential $V = g\,[m_g z + \sum_i c_g\, d_i(\theta_i)_z]$.
+    pub fn potential(&self, q: &Vector6<f64>) -> f64 {
+        let arms: f64 = (self.mechanism.legs().iter().enumerate())
+            .map(|(i, leg)| leg.arm_direction(q[3 + i]).z)
+            .sum();
+        self.c.gravity * (self.c.m_g * q[2] + self.c.c_g * arms)
+    }
+
+    /// $\partial V / \partial q = -L_q$ at $\dot q = 0$.
+    pub fn potential_gradient(&self, q: &Vector6<f64>) -> Vector6<f64> {
+        -self.lagrangian_gradient(q, &Vector6::zeros())
+    }
+
     /// Kinetic energy $T = \tfrac12 \dot q^\top M \dot q$.
     pub fn kinetic_energy(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {
         0.5 * qd.dot(&(self.mass_matrix(q) * qd))
@@ -227,14 +240,14 @@ impl ExtendedModel {
     /// beyond the positions and velocities that Hamilton's needs as well.
     ///
     /// # Errors
-    /// [`DynamicsError::Singular`] (at `t = NaN`) when a diagonal entry of $\Phi_\theta$ is zero
-    /// (a leg stretched or folded) or the result is not finite.
+    /// [`ConfigurationError::Singular`] when a diagonal entry of $\Phi_\theta$ is zero (a leg
+    /// stretched or folded) or the result is not finite.
     pub fn joint_accelerations(
         &self,
         q: &Vector6<f64>,
         qd: &Vector6<f64>,
         a: &Vector3<f64>,
-    ) -> Result<Vector6<f64>, DynamicsError> {
+    ) -> Result<Vector6<f64>, ConfigurationError> {
         self.at(q).joint_accelerations(qd, a)
     }
 
@@ -243,22 +256,15 @@ impl ExtendedModel {
     /// $\ddot\theta = -\Phi_\theta^{-1}(\Phi_x\ddot p + \gamma)$.
     ///
     /// # Errors
-    /// [`DynamicsError::Unreachable`] (at `t = NaN`; callers set the time) or
-    /// [`DynamicsError::Singular`] when a leg is stretched or folded.
+    /// [`ConfigurationError::Unreachable`] (naming the leg) or [`ConfigurationError::Singular`]
+    /// when a leg is stretched or folded.
     pub fn joint_motion(
         &self,
         p: &Vector3<f64>,
         v: &Vector3<f64>,
         a: &Vector3<f64>,
-    ) -> Result<ExtendedState, DynamicsError> {
-        let unreachable = |source| DynamicsError::Unreachable {
-            t: f64::NAN,
-            source,
-        };
-        let th = self
-            .mechanism
-            .inverse_kinematics(p, ElbowMode::Out)
-            .map_err(unreachable)?;
+    ) -> Result<ExtendedState, ConfigurationError> {
+        let th = self.mechanism.inverse_kinematics(p, ElbowMode::Out)?;
         let q = Vector6::new(p.x, p.y, p.z, th.x, th.y, th.z);
         let at = self.at(&q);
         let qd = at.joint_velocities(v)?;
@@ -286,14 +292,14 @@ impl Configuration<'_> {
     /// diagonal).
     ///
     /// # Errors
-    /// [`DynamicsError::Singular`] (`"Phi_x^T"`) at a direct-kinematic singularity,
-    /// [`DynamicsError::NonFinite`] for a non-finite torque (times are NaN; callers set them).
+    /// [`ConfigurationError::Singular`] (`"Phi_x^T"`) at a direct-kinematic singularity,
+    /// [`ConfigurationError::NonFinite`] for a non-finite torque.
     #[inline]
     pub fn hamilton_torques(
         &self,
         qd: &Vector6<f64>,
         p_rate: &Vector6<f64>,
-    ) -> Result<Vector3<f64>, DynamicsError> {
+    ) -> Result<Vector3<f64>, ConfigurationError> {
         checked_torques(kernel::hamilton_torques(
             self.constants,
             &self.legs,
@@ -312,7 +318,7 @@ impl Configuration<'_> {
         &self,
         qd: &Vector6<f64>,
         qdd: &Vector6<f64>,
-    ) -> Result<Vector3<f64>, DynamicsError> {
+    ) -> Result<Vector3<f64>, ConfigurationError> {
         checked_torques(kernel::lagrange_torques(
             self.constants,
             &self.legs,
@@ -325,10 +331,10 @@ impl Configuration<'_> {
     /// \Phi_{\theta,ii}$, as $\dot q = (\dot x, \dot\theta)$.
     ///
     /// # Errors
-    /// [`DynamicsError::Singular`] (`"Phi_theta"`, at `t = NaN`) when a diagonal entry of
-    /// $\Phi_\theta$ is zero (a leg stretched or folded).
+    /// [`ConfigurationError::Singular`] (`"Phi_theta"`) when a diagonal entry of $\Phi_\theta$
+    /// is zero (a leg stretched or folded).
     #[inline]
-    pub fn joint_velocities(&self, v: &Vector3<f64>) -> Result<Vector6<f64>, DynamicsError> {
+    pub fn joint_velocities(&self, v: &Vector3<f64>) -> Result<Vector6<f64>, ConfigurationError> {
         if self.legs.iter().any(|leg| leg.phi_theta == 0.0) {
             return Err(phi_theta_singular());
         }
@@ -347,7 +353,7 @@ impl Configuration<'_> {
         &self,
         qd: &Vector6<f64>,
         a: &Vector3<f64>,
-    ) -> Result<Vector6<f64>, DynamicsError> {
+    ) -> Result<Vector6<f64>, ConfigurationError> {
         let qdd = kernel::joint_accelerations(self.constants, &self.legs, qd, a);
         if qdd.iter().all(|v| v.is_finite()) {
             Ok(qdd)
@@ -372,57 +378,32 @@ impl ExtendedModel {
     }
 }
 
-fn phi_theta_singular() -> DynamicsError {
-    DynamicsError::Singular {
+fn phi_theta_singular() -> ConfigurationError {
+    ConfigurationError::Singular {
         matrix: "Phi_theta",
-        t: f64::NAN,
     }
 }
 
 #[inline]
-fn checked_torques((tau, det): (Vector3<f64>, f64)) -> Result<Vector3<f64>, DynamicsError> {
+fn checked_torques((tau, det): (Vector3<f64>, f64)) -> Result<Vector3<f64>, ConfigurationError> {
     if det == 0.0 {
-        Err(DynamicsError::Singular {
-            matrix: "Phi_x^T",
-            t: f64::NAN,
-        })
+        Err(ConfigurationError::Singular { matrix: "Phi_x^T" })
     } else if tau.iter().all(|v| v.is_finite()) {
         Ok(tau)
     } else {
-        Err(DynamicsError::NonFinite {
-            what: "torque",
-            t: f64::NAN,
-        })
-    }
-}
-
-impl ExtendedInertia<6> for ExtendedModel {
-    fn mass_matrix(&self, s: &Vector6<f64>) -> Matrix6<f64> {
-        ExtendedModel::mass_matrix(self, s)
-    }
-
-    /// $V = g\,[m_g z + \sum_i c_g\, d_i(\theta_i)_z]$.
-    fn potential(&self, s: &Vector6<f64>) -> f64 {
-        let arms: f64 = (self.mechanism.legs().iter().enumerate())
-            .map(|(i, leg)| leg.arm_direction(s[3 + i]).z)
-            .sum();
-        self.c.gravity * (self.c.m_g * s[2] + self.c.c_g * arms)
-    }
-
-    fn potential_gradient(&self, s: &Vector6<f64>) -> Vector6<f64> {
-        -self.lagrangian_gradient(s, &Vector6::zeros())
+        Err(ConfigurationError::NonFinite { what: "torque" })
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pkm_mechanisms::Placement;
+    use pkm_mechanisms::{Placement, presets};
 
     #[test]
     fn acceleration_level_ik_agrees_with_joint_motion() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();

@@ -6,16 +6,24 @@
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3, Vector6};
 use pkm_dynamics_hamilton::forward::{AccelerationForm, HamiltonForm};
-use pkm_dynamics_hamilton::{DynamicsError, ExtendedModel, MassParameters};
-use pkm_mechanisms::{Placement, RotaryDelta};
+use pkm_dynamics_hamilton::{ConfigurationError, ExtendedModel, MassParameters};
+use pkm_mechanisms::{Placement, RotaryDelta, presets};
 use pkm_traits::VectorField;
 use proptest::prelude::*;
 
 fn models() -> [ExtendedModel; 2] {
     let mass = MassParameters::miller2004();
     [
-        ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(), &mass).unwrap(),
-        ExtendedModel::new(RotaryDelta::delta(Placement::canonical()).unwrap(), &mass).unwrap(),
+        ExtendedModel::new(
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
+            &mass,
+        )
+        .unwrap(),
+        ExtendedModel::new(
+            RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap(),
+            &mass,
+        )
+        .unwrap(),
     ]
 }
 
@@ -160,7 +168,7 @@ fn a_singular_phi_x_is_a_typed_error() {
     assert!(
         matches!(
             e,
-            DynamicsError::Singular {
+            ConfigurationError::Singular {
                 matrix: "Phi_x^T",
                 ..
             }

@@ -4,21 +4,46 @@
 
 use nalgebra::{Vector3, Vector6};
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
+use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm_mechanisms::{Placement, RotaryDelta};
+use pkm_mechanisms::{Placement, RotaryDelta, presets};
 use proptest::prelude::*;
 
 fn nuwar() -> ExtendedModel {
     ExtendedModel::new(
-        RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+        RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
         &MassParameters::miller2004(),
     )
     .unwrap()
 }
 
+/// Miller's canonical cycle (§3.5, spec `miller-dynamics.md`), built from the general API: the
+/// half ellipse through (0, -0.2, -0.9), (0, 0, -0.5), (0, 0.2, -0.9), 3-4-5, 0.25 s each way.
+fn ellipse_cycle() -> Trajectory {
+    let path = Path::Ellipse {
+        centre: Vector3::new(0.0, 0.0, -0.9),
+        axis_1: Vector3::new(0.0, -0.2, 0.0),
+        axis_2: Vector3::new(0.0, 0.0, 0.4),
+        start_angle: 0.0,
+        sweep: std::f64::consts::PI,
+    };
+    let go = Segment {
+        path,
+        law: MotionLaw::Polynomial345,
+        duration: 0.25,
+        reverse: false,
+    };
+    Trajectory::new(vec![
+        go,
+        Segment {
+            reverse: true,
+            ..go
+        },
+    ])
+    .unwrap()
+}
+
 fn lagrangian(m: &ExtendedModel, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {
-    use pkm_traits::ExtendedInertia;
     m.kinetic_energy(q, qd) - m.potential(q)
 }
 
@@ -102,7 +127,7 @@ proptest! {
 #[test]
 fn canonical_cycle_reproduces_the_spec_reference_numbers() {
     let m = nuwar();
-    let traj = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let traj = ellipse_cycle();
     let samples = inverse::sample(&m, &traj, 1e-3).unwrap();
     let max_acc = samples
         .iter()
@@ -144,7 +169,7 @@ proptest! {
     ) {
         use pkm_dynamics_hamilton::forward::{ForwardForm, HamiltonForm};
         let mass = MassParameters { gravity: 0.0, ..MassParameters::miller2004() };
-        let m = ExtendedModel::new(RotaryDelta::nuwar(Placement::canonical()).unwrap(), &mass).unwrap();
+        let m = ExtendedModel::new(RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(), &mass).unwrap();
         let s = m.joint_motion(&Vector3::new(0.0, y, -0.75), &Vector3::from(v), &Vector3::zeros()).unwrap();
         let form = HamiltonForm::new(&m, |_| Vector3::zeros(), 0.0).unwrap();
         let z0 = form.initial_state(&s.q, &s.qd);

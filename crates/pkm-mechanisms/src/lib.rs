@@ -3,7 +3,8 @@
 //!
 //! One file per mechanism: the rotary Delta/NUWAR, the Linear Delta (Miller 2004), the Tsai
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
-//! 3-UPU (Wolf & Shoham).
+//! 3-UPU (Wolf & Shoham). Each mechanism is built from a named design struct (SI units and
+//! radians) by `new(design)`; the papers' designs are in [`presets`].
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -14,6 +15,7 @@ mod readme {}
 mod jacobian_lanes;
 mod linear_delta;
 mod linear_delta_cross_section;
+pub mod presets;
 pub mod rotary_delta;
 mod skeleton;
 mod stewart_gough;
@@ -24,12 +26,14 @@ mod tsai3dof;
 mod workspace_models;
 
 pub use jacobian_lanes::JacobianLanes;
-pub use linear_delta::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+pub use linear_delta::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
-pub use rotary_delta::{ElbowMode, FOREARM_CLEARANCE_SPAN, Leg, Placement, RotaryDelta};
+pub use rotary_delta::{
+    ElbowMode, FOREARM_CLEARANCE_SPAN, Leg, Placement, RotaryDelta, RotaryDeltaDesign,
+};
 pub use skeleton::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
-pub use stewart_gough::{StewartGough, platform_pose, pose_from_task};
+pub use stewart_gough::{StewartDesign, StewartGough, platform_pose, pose_from_task};
 pub use stewart_layout::{AngleMode, JointLayout, Pairing};
-pub use stewart_task::StewartTaskProblem;
-pub use three_upu::{ThreeUpu, UJointAxes};
-pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof};
+pub use stewart_task::{StewartDesignVariable, StewartTaskProblem};
+pub use three_upu::{ThreeUpu, ThreeUpuDesign, UJointAxes};
+pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof, TsaiDesign};

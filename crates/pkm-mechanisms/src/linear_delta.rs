@@ -14,10 +14,11 @@ use pkm_traits::{
     ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Lanes,
     Task,
 };
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The four dimensionless design variables of Table 1 (Miller 2004).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LinearDeltaRatios {
     /// $L_1/Y_R$: outer arm length over actuator separation; at least 1.
     pub l1_over_yr: f64,
@@ -39,6 +40,16 @@ impl LinearDeltaRatios {
             l2_over_l1: p[3],
         }
     }
+}
+
+/// The design of a Linear Delta: the dimensionless ratios of Table 1 and the length scale.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinearDeltaDesign {
+    /// The shape, as ratios to $Y_R$ (Table 1).
+    pub ratios: LinearDeltaRatios,
+    /// The actuator separation $Y_R$ (m), the length unit of the ratios; positive.
+    pub yr: f64,
 }
 
 /// Which way each arm leans along the rails: arm $i$ has $x - q_i = s_i u_i$ with $u_i \ge 0$.
@@ -67,28 +78,28 @@ impl LinearDeltaMode {
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+/// use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
 /// use pkm_traits::InverseKinematics;
 /// let ratios = LinearDeltaRatios { l1_over_yr: 2.0, ya_over_yr: 0.0, zr_over_yr: 0.0, l2_over_l1: 0.63 };
-/// let delta = LinearDelta::new(ratios, 1.0).unwrap();
+/// let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
 /// let q = delta.inverse_kinematics(&[0.0, 0.0, -1.0].into(), LinearDeltaMode::PAPER).unwrap();
 /// assert!((q[0] + 2.0_f64.sqrt()).abs() < 1e-12);
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LinearDelta {
-    ratios: LinearDeltaRatios,
-    yr: f64,
+    design: LinearDeltaDesign,
     rails: [[f64; 2]; 3],
     lengths: [f64; 3],
 }
 
 impl LinearDelta {
-    /// Builds the mechanism from the ratios of Table 1 and the scale $Y_R$.
+    /// Builds the mechanism of `design` (the ratios of Table 1 and the scale $Y_R$).
     ///
     /// # Errors
     /// [`DesignError`] for a non-finite value, $Y_R \le 0$, $L_1/Y_R < 1$ (the outer discs do not
     /// meet: the workspace is empty), $|Y_A/Y_R| \ge 1$ or $L_2/L_1 \le 0$.
-    pub fn new(ratios: LinearDeltaRatios, yr: f64) -> Result<Self, DesignError> {
+    pub fn new(design: LinearDeltaDesign) -> Result<Self, DesignError> {
+        let LinearDeltaDesign { ratios, yr } = design;
         let yr = DesignError::require_positive("YR", yr)?;
         let l1 = DesignError::require_finite("L1/YR", ratios.l1_over_yr)?;
         if l1 < 1.0 {
@@ -109,21 +120,25 @@ impl LinearDelta {
         let zr = DesignError::require_finite("ZR/YR", ratios.zr_over_yr)?;
         let l2 = DesignError::require_positive("L2/L1", ratios.l2_over_l1)?;
         Ok(Self {
-            ratios,
-            yr,
+            design,
             rails: [[-yr, 0.0], [yr, 0.0], [ya * yr, zr * yr]],
             lengths: [l1 * yr, l1 * yr, l2 * l1 * yr],
         })
     }
 
+    /// The design the mechanism was built from.
+    pub fn design(&self) -> LinearDeltaDesign {
+        self.design
+    }
+
     /// The design ratios.
     pub fn ratios(&self) -> LinearDeltaRatios {
-        self.ratios
+        self.design.ratios
     }
 
     /// The actuator separation $Y_R$ (the length unit).
     pub fn yr(&self) -> f64 {
-        self.yr
+        self.design.yr
     }
 
     /// Rail positions $A_i = (y, z)$.
@@ -297,7 +312,7 @@ mod tests {
             mode in prop::array::uniform3(any::<bool>()),
         ) {
             let ratios = LinearDeltaRatios::from_slice(&[design.0, design.1, design.2, design.3]);
-            let delta = LinearDelta::new(ratios, 1.0).unwrap();
+            let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
             let mode = LinearDeltaMode { leans_positive: mode };
             let mut z = z;
             if let Some(lane) = z.get_mut(nan_lane) {

@@ -11,7 +11,7 @@ use crate::{
     Tsai3Dof,
 };
 use nalgebra::{Isometry3, Point3, Vector3};
-use pkm_traits::{InvalidInput, InverseKinematics, KinematicsError};
+use pkm_traits::{InverseKinematics, KinematicsError};
 use serde::Serialize;
 
 /// What a point of a skeleton is.
@@ -250,46 +250,22 @@ impl Skeleton {
         ))
     }
 
-    /// The 3-UPU at `pose`, with base radius `a` and platform radius `b` (the radii the model was
-    /// built with; it keeps only the joints): base joints $b_i = a(\cos\theta_i, \sin\theta_i, 0)$,
-    /// platform joints $p + R\,b(\cos\theta_i, \sin\theta_i, 0)$ at
-    /// [`ThreeUpu::PARK_AZIMUTHS`], the triangles and the three legs (actuated).
+    /// The 3-UPU at `pose`: base joints $b_i = a(\cos\theta_i, \sin\theta_i, 0)$, platform joints
+    /// $p + R\,b(\cos\theta_i, \sin\theta_i, 0)$ of its design, the triangles and the three
+    /// legs (actuated).
     ///
     /// # Errors
     /// [`KinematicsError::NonFinite`] for a non-finite pose; [`KinematicsError::Singular`] for a
-    /// leg of zero length; [`KinematicsError::InvalidInput`] when the legs of `(a, b)` are not
-    /// the leg lines of `robot` at `pose` (the radii are not the model's).
-    pub fn three_upu(
-        robot: &ThreeUpu,
-        (a, b): (f64, f64),
-        pose: &Isometry3<f64>,
-    ) -> Result<Self, KinematicsError> {
+    /// leg of zero length.
+    pub fn three_upu(robot: &ThreeUpu, pose: &Isometry3<f64>) -> Result<Self, KinematicsError> {
         task_of(pose)?;
-        let at = |r: f64, deg: f64| {
-            let t = deg.to_radians();
-            Vector3::new(r * t.cos(), r * t.sin(), 0.0)
-        };
-        let base = ThreeUpu::PARK_AZIMUTHS.map(|t| at(a, t));
-        let plate = ThreeUpu::PARK_AZIMUTHS.map(|t| (pose * Point3::from(at(b, t))).coords);
-        let rows = robot.wrench_rows(pose)?;
-        for i in 0..3 {
-            let leg = plate[i] - base[i];
-            let s = leg / leg.norm();
-            let line = [s, base[i].cross(&s)];
-            let row = rows.row(i);
-            // NaN-safe: the first component that is not within 1e-9 (relative) is refused.
-            let mismatch = (0..6)
-                .map(|k| (line[k / 3][k % 3] - row[k]).abs() / (1.0 + row[k].abs()))
-                .find(|m| !(*m <= 1e-9));
-            if let Some(mismatch) = mismatch {
-                return Err(InvalidInput::new(
-                    "3-UPU radii (a, b)",
-                    mismatch,
-                    "must be the radii the model was built with (leg lines differ)",
-                )
-                .into());
-            }
-        }
+        robot.wrench_rows(pose)?;
+        let design = robot.design();
+        let at = |r: f64, t: f64| Vector3::new(r * t.cos(), r * t.sin(), 0.0);
+        let base = design.azimuths.map(|t| at(design.base_radius, t));
+        let plate = design
+            .azimuths
+            .map(|t| (pose * Point3::from(at(design.platform_radius, t))).coords);
         Ok(Self::legs(&base, &plate, &pose.translation.vector))
     }
 

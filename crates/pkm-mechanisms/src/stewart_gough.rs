@@ -1,8 +1,9 @@
 //! The 6-6 semi-regular Stewart–Gough platform of Wolf & Shoham (Fig. 3, eq. 8–10).
 //!
-//! Design $x = (x_1, x_2, x_3, x_4)$: base radius, platform radius, and the angular
-//! separations (degrees) of the two joints of a pair on the base and on the platform. Joint
-//! $k = 0..5$ belongs to pair $m = \lfloor k/2 \rfloor$ on side $\sigma = \mp 1$ (even/odd $k$):
+//! Design $x = (x_1, x_2, x_3, x_4)$ ([`StewartDesign`]): base radius, platform radius, and the
+//! angular separations (radians; the paper prints degrees) of the two joints of a pair on the
+//! base and on the platform. Joint $k = 0..5$ belongs to pair $m = \lfloor k/2 \rfloor$ on side
+//! $\sigma = \mp 1$ (even/odd $k$):
 //! $$ b_k = x_1 (\cos t, \sin t, 0), \quad t = o + 120^\circ m + \sigma x_3/2, $$
 //! $$ r_k = x_2 (\cos t, \sin t, 0), \quad t = o + 120^\circ m + \sigma x_4/2 $$
 //! (same-pattern pairing; Fig. 3 is missing from the paper, see `docs/conventions.md`).
@@ -21,77 +22,100 @@ use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{
     ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
 };
+use serde::{Deserialize, Serialize};
+
+/// The largest joint separation of a pair, $120°$ (`120f64.to_radians()`, so that
+/// [`StewartDesign::from_deg`] accepts 120 exactly): beyond it the pairs overlap.
+const MAX_SEPARATION: f64 = 120.0 * (std::f64::consts::PI / 180.0);
+
+/// The design $x = (x_1, x_2, x_3, x_4)$ of a semi-regular Stewart–Gough platform: radii in one
+/// length unit (the pose and twist use the same one; Wolf & Shoham use cm), separations in
+/// radians. The papers' designs are in [`crate::presets`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StewartDesign {
+    /// Base radius $x_1$ (length); positive.
+    pub base_radius: f64,
+    /// Platform radius $x_2$ (length); positive.
+    pub platform_radius: f64,
+    /// Angular separation $x_3$ of the two joints of a base pair (rad); in $[0, 2\pi/3]$.
+    pub base_separation: f64,
+    /// Angular separation $x_4$ of the two joints of a platform pair (rad); in $[0, 2\pi/3]$.
+    pub platform_separation: f64,
+    /// Pairing, angle reading and azimuth of the first pair.
+    pub layout: JointLayout,
+}
+
+impl StewartDesign {
+    /// The design in the default layout with the separations $x_3$, $x_4$ in degrees, as the
+    /// paper prints them.
+    pub fn from_deg(
+        base_radius: f64,
+        platform_radius: f64,
+        base_separation_deg: f64,
+        platform_separation_deg: f64,
+    ) -> Self {
+        Self {
+            base_radius,
+            platform_radius,
+            base_separation: base_separation_deg.to_radians(),
+            platform_separation: platform_separation_deg.to_radians(),
+            layout: JointLayout::default(),
+        }
+    }
+}
 
 /// A semi-regular 6-6 Stewart–Gough platform (Wolf & Shoham Fig. 3).
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::{StewartGough, platform_pose};
+/// use pkm_mechanisms::{StewartDesign, StewartGough, platform_pose};
 /// use nalgebra::Vector3;
-/// let sg = StewartGough::new(12.0, 8.0, 8.0, 8.0).unwrap();
+/// let sg = StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 8.0, 8.0)).unwrap();
 /// let pose = platform_pose(Vector3::new(0.0, 0.0, 40.0), Vector3::z(), 0.0).unwrap();
 /// let lengths = sg.leg_lengths(&pose);
 /// assert!(lengths.iter().all(|l| *l > 40.0));
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct StewartGough {
-    design: [f64; 4],
-    layout: JointLayout,
+    design: StewartDesign,
     base: [Vector3<f64>; 6],
     platform: [Vector3<f64>; 6],
 }
 
 impl StewartGough {
-    /// The platform with base radius `x1`, platform radius `x2` and joint separations `x3`
-    /// (base) and `x4` (platform) in degrees, in the default layout.
+    /// Builds the platform of `design`.
     ///
     /// # Errors
-    /// [`DesignError`] when a radius is not finite and positive or an angle is not finite or
-    /// outside $[0°, 120°]$.
-    pub fn new(x1: f64, x2: f64, x3: f64, x4: f64) -> Result<Self, DesignError> {
-        Self::with_layout(x1, x2, x3, x4, JointLayout::default())
-    }
-
-    /// As [`StewartGough::new`] with an explicit joint layout.
-    ///
-    /// # Errors
-    /// As [`StewartGough::new`].
-    pub fn with_layout(
-        x1: f64,
-        x2: f64,
-        x3: f64,
-        x4: f64,
-        layout: JointLayout,
-    ) -> Result<Self, DesignError> {
-        DesignError::require_positive("x1", x1)?;
-        DesignError::require_positive("x2", x2)?;
-        for (name, angle) in [("x3", x3), ("x4", x4)] {
-            if !(angle.is_finite() && (0.0..=120.0).contains(&angle)) {
+    /// [`DesignError`] when a radius is not finite and positive, a separation is not finite or
+    /// outside $[0, 2\pi/3]$ rad, or the layout's offset is not finite.
+    pub fn new(design: StewartDesign) -> Result<Self, DesignError> {
+        DesignError::require_positive("x1", design.base_radius)?;
+        DesignError::require_positive("x2", design.platform_radius)?;
+        for (name, angle) in [
+            ("x3", design.base_separation),
+            ("x4", design.platform_separation),
+        ] {
+            if !(angle.is_finite() && (0.0..=MAX_SEPARATION).contains(&angle)) {
                 return Err(DesignError {
                     parameter: name,
                     value: angle,
-                    requirement: "must be finite and in [0, 120] degrees",
+                    requirement: "must be finite and in [0, 2pi/3] rad (0 to 120 degrees)",
                 });
             }
         }
-        DesignError::require_finite("offset", layout.offset_deg)?;
-        let (base, platform) = layout.joints(x1, x2, x3, x4);
+        DesignError::require_finite("offset", design.layout.offset_deg)?;
+        let (base, platform) = design.layout.joints(&design);
         Ok(Self {
-            design: [x1, x2, x3, x4],
-            layout,
+            design,
             base,
             platform,
         })
     }
 
-    /// The design $(x_1, x_2, x_3, x_4)$.
-    pub fn design(&self) -> [f64; 4] {
+    /// The design the platform was built from.
+    pub fn design(&self) -> StewartDesign {
         self.design
-    }
-
-    /// The joint layout.
-    pub fn layout(&self) -> JointLayout {
-        self.layout
     }
 
     /// Base joints $b_i$ (world frame).

@@ -1,10 +1,12 @@
 //! Joint layouts of the semi-regular Stewart–Gough platform (Fig. 3 is missing from the paper;
 //! the default reproduces §4.2's "all lines parallel" statement, see `docs/conventions.md`).
 
+use crate::stewart_gough::StewartDesign;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
 
 /// Which platform joint each base joint is connected to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum Pairing {
     /// Leg $k$ joins $b_k$ to $r_k$: pairs on both platforms centred on the same azimuths.
     #[default]
@@ -15,7 +17,7 @@ pub enum Pairing {
 }
 
 /// How $x_3$, $x_4$ are read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum AngleMode {
     /// The angle between the two joints of a pair.
     #[default]
@@ -25,7 +27,8 @@ pub enum AngleMode {
 }
 
 /// A joint layout: pairing, angle reading and the azimuth of the first pair.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct JointLayout {
     /// Base-to-platform pairing.
     pub pairing: Pairing,
@@ -36,31 +39,31 @@ pub struct JointLayout {
 }
 
 impl JointLayout {
-    /// Base joints $b_k$ and platform joints $r_k$ (platform frame) for design $x$.
-    pub(crate) fn joints(
-        &self,
-        x1: f64,
-        x2: f64,
-        x3: f64,
-        x4: f64,
-    ) -> ([Vector3<f64>; 6], [Vector3<f64>; 6]) {
+    /// Base joints $b_k$ and platform joints $r_k$ (platform frame) of `design`.
+    pub(crate) fn joints(&self, design: &StewartDesign) -> ([Vector3<f64>; 6], [Vector3<f64>; 6]) {
         let half = match self.angle_mode {
             AngleMode::Separation => 0.5,
             AngleMode::Half => 1.0,
         };
-        let at = |radius: f64, degrees: f64| {
-            let t = degrees.to_radians();
-            Vector3::new(radius * t.cos(), radius * t.sin(), 0.0)
-        };
-        let centre = |k: usize| self.offset_deg + 120.0 * (k / 2) as f64;
+        let at = |radius: f64, t: f64| Vector3::new(radius * t.cos(), radius * t.sin(), 0.0);
+        let offset = self.offset_deg.to_radians();
+        let pair = 120f64.to_radians();
+        let centre = |k: usize| offset + pair * (k / 2) as f64;
         let side = |k: usize| if k.is_multiple_of(2) { -1.0 } else { 1.0 };
-        let base = std::array::from_fn(|k| at(x1, centre(k) + side(k) * half * x3));
+        let base = std::array::from_fn(|k| {
+            at(
+                design.base_radius,
+                centre(k) + side(k) * half * design.base_separation,
+            )
+        });
         let platform = std::array::from_fn(|k| {
             let t = match self.pairing {
-                Pairing::SamePattern => side(k) * half * x4,
-                Pairing::ZigZag => side(k) * (60.0 - half * x4),
+                Pairing::SamePattern => side(k) * half * design.platform_separation,
+                Pairing::ZigZag => {
+                    side(k) * (60f64.to_radians() - half * design.platform_separation)
+                }
             };
-            at(x2, centre(k) + t)
+            at(design.platform_radius, centre(k) + t)
         });
         (base, platform)
     }

@@ -1,6 +1,6 @@
 //! The task-based design problem of Wolf & Shoham §3–4 for the Stewart–Gough platform:
 //! $F = \sum_i (L_i \wedge \chi)^2$ (eq. 14) as a least-squares objective over any subset of the
-//! design $(x_1..x_4)$, the position $p$ and the orientation.
+//! design $(x_1..x_4)$ ([`StewartDesignVariable`]), the position $p$ and the orientation.
 //!
 //! The orientation is the rotation vector $w = \alpha n$ with $|w| \le \alpha_{max}$ (the paper's
 //! $-30° \le \alpha \le 30°$ with unit $n$). To keep the optimiser's box, $w$ is the smooth
@@ -8,8 +8,7 @@
 //! $w_x = \alpha_{max} u_x \sqrt{1 - u_y^2/2 - u_z^2/2 + u_y^2 u_z^2/3}$ (and cyclically), whose
 //! cube faces map onto the sphere $|w| = \alpha_{max}$.
 
-use crate::stewart_gough::{StewartGough, pose_from_task, so3_left_jacobian};
-use crate::stewart_layout::JointLayout;
+use crate::stewart_gough::{StewartDesign, StewartGough, pose_from_task, so3_left_jacobian};
 use nalgebra::{Isometry3, Matrix3, Rotation3, Vector3};
 use pkm_screw_theory::Twist;
 use pkm_traits::{
@@ -21,10 +20,43 @@ use std::borrow::Cow;
 /// each interval width: `pkm_optimizers::LmSettings::default().fd_step`.
 const DESIGN_FD_STEP: f64 = 1e-6;
 
+/// A design parameter of a [`StewartDesign`] that a [`StewartTaskProblem`] can free, named with
+/// the unit of its optimisation variable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StewartDesignVariable {
+    /// [`StewartDesign::base_radius`] $x_1$ (length).
+    BaseRadius,
+    /// [`StewartDesign::platform_radius`] $x_2$ (length).
+    PlatformRadius,
+    /// [`StewartDesign::base_separation`] $x_3$ (rad).
+    BaseSeparation,
+    /// [`StewartDesign::platform_separation`] $x_4$ (rad).
+    PlatformSeparation,
+    /// [`StewartDesign::base_separation`] $x_3$ with the variable in degrees, as the paper's
+    /// bounds are printed.
+    BaseSeparationDeg,
+    /// [`StewartDesign::platform_separation`] $x_4$ with the variable in degrees.
+    PlatformSeparationDeg,
+}
+
+impl StewartDesignVariable {
+    /// Sets this parameter of `design` to the variable's `value`.
+    fn set(self, design: &mut StewartDesign, value: f64) {
+        match self {
+            Self::BaseRadius => design.base_radius = value,
+            Self::PlatformRadius => design.platform_radius = value,
+            Self::BaseSeparation => design.base_separation = value,
+            Self::PlatformSeparation => design.platform_separation = value,
+            Self::BaseSeparationDeg => design.base_separation = value.to_radians(),
+            Self::PlatformSeparationDeg => design.platform_separation = value.to_radians(),
+        }
+    }
+}
+
 /// One free variable of a [`StewartTaskProblem`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Slot {
-    Design(usize),
+    Design(StewartDesignVariable),
     Position(usize),
     Rotation(usize),
 }
@@ -33,14 +65,14 @@ enum Slot {
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::{JointLayout, StewartTaskProblem};
+/// use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartTaskProblem};
 /// use pkm_screw_theory::Twist;
 /// use pkm_traits::{Bounds, Objective};
 /// use nalgebra::Vector3;
 /// let chi = Twist::new(Vector3::z(), Vector3::zeros());
-/// let problem = StewartTaskProblem::new([3.5, 3.5, 15.0, 10.0], JointLayout::default(),
+/// let problem = StewartTaskProblem::new(StewartDesign::from_deg(3.5, 3.5, 15.0, 10.0),
 ///     Vector3::new(0.0, 0.0, 40.0), Vector3::zeros(), chi).unwrap()
-///     .free_design(3, Bounds::new(0.0, 30.0).unwrap()).unwrap();
+///     .free_design(StewartDesignVariable::PlatformSeparationDeg, Bounds::new(0.0, 30.0).unwrap());
 /// // x4 = x3 puts every leg in a vertical plane through the axis: F = 0.
 /// assert!(problem.value(&[15.0]).unwrap() < 1e-20);
 /// ```
@@ -70,28 +102,26 @@ struct Legs {
 
 /// The variables of one evaluation: design, position, cube coordinates $u$ and rotation vector.
 struct Variables {
-    design: [f64; 4],
+    design: StewartDesign,
     position: Vector3<f64>,
     cube: Vector3<f64>,
     rotation: Vector3<f64>,
 }
 
 impl StewartTaskProblem {
-    /// The problem with everything fixed: design $x$, position `p`, rotation vector `w`
+    /// The problem with everything fixed: `design`, position `p`, rotation vector `w`
     /// (radians), task twist `twist`.
     ///
     /// # Errors
     /// [`DesignError`] for an invalid design, a non-finite pose, or a twist that is not finite
     /// or has zero norm.
     pub fn new(
-        design: [f64; 4],
-        layout: JointLayout,
+        design: StewartDesign,
         p: Vector3<f64>,
         w: Vector3<f64>,
         twist: Twist,
     ) -> Result<Self, DesignError> {
-        let mechanism =
-            StewartGough::with_layout(design[0], design[1], design[2], design[3], layout)?;
+        let mechanism = StewartGough::new(design)?;
         for v in p.iter().chain(w.iter()) {
             DesignError::require_finite("pose", *v)?;
         }
@@ -108,12 +138,10 @@ impl StewartTaskProblem {
         })
     }
 
-    /// Frees design parameter $x_{k+1}$ (`k` in 0..4) within `bounds`.
-    ///
-    /// # Errors
-    /// [`DesignError`] for `k` out of range.
-    pub fn free_design(self, k: usize, bounds: Bounds) -> Result<Self, DesignError> {
-        self.free(Slot::Design(k), k, bounds)
+    /// Frees the design parameter `variable` within `bounds` (in the variable's unit).
+    #[must_use]
+    pub fn free_design(self, variable: StewartDesignVariable, bounds: Bounds) -> Self {
+        self.free(Slot::Design(variable), bounds)
     }
 
     /// Frees position coordinate $p_k$ (`k` in 0..3) within `bounds`.
@@ -121,7 +149,14 @@ impl StewartTaskProblem {
     /// # Errors
     /// [`DesignError`] for `k` out of range.
     pub fn free_position(self, k: usize, bounds: Bounds) -> Result<Self, DesignError> {
-        self.free(Slot::Position(k), k.saturating_add(1), bounds)
+        if k >= 3 {
+            return Err(DesignError {
+                parameter: "variable index",
+                value: k as f64,
+                requirement: "must be < 3 for p",
+            });
+        }
+        Ok(self.free(Slot::Position(k), bounds))
     }
 
     /// Frees the orientation within $|\alpha| \le$ `max_angle` (radians): three variables
@@ -139,18 +174,11 @@ impl StewartTaskProblem {
         Ok(self)
     }
 
-    fn free(mut self, slot: Slot, k: usize, bounds: Bounds) -> Result<Self, DesignError> {
-        if k >= 4 {
-            return Err(DesignError {
-                parameter: "variable index",
-                value: k as f64,
-                requirement: "must be < 4 for x, < 3 for p",
-            });
-        }
+    fn free(mut self, slot: Slot, bounds: Bounds) -> Self {
         self.design_free |= matches!(slot, Slot::Design(_));
         self.slots.push(slot);
         self.bounds.push(bounds);
-        Ok(self)
+        self
     }
 
     /// The mechanism and pose at a design vector.
@@ -170,7 +198,7 @@ impl StewartTaskProblem {
         let (mut x, mut p, mut u) = (self.mechanism.design(), self.position, Vector3::zeros());
         for (slot, value) in self.slots.iter().zip(v) {
             match *slot {
-                Slot::Design(k) => x[k] = *value,
+                Slot::Design(variable) => variable.set(&mut x, *value),
                 Slot::Position(k) => p[k] = *value,
                 Slot::Rotation(k) => u[k] = *value,
             }
@@ -191,11 +219,7 @@ impl StewartTaskProblem {
     /// The mechanism of `vars`: the one built at construction unless a design variable is free.
     fn mechanism_at(&self, vars: &Variables) -> Result<Cow<'_, StewartGough>, ObjectiveError> {
         if self.design_free {
-            let [x1, x2, x3, x4] = vars.design;
-            let layout = self.mechanism.layout();
-            Ok(Cow::Owned(StewartGough::with_layout(
-                x1, x2, x3, x4, layout,
-            )?))
+            Ok(Cow::Owned(StewartGough::new(vars.design)?))
         } else {
             Ok(Cow::Borrowed(&self.mechanism))
         }

@@ -1,7 +1,7 @@
 //! The 3-UPU of Wolf & Shoham §4.4 (eq. 16–18): three actuated legs and three constraint couples.
 //!
 //! Base joints $b_i = a(\cos\theta_i, \sin\theta_i, 0)$ and platform joints
-//! $r_i = b(\cos\theta_i, \sin\theta_i, 0)$ at Park's azimuths $\theta_i = -90°, 30°, 150°$; the
+//! $r_i = b(\cos\theta_i, \sin\theta_i, 0)$ at azimuths $\theta_i$ (Park's: $-90°, 30°, 150°$); the
 //! platform pose is ${}^wR_p$ (eq. 8). The $6 \times 6$ matrix of eq. 18 stacks the three leg
 //! forces $[s_i ; a_i \times s_i]$ and the three constraint couples $[0 ; u_i]$ normal to the
 //! upper universal joint, $u_i = R\,(u_{1,i} \times u_{2,i}) / |u_{1,i} \times u_{2,i}|$.
@@ -10,9 +10,11 @@ use crate::stewart_gough::leg_line;
 use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
 use pkm_screw_theory::{Twist, task_objective};
 use pkm_traits::{DesignError, KinematicsError};
+use serde::{Deserialize, Serialize};
 
 /// The two axes of an upper universal joint, in the platform frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct UJointAxes {
     /// First axis $\hat u_{1,i}$.
     pub u1: Vector3<f64>,
@@ -30,40 +32,55 @@ impl UJointAxes {
     }
 }
 
+/// The design of a 3-UPU: radii in one length unit (the pose and twist use the same one), joint
+/// azimuths in radians, and the upper U-joint axes. Park's design is
+/// [`crate::presets::park_3upu`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThreeUpuDesign {
+    /// Base radius $a$ of the base joints $b_i$ (length); positive.
+    pub base_radius: f64,
+    /// Platform radius $b$ of the platform joints $r_i$ (length); positive.
+    pub platform_radius: f64,
+    /// Azimuths $\theta_i$ of leg $i$'s base and platform joints (rad); finite.
+    pub azimuths: [f64; 3],
+    /// Upper U-joint axes of each leg (platform frame); finite, not parallel.
+    pub upper: [UJointAxes; 3],
+}
+
 /// A 3-UPU with its upper universal-joint axes as design parameters.
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::{ThreeUpu, UJointAxes};
-/// use nalgebra::{Isometry3, Vector6};
-/// let azimuths = ThreeUpu::PARK_AZIMUTHS.map(f64::to_radians);
-/// let upu = ThreeUpu::new(20.0, 10.0, azimuths.map(UJointAxes::park)).unwrap();
+/// use pkm_mechanisms::{ThreeUpu, presets};
+/// use nalgebra::Isometry3;
+/// let upu = ThreeUpu::new(presets::park_3upu()).unwrap();
 /// let rows = upu.wrench_rows(&Isometry3::translation(0.0, 0.0, 50.0)).unwrap();
 /// // Park's couples are vertical: no moment about a horizontal rotation axis.
 /// assert!(rows[(3, 5)].abs() > 0.99);
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThreeUpu {
+    design: ThreeUpuDesign,
     base: [Vector3<f64>; 3],
     platform: [Vector3<f64>; 3],
     normals: [Vector3<f64>; 3],
 }
 
 impl ThreeUpu {
-    /// Azimuths of the joints in Park's design, degrees.
-    pub const PARK_AZIMUTHS: [f64; 3] = [-90.0, 30.0, 150.0];
-
-    /// The 3-UPU with base radius `a`, platform radius `b` (joints at
-    /// [`ThreeUpu::PARK_AZIMUTHS`]) and upper U-joint axes `upper`.
+    /// Builds the 3-UPU of `design`.
     ///
     /// # Errors
-    /// [`DesignError`] for a radius that is not finite and positive, or a U joint whose axes are
-    /// not finite or (numerically) parallel.
-    pub fn new(a: f64, b: f64, upper: [UJointAxes; 3]) -> Result<Self, DesignError> {
-        DesignError::require_positive("a", a)?;
-        DesignError::require_positive("b", b)?;
+    /// [`DesignError`] for a radius that is not finite and positive, an azimuth that is not
+    /// finite, or a U joint whose axes are not finite or (numerically) parallel.
+    pub fn new(design: ThreeUpuDesign) -> Result<Self, DesignError> {
+        let a = DesignError::require_positive("a", design.base_radius)?;
+        let b = DesignError::require_positive("b", design.platform_radius)?;
+        for theta in design.azimuths {
+            DesignError::require_finite("azimuth", theta)?;
+        }
         let mut normals = [Vector3::zeros(); 3];
-        for (n, axes) in normals.iter_mut().zip(&upper) {
+        for (n, axes) in normals.iter_mut().zip(&design.upper) {
             let cross = axes.u1.normalize().cross(&axes.u2.normalize());
             let norm = cross.norm();
             if !(norm.is_finite() && norm > 1e-9) {
@@ -75,15 +92,18 @@ impl ThreeUpu {
             }
             *n = cross / norm;
         }
-        let at = |r: f64, deg: f64| {
-            let t = deg.to_radians();
-            Vector3::new(r * t.cos(), r * t.sin(), 0.0)
-        };
+        let at = |r: f64, t: f64| Vector3::new(r * t.cos(), r * t.sin(), 0.0);
         Ok(Self {
-            base: Self::PARK_AZIMUTHS.map(|t| at(a, t)),
-            platform: Self::PARK_AZIMUTHS.map(|t| at(b, t)),
+            design,
+            base: design.azimuths.map(|t| at(a, t)),
+            platform: design.azimuths.map(|t| at(b, t)),
             normals,
         })
+    }
+
+    /// The design the 3-UPU was built from.
+    pub fn design(&self) -> ThreeUpuDesign {
+        self.design
     }
 
     /// The matrix of eq. 18: rows 0–2 the leg lines, rows 3–5 the constraint couples.

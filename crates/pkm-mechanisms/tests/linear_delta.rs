@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{LinearDelta, LinearDeltaMode, LinearDeltaRatios};
+use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
 use pkm_traits::{SlicedRegion, Task, testkit};
 use proptest::prelude::*;
 
@@ -15,7 +15,7 @@ fn delta(l1: f64, ya: f64, zr: f64, l2: f64) -> LinearDelta {
         zr_over_yr: zr,
         l2_over_l1: l2,
     };
-    LinearDelta::new(ratios, 0.5).unwrap()
+    LinearDelta::new(LinearDeltaDesign { ratios, yr: 0.5 }).unwrap()
 }
 
 /// Poses on a 7 × 7 grid over the cross-section's extents, at several x.
@@ -149,9 +149,14 @@ fn bad_designs_are_typed_errors() {
         (ratios(2.0, 0.0, 0.0), "L2/L1"),
         (ratios(2.0, 0.0, f64::INFINITY), "L2/L1"),
     ] {
-        assert_eq!(LinearDelta::new(r, 1.0).unwrap_err().parameter, name);
+        let design = LinearDeltaDesign { ratios: r, yr: 1.0 };
+        assert_eq!(LinearDelta::new(design).unwrap_err().parameter, name);
     }
-    assert!(LinearDelta::new(ratios(2.0, 0.0, 1.0), 0.0).is_err());
+    let flat = LinearDeltaDesign {
+        ratios: ratios(2.0, 0.0, 1.0),
+        yr: 0.0,
+    };
+    assert!(LinearDelta::new(flat).is_err());
 }
 
 #[test]

@@ -5,9 +5,9 @@
 
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{
-    Elbow, ElbowMode, LegBranch, LinearDelta, LinearDeltaMode, LinearDeltaRatios, LinkKind,
-    Placement, PointKind, RotaryDelta, Skeleton, StewartGough, ThreeUpu, Tsai3Dof, UJointAxes,
-    platform_pose,
+    Elbow, ElbowMode, LegBranch, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
+    LinearDeltaRatios, LinkKind, Placement, PointKind, RotaryDelta, Skeleton, StewartDesign,
+    StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, platform_pose, presets,
 };
 use pkm_traits::InverseKinematics;
 
@@ -36,9 +36,9 @@ fn position(s: &Skeleton, label: &str) -> Vector3<f64> {
 #[test]
 fn rotary_delta_arms_and_forearms_have_the_design_lengths() {
     let designs = [
-        RotaryDelta::delta(Placement::canonical()).unwrap(),
-        RotaryDelta::nuwar(Placement::canonical()).unwrap(),
-        RotaryDelta::nuwar(Placement::canonical())
+        RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap(),
+        RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
+        RotaryDelta::new(presets::nuwar(Placement::canonical()))
             .unwrap()
             .with_turned_plate_offsets(),
     ];
@@ -77,7 +77,7 @@ fn linear_delta_carriages_travel_the_joint_values() {
         zr_over_yr: 0.4,
         l2_over_l1: 1.2,
     };
-    let robot = LinearDelta::new(ratios, 0.5).unwrap();
+    let robot = LinearDelta::new(LinearDeltaDesign { ratios, yr: 0.5 }).unwrap();
     for p in [Vector3::new(0.0, 0.0, -0.8), Vector3::new(0.3, 0.1, -0.7)] {
         let q = robot
             .inverse_kinematics(&p, LinearDeltaMode::PAPER)
@@ -98,8 +98,8 @@ fn linear_delta_carriages_travel_the_joint_values() {
 #[test]
 fn tsai_legs_close_on_the_platform_with_the_design_lengths() {
     for robot in [
-        Tsai3Dof::from_degrees(0.44, 0.56, 0.1, -0.05, 120.0, 240.0).unwrap(),
-        Tsai3Dof::from_degrees(0.3, 0.7, 0.0, 0.2, 100.0, 250.0).unwrap(),
+        Tsai3Dof::new(TsaiDesign::from_deg(0.44, 0.56, 0.1, -0.05, 120.0, 240.0)).unwrap(),
+        Tsai3Dof::new(TsaiDesign::from_deg(0.3, 0.7, 0.0, 0.2, 100.0, 250.0)).unwrap(),
     ] {
         for p in [Vector3::new(0.05, -0.1, 0.5), Vector3::new(-0.1, 0.1, 0.6)] {
             for branch in [
@@ -132,7 +132,7 @@ fn tsai_legs_close_on_the_platform_with_the_design_lengths() {
 
 #[test]
 fn stewart_gough_legs_are_the_inverse_kinematics_lengths() {
-    let robot = StewartGough::new(12.0, 8.0, 30.0, 8.0).unwrap();
+    let robot = StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 30.0, 8.0)).unwrap();
     for (p, axis, alpha) in [
         (Vector3::new(0.0, 0.0, 40.0), Vector3::z(), 0.0),
         (
@@ -160,34 +160,46 @@ fn stewart_gough_legs_are_the_inverse_kinematics_lengths() {
 }
 
 #[test]
-fn three_upu_legs_match_the_model_and_wrong_radii_are_refused() {
-    let azimuths = ThreeUpu::PARK_AZIMUTHS.map(f64::to_radians);
-    let robot = ThreeUpu::new(20.0, 10.0, azimuths.map(UJointAxes::park)).unwrap();
-    let pose = platform_pose(Vector3::new(1.0, 2.0, 50.0), Vector3::x(), 0.3).unwrap();
-    let s = Skeleton::three_upu(&robot, (20.0, 10.0), &pose).unwrap();
-    // Leg i from b_i = a e(θ_i) to p + R b e(θ_i): its length in closed form.
-    let expected: Vec<f64> = azimuths
-        .iter()
-        .map(|t| {
-            let e = Vector3::new(t.cos(), t.sin(), 0.0);
-            (pose.translation.vector + pose.rotation * (e * 10.0) - e * 20.0).norm()
-        })
-        .collect();
-    assert_close(&lengths(&s, LinkKind::Actuated), &expected);
-    assert_close(&lengths(&s, LinkKind::Base), &[20.0 * 3f64.sqrt(); 3]);
-    assert_close(&lengths(&s, LinkKind::Platform), &[10.0 * 3f64.sqrt(); 3]);
-    assert!(Skeleton::three_upu(&robot, (21.0, 10.0), &pose).is_err());
-    assert!(Skeleton::three_upu(&robot, (20.0, f64::NAN), &pose).is_err());
+fn three_upu_legs_are_the_closed_form_lengths() {
+    let park = presets::park_3upu();
+    let other = ThreeUpuDesign {
+        base_radius: 15.0,
+        platform_radius: 6.0,
+        azimuths: [0.1, 2.0, 4.0],
+        ..park
+    };
+    for design in [park, other] {
+        let robot = ThreeUpu::new(design).unwrap();
+        let pose = platform_pose(Vector3::new(1.0, 2.0, 50.0), Vector3::x(), 0.3).unwrap();
+        let s = Skeleton::three_upu(&robot, &pose).unwrap();
+        // Leg i from b_i = a e(θ_i) to p + R b e(θ_i): its length in closed form.
+        let (a, b) = (design.base_radius, design.platform_radius);
+        let e = design.azimuths.map(|t| Vector3::new(t.cos(), t.sin(), 0.0));
+        let expected =
+            e.map(|e| (pose.translation.vector + pose.rotation * (e * b) - e * a).norm());
+        assert_close(&lengths(&s, LinkKind::Actuated), &expected);
+        let side = |r: f64, i: usize, j: usize| (e[i] - e[j]).norm() * r;
+        assert_close(
+            &lengths(&s, LinkKind::Base),
+            &[side(a, 0, 1), side(a, 1, 2), side(a, 2, 0)],
+        );
+        assert_close(
+            &lengths(&s, LinkKind::Platform),
+            &[side(b, 0, 1), side(b, 1, 2), side(b, 2, 0)],
+        );
+        let nan = Isometry3::translation(0.0, f64::NAN, 50.0);
+        assert!(Skeleton::three_upu(&robot, &nan).is_err());
+    }
 }
 
 #[test]
 fn unreachable_and_non_finite_poses_are_typed_errors() {
-    let nuwar = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+    let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
     assert!(
         Skeleton::rotary_delta(&nuwar, &Vector3::new(f64::NAN, 0.0, -0.9), ElbowMode::Out).is_err()
     );
     assert!(Skeleton::rotary_delta(&nuwar, &Vector3::new(0.0, 0.0, -5.0), ElbowMode::Out).is_err());
-    let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let tsai = Tsai3Dof::new(TsaiDesign::from_deg(0.44, 0.56, 0.0, 0.0, 120.0, 240.0)).unwrap();
     assert!(
         Skeleton::tsai(
             &tsai,
@@ -205,7 +217,7 @@ fn unreachable_and_non_finite_poses_are_typed_errors() {
         .is_err()
     );
     let ratios = LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]);
-    let linear = LinearDelta::new(ratios, 1.0).unwrap();
+    let linear = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
     assert!(
         Skeleton::linear_delta(
             &linear,

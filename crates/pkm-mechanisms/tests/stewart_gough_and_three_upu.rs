@@ -3,8 +3,8 @@
 
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{
-    JointLayout, StewartGough, StewartTaskProblem, ThreeUpu, UJointAxes, platform_pose,
-    pose_from_task,
+    StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, ThreeUpu,
+    ThreeUpuDesign, UJointAxes, platform_pose, pose_from_task, presets,
 };
 use pkm_screw_theory::{PluckerLine, Twist};
 use pkm_traits::testkit::{
@@ -33,7 +33,7 @@ fn poses() -> Vec<Task<6>> {
 #[test]
 fn stewart_gough_conforms_to_the_testkit() {
     check_traits::<StewartGough>();
-    let sg = StewartGough::new(12.0, 8.0, 30.0, 8.0).unwrap();
+    let sg = StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 30.0, 8.0)).unwrap();
     check_closure(&sg, (), &poses(), 1e-12).unwrap();
     check_jacobians_against_central_differences(&sg, (), &poses(), 1e-6, 1e-6).unwrap();
     check_ik_fk_round_trip(&sg, (), &poses(), 1e-2, 1e-9).unwrap();
@@ -41,18 +41,25 @@ fn stewart_gough_conforms_to_the_testkit() {
 
 #[test]
 fn bad_designs_and_poses_are_typed_errors() {
-    assert!(StewartGough::new(-1.0, 8.0, 30.0, 8.0).is_err());
-    assert!(StewartGough::new(12.0, f64::NAN, 30.0, 8.0).is_err());
-    assert!(StewartGough::new(12.0, 8.0, 200.0, 8.0).is_err());
+    assert!(StewartGough::new(StewartDesign::from_deg(-1.0, 8.0, 30.0, 8.0)).is_err());
+    assert!(StewartGough::new(StewartDesign::from_deg(12.0, f64::NAN, 30.0, 8.0)).is_err());
+    assert!(StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 200.0, 8.0)).is_err());
     assert!(platform_pose(Vector3::zeros(), Vector3::zeros(), 0.1).is_err());
     // Radii equal, pose at z = 0: every leg has zero length.
-    let sg = StewartGough::new(8.0, 8.0, 10.0, 10.0).unwrap();
+    let sg = StewartGough::new(StewartDesign::from_deg(8.0, 8.0, 10.0, 10.0)).unwrap();
     assert!(sg.wrench_rows(&Isometry3::identity()).is_err());
     let parallel = UJointAxes {
         u1: Vector3::x(),
         u2: Vector3::x(),
     };
-    assert!(ThreeUpu::new(20.0, 10.0, [parallel; 3]).is_err());
+    let park = presets::park_3upu();
+    assert!(
+        ThreeUpu::new(ThreeUpuDesign {
+            upper: [parallel; 3],
+            ..park
+        })
+        .is_err()
+    );
 }
 
 proptest! {
@@ -65,7 +72,7 @@ proptest! {
         px in -5.0..5.0f64, pz in 20.0..50.0f64, wx in -0.5..0.5f64, wz in -0.5..0.5f64,
         omega in prop::array::uniform3(-1.0..1.0f64), v in prop::array::uniform3(-1.0..1.0f64),
     ) {
-        let sg = StewartGough::new(x1, x2, x3, x4).unwrap();
+        let sg = StewartGough::new(StewartDesign::from_deg(x1, x2, x3, x4)).unwrap();
         let x = Task::<6>::new(px, 0.5, pz, wx, 0.1, wz);
         let pose = pose_from_task(&x).unwrap();
         let rows = sg.wrench_rows(&pose).unwrap();
@@ -104,7 +111,7 @@ proptest! {
         prop_assume!(twist.as_vector().norm() > 1e-3);
         let xy = Bounds::new(-10.0, 10.0).unwrap();
         let new = |w: Vector3<f64>| StewartTaskProblem::new(
-            [12.0, 8.0, 30.0, 8.0], JointLayout::default(), Vector3::new(0.0, 0.0, 35.0), w, twist,
+            presets::wolf_shoham_stewart_s4_1(), Vector3::new(0.0, 0.0, 35.0), w, twist,
         ).unwrap();
         let pose = new(Vector3::zeros())
             .free_position(0, xy).unwrap()
@@ -113,7 +120,7 @@ proptest! {
             .free_rotation(30f64.to_radians()).unwrap();
         let design = new(Vector3::new(u[0], u[1], u[2]) * 0.4)
             .free_position(0, xy).unwrap()
-            .free_design(3, Bounds::new(0.0, 30.0).unwrap()).unwrap()
+            .free_design(StewartDesignVariable::PlatformSeparationDeg, Bounds::new(0.0, 30.0).unwrap())
             .free_position(2, Bounds::new(20.0, 50.0).unwrap()).unwrap();
         let cases: [(&StewartTaskProblem, Vec<f64>); 2] = [
             (&pose, vec![pxy[0], pxy[1], pz, u[0], u[1], u[2]]),
@@ -171,7 +178,7 @@ proptest! {
         height in 15.0..50.0f64,
         offsets in prop::array::uniform3(prop::array::uniform6(-1.0..1.0f64)),
     ) {
-        let sg = StewartGough::new(x1, x2, x3, x4).unwrap();
+        let sg = StewartGough::new(StewartDesign::from_deg(x1, x2, x3, x4)).unwrap();
         let poses: Vec<Task<6>> = offsets
             .iter()
             .map(|o| Task::<6>::new(
@@ -199,17 +206,18 @@ proptest! {
         height in 20.0..80.0f64, tilt in prop::array::uniform3(-0.5..0.5f64),
         chi in prop::array::uniform6(-1.0..1.0f64),
     ) {
-        let axes = |swap: bool| ThreeUpu::PARK_AZIMUTHS.map(|t| {
-            let park = UJointAxes::park(t.to_radians());
-            let k = tilt[0] * t.to_radians().cos() + tilt[1];
+        let axes = |swap: bool| presets::park_3upu().azimuths.map(|t| {
+            let park = UJointAxes::park(t);
+            let k = tilt[0] * t.cos() + tilt[1];
             let u1 = park.u1 + Vector3::z() * k;
             let u2 = park.u2 + Vector3::z() * tilt[2];
             if swap { UJointAxes { u1: u2, u2: u1 } } else { UJointAxes { u1, u2 } }
         });
         let pose = Isometry3::translation(0.0, 0.0, height);
         let twist = Twist::from_vector(nalgebra::Vector6::from(chi));
-        let upu = ThreeUpu::new(20.0, 10.0, axes(false)).unwrap();
-        let swapped = ThreeUpu::new(20.0, 10.0, axes(true)).unwrap();
+        let design = |swap: bool| ThreeUpuDesign { upper: axes(swap), ..presets::park_3upu() };
+        let upu = ThreeUpu::new(design(false)).unwrap();
+        let swapped = ThreeUpu::new(design(true)).unwrap();
         let rows = upu.wrench_rows(&pose).unwrap();
         for (i, row) in rows.row_iter().enumerate() {
             let d = Vector3::new(row[0], row[1], row[2]);
@@ -243,13 +251,9 @@ fn park_design_is_singular_for_a2_too() {
     let point = d.cross(&m) / d.norm_squared();
     let line = PluckerLine::from_direction_and_point(&d, &point).unwrap();
     let a2 = Twist::new(line.direction(), line.moment());
-    let (a, b) = (20.0, 10.0);
-    let park = ThreeUpu::new(
-        a,
-        b,
-        ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians())),
-    )
-    .unwrap();
+    let design = presets::park_3upu();
+    let (a, b) = (design.base_radius, design.platform_radius);
+    let park = ThreeUpu::new(design).unwrap();
     let home = Isometry3::translation(0.0, 0.0, point.z * (a - b) / a);
     assert!(park.task_objective(&home, &a2).unwrap() < 1e-20);
     // Off the apex height the legs miss A2 and F is positive.

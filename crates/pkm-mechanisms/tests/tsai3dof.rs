@@ -3,7 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use nalgebra::{Matrix3, Vector3};
-use pkm_mechanisms::{Elbow, LegBranch, Tsai3Dof};
+use pkm_mechanisms::{Elbow, LegBranch, Tsai3Dof, TsaiDesign, presets};
 use pkm_traits::testkit::{
     check_closure, check_ik_fk_round_trip, check_jacobians_against_central_differences,
     check_traits,
@@ -16,11 +16,11 @@ fn cond(j: &Matrix3<f64>) -> f64 {
 }
 
 fn gci_design() -> Tsai3Dof {
-    Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap()
+    Tsai3Dof::new(presets::stamper_max_gci()).unwrap()
 }
 
 fn offset_design() -> Tsai3Dof {
-    Tsai3Dof::from_degrees(0.35, 0.5, 0.1, 0.07, 100.0, 230.0).unwrap()
+    Tsai3Dof::new(TsaiDesign::from_deg(0.35, 0.5, 0.1, 0.07, 100.0, 230.0)).unwrap()
 }
 
 /// Poses on a grid in the upper half space; the checks skip unreachable ones.
@@ -149,10 +149,37 @@ fn fast_jacobian_equals_trait_jacobian_and_membership() {
 
 #[test]
 fn bad_input_is_a_typed_error() {
-    assert!(Tsai3Dof::new(f64::NAN, 0.5, 0.0, 0.0, 1.0, 2.0).is_err());
-    assert!(Tsai3Dof::new(0.4, 0.0, 0.0, 0.0, 1.0, 2.0).is_err());
-    assert!(Tsai3Dof::new(0.4, 0.5, -0.1, 0.0, 1.0, 2.0).is_err());
-    assert!(Tsai3Dof::new(0.4, 0.5, 0.0, f64::INFINITY, 1.0, 2.0).is_err());
+    let valid = TsaiDesign {
+        a: 0.4,
+        b: 0.5,
+        d_plus_e: 0.0,
+        c_minus_r: 0.0,
+        phi2: 1.0,
+        phi3: 2.0,
+    };
+    assert!(Tsai3Dof::new(valid).is_ok());
+    assert!(
+        Tsai3Dof::new(TsaiDesign {
+            a: f64::NAN,
+            ..valid
+        })
+        .is_err()
+    );
+    assert!(Tsai3Dof::new(TsaiDesign { b: 0.0, ..valid }).is_err());
+    assert!(
+        Tsai3Dof::new(TsaiDesign {
+            d_plus_e: -0.1,
+            ..valid
+        })
+        .is_err()
+    );
+    assert!(
+        Tsai3Dof::new(TsaiDesign {
+            c_minus_r: f64::INFINITY,
+            ..valid
+        })
+        .is_err()
+    );
     let d = gci_design();
     let p = Vector3::new(f64::NAN, 0.0, 0.5);
     assert!(

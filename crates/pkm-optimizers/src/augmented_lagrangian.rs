@@ -3,20 +3,39 @@
 //! $$ \mathcal{L}_\rho(p, \mu) = f(p) + \frac{1}{2\rho}\sum_i
 //!    \big(\max(0, \mu_i + \rho g_i(p))^2 - \mu_i^2\big), $$
 //! minimised over the box by a spectral projected gradient with central-difference gradients,
-//! then $\mu_i \leftarrow \max(0, \mu_i + \rho g_i)$; $\rho$ grows tenfold when the violation
-//! does not shrink by 4. (argmin offers no constrained SQP; the `cobyla` crate is
+//! then $\mu_i \leftarrow \max(0, \mu_i + \rho g_i)$; $\rho$ (from [`INITIAL_PENALTY`]) grows
+//! by [`PENALTY_GROWTH`] up to [`MAX_PENALTY`] when the violation does not shrink by
+//! [`REQUIRED_VIOLATION_DECREASE`]. A maximisation ([`Sense::Maximise`]) minimises $-f$. (argmin offers no constrained SQP; the `cobyla` crate is
 //! derivative-free and slower on these smooth 6-D problems, so neither was taken.)
 
 use crate::OptimizeError;
-use crate::spg::{minimise_in_box, project};
+use crate::finite_differences::RELATIVE_STEP;
+use crate::sense::Sense;
+use crate::spg::{InnerSettings, minimise_in_box, project};
 use crate::termination::Termination;
-use pkm_traits::{Constraints, ObjectiveError};
+use pkm_traits::{Constraints, ObjectiveError, Progress};
+use std::cell::Cell;
+
+/// Penalty $\rho$ of the first outer iteration.
+pub const INITIAL_PENALTY: f64 = 10.0;
+/// Factor by which $\rho$ grows after an outer iteration that did not shrink the violation
+/// enough.
+pub const PENALTY_GROWTH: f64 = 10.0;
+/// Largest penalty: beyond it the augmented Lagrangian is too ill-conditioned for the inner
+/// solver.
+pub const MAX_PENALTY: f64 = 1e10;
+/// $\rho$ grows unless the largest violation shrinks to this fraction of the previous one.
+pub const REQUIRED_VIOLATION_DECREASE: f64 = 0.25;
+/// The multipliers have settled when no $\mu_i$ changed by more than this relative amount
+/// $(1 + \max_i \mu_i)$ in the last outer iteration.
+pub const MULTIPLIER_TOLERANCE: f64 = 1e-6;
 
 /// Settings of [`augmented_lagrangian`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AugmentedLagrangianSettings {
-    /// Relative finite-difference step (times each box width). Default 1e-6; use ~1e-3 for
-    /// Monte Carlo objectives on common random numbers.
+    /// Relative finite-difference step (times each box width). Default
+    /// [`crate::finite_differences::RELATIVE_STEP`]; use ~1e-3 for Monte Carlo objectives on
+    /// common random numbers.
     pub fd_step: f64,
     /// Inner stopping tolerance on the projected step, in box widths. Default 1e-9.
     pub tolerance: f64,
@@ -31,7 +50,7 @@ pub struct AugmentedLagrangianSettings {
 impl Default for AugmentedLagrangianSettings {
     fn default() -> Self {
         Self {
-            fd_step: 1e-6,
+            fd_step: RELATIVE_STEP,
             tolerance: 1e-9,
             feasibility: 1e-6,
             max_outer: 30,
@@ -56,21 +75,33 @@ pub struct ConstrainedResult {
     /// [`AugmentedLagrangianSettings::max_outer`] outer iterations with a feasible but
     /// possibly unsettled design (an infeasible one is an error instead).
     pub termination: Termination,
+    /// Outer (multiplier) iterations spent.
+    pub outer_iterations: usize,
+    /// Inner (projected-gradient) iterations spent over all outer ones.
+    pub inner_iterations: usize,
+    /// Evaluations of the objective value (each with its constraints) over the whole run.
+    pub evaluations: usize,
 }
 
-/// Minimises `problem` from `start` subject to its bounds and inequalities.
+/// Minimises (or, with [`Sense::Maximise`], maximises) `problem` from `start` subject to its
+/// bounds and inequalities.
+///
+/// `progress` hears one task of [`AugmentedLagrangianSettings::max_outer`] units, advanced
+/// once per outer iteration, and is asked for cancellation before every inner iteration.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] for a start of the wrong length or non-positive settings;
+/// [`OptimizeError::InvalidSetting`] for a start of the wrong length or settings that fail
+/// [`AugmentedLagrangianSettings::validate`];
 /// [`OptimizeError::NoFeasibleDesign`] when the final design still violates a constraint by
 /// more than `settings.feasibility` (an infeasible constraint set: no design is returned);
 /// [`OptimizeError::Objective`] for an objective failure other than infeasibility, and for a
-/// constraint or final value that is NaN or infinite.
+/// constraint or final value that is NaN or infinite; [`OptimizeError::Cancelled`] once
+/// `progress` is cancelled.
 ///
 /// # Example
 /// ```
-/// use pkm_optimizers::{AugmentedLagrangianSettings, augmented_lagrangian};
-/// use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError};
+/// use pkm_optimizers::{AugmentedLagrangianSettings, Sense, augmented_lagrangian};
+/// use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
 /// // min x² + y² s.t. x + y >= 1: optimum (½, ½).
 /// struct P([Bounds; 2]);
 /// impl Objective for P {
@@ -86,25 +117,62 @@ pub struct ConstrainedResult {
 ///     }
 /// }
 /// let b = Bounds::new(-5.0, 5.0).unwrap();
-/// let r = augmented_lagrangian(&P([b, b]), &[2.0, -1.0], &Default::default()).unwrap();
+/// let settings = AugmentedLagrangianSettings::default();
+/// let r = augmented_lagrangian(&P([b, b]), Sense::Minimise, &[2.0, -1.0], &settings, &Silent)
+///     .unwrap();
 /// assert!((r.design[0] - 0.5).abs() < 1e-5 && (r.multipliers[0] - 1.0).abs() < 1e-3);
+/// assert!(r.termination.converged());
 /// ```
 pub fn augmented_lagrangian<P: Constraints>(
     problem: &P,
+    sense: Sense,
     start: &[f64],
     settings: &AugmentedLagrangianSettings,
+    progress: &dyn Progress,
 ) -> Result<ConstrainedResult, OptimizeError> {
-    check_settings(problem, start, settings)?;
+    check_start(problem, start)?;
+    settings.validate()?;
+    progress.start("augmented Lagrangian", settings.max_outer as u64);
+    let result = solve(problem, sense, start, settings, progress);
+    progress.finish();
+    result
+}
+
+fn solve<P: Constraints>(
+    problem: &P,
+    sense: Sense,
+    start: &[f64],
+    settings: &AugmentedLagrangianSettings,
+    progress: &dyn Progress,
+) -> Result<ConstrainedResult, OptimizeError> {
     let bounds = problem.bounds();
     let m = problem.n_constraints();
     let mut x = start.to_vec();
     project(bounds, &mut x);
     let mut mu = vec![0.0; m];
-    let mut rho = 10.0;
+    let mut rho = INITIAL_PENALTY;
     let mut g = vec![0.0; m];
     let mut violation = f64::INFINITY;
     let mut termination = Termination::MaxIterations;
-    for _ in 0..settings.max_outer {
+    let evaluations = Cell::new(0_usize);
+    let objective = |p: &[f64]| -> Result<f64, ObjectiveError> {
+        evaluations.set(evaluations.get() + 1);
+        let value = problem.value(p)?;
+        Ok(match sense {
+            Sense::Minimise => value,
+            Sense::Maximise => -value,
+        })
+    };
+    let inner = InnerSettings {
+        fd_step: settings.fd_step,
+        tolerance: settings.tolerance,
+        max_iterations: settings.max_inner,
+    };
+    let (mut outer_iterations, mut inner_iterations) = (0, 0);
+    while outer_iterations < settings.max_outer {
+        progress.check()?;
+        outer_iterations += 1;
+        progress.advance(1);
         let lagrangian = |p: &[f64]| -> Result<f64, ObjectiveError> {
             let mut gp = vec![0.0; m];
             problem.inequalities(p, &mut gp)?;
@@ -113,16 +181,10 @@ pub fn augmented_lagrangian<P: Constraints>(
                 .zip(&mu)
                 .map(|(gi, mi)| (mi + rho * gi).max(0.0).powi(2) - mi * mi)
                 .sum();
-            Ok(problem.value(p)? + penalty / (2.0 * rho))
+            Ok(objective(p)? + penalty / (2.0 * rho))
         };
-        minimise_in_box(
-            &lagrangian,
-            bounds,
-            &mut x,
-            settings.fd_step,
-            settings.tolerance,
-            settings.max_inner,
-        )?;
+        let (_, spent) = minimise_in_box(&lagrangian, bounds, &mut x, &inner, progress)?;
+        inner_iterations += spent;
         problem.inequalities(&x, &mut g)?;
         // `f64::max` drops a NaN: a NaN constraint must not read as satisfied.
         if let Some(&value) = g.iter().find(|gi| !gi.is_finite()) {
@@ -140,7 +202,7 @@ pub fn augmented_lagrangian<P: Constraints>(
             })
             .fold(0.0, f64::max);
         if new_violation <= settings.feasibility
-            && step <= 1e-6 * (1.0 + mu.iter().fold(0.0, |a: f64, b| a.max(*b)))
+            && step <= MULTIPLIER_TOLERANCE * (1.0 + mu.iter().fold(0.0, |a: f64, b| a.max(*b)))
         {
             violation = new_violation;
             termination = Termination::Converged {
@@ -148,8 +210,8 @@ pub fn augmented_lagrangian<P: Constraints>(
             };
             break;
         }
-        if new_violation > 0.25 * violation {
-            rho = (rho * 10.0).min(1e10);
+        if new_violation > REQUIRED_VIOLATION_DECREASE * violation {
+            rho = (rho * PENALTY_GROWTH).min(MAX_PENALTY);
         }
         violation = new_violation;
     }
@@ -171,39 +233,64 @@ pub fn augmented_lagrangian<P: Constraints>(
         constraints: g,
         multipliers: mu,
         termination,
+        outer_iterations,
+        inner_iterations,
+        evaluations: evaluations.get() + 1,
     })
 }
 
-fn check_settings<P: Constraints>(
-    problem: &P,
-    start: &[f64],
-    s: &AugmentedLagrangianSettings,
-) -> Result<(), OptimizeError> {
-    let invalid = |setting, value, requirement| {
-        Err(OptimizeError::InvalidSetting {
-            setting,
-            value,
-            requirement,
-        })
-    };
+fn check_start<P: Constraints>(problem: &P, start: &[f64]) -> Result<(), OptimizeError> {
     if start.len() != problem.dimension() || problem.bounds().len() != start.len() {
-        return invalid(
+        return Err(invalid(
             "start.len()",
             start.len() as f64,
             "must equal the problem dimension",
-        );
-    }
-    for (setting, value) in [
-        ("fd_step", s.fd_step),
-        ("tolerance", s.tolerance),
-        ("feasibility", s.feasibility),
-    ] {
-        if !(value.is_finite() && value > 0.0) {
-            return invalid(setting, value, "must be finite and > 0");
-        }
-    }
-    if s.max_outer == 0 || s.max_inner == 0 {
-        return invalid("max_outer/max_inner", 0.0, "must be >= 1");
+        ));
     }
     Ok(())
+}
+
+impl AugmentedLagrangianSettings {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    /// [`OptimizeError::InvalidSetting`] for a step, tolerance or feasibility that is not finite
+    /// and positive, a step of 0.1 or more, or no outer or inner iteration.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_optimizers::AugmentedLagrangianSettings;
+    /// assert!(AugmentedLagrangianSettings::default().validate().is_ok());
+    /// let s = AugmentedLagrangianSettings { feasibility: -1.0, ..Default::default() };
+    /// assert!(s.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<(), OptimizeError> {
+        for (setting, value) in [
+            ("fd_step", self.fd_step),
+            ("tolerance", self.tolerance),
+            ("feasibility", self.feasibility),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(invalid(setting, value, "must be finite and > 0"));
+            }
+        }
+        if !(self.fd_step < 0.1) {
+            return Err(invalid("fd_step", self.fd_step, "must be < 0.1"));
+        }
+        if self.max_outer == 0 {
+            return Err(invalid("max_outer", 0.0, "must be >= 1"));
+        }
+        if self.max_inner == 0 {
+            return Err(invalid("max_inner", 0.0, "must be >= 1"));
+        }
+        Ok(())
+    }
+}
+
+fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
+    OptimizeError::InvalidSetting {
+        setting,
+        value,
+        requirement,
+    }
 }

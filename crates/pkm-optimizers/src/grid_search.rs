@@ -5,6 +5,8 @@
 //! count.
 
 use crate::error::OptimizeError;
+use crate::sense::Sense;
+use crate::termination::Termination;
 use pkm_traits::{Objective, ObjectiveError, Progress};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -150,7 +152,7 @@ impl Landscape {
 pub struct GridResult {
     /// The best design found.
     pub best: Vec<f64>,
-    /// Its objective value (minimised).
+    /// Its objective value (the smallest or largest, in the sense of the search).
     pub best_value: f64,
     /// Designs evaluated, over all refinement levels.
     pub evaluations: usize,
@@ -158,6 +160,13 @@ pub struct GridResult {
     pub infeasible: usize,
     /// The landscape of the first (coarse) grid, when it was asked for.
     pub landscape: Option<Landscape>,
+    /// Why the search stopped: [`grid_search`] always after every node
+    /// ([`Termination::Converged`], criterion `"every node evaluated"`); [`refined_grid_search`]
+    /// with criterion `"resolution reached"`, or [`Termination::MaxIterations`] after
+    /// [`RefinementSettings::max_levels`] levels with a spacing still above the resolution;
+    /// [`crate::lattice_refined_search`] with criterion `"optimum inside every window"`, or
+    /// [`Termination::MaxIterations`] when a level's window still moved after its last repeat.
+    pub termination: Termination,
 }
 
 fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
@@ -169,19 +178,92 @@ fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
     design
 }
 
-/// Evaluates `objective` on every node of the grid spanned by `axes` and returns the minimum.
-///
-/// With `keep_landscape`, the result also carries every node's value (for plots).
-///
-/// # Errors
-/// [`OptimizeError::InvalidSetting`] when `axes` does not match the objective's dimension or the
-/// grid has more than [`MAX_GRID_NODES`] nodes (refused before anything is allocated); [`OptimizeError::NoFeasibleDesign`] when every node is infeasible;
-/// [`OptimizeError::Objective`] for an objective failure other than infeasibility;
-/// [`OptimizeError::Cancelled`].
+/// The grid of a [`grid_search`] (and the coarse grid of [`refined_grid_search`] and
+/// [`crate::lattice_refined_search`]): the axes, with at most [`MAX_GRID_NODES`] nodes in all,
+/// and whether the result keeps the value of every node.
 ///
 /// # Example
 /// ```
-/// use pkm_optimizers::{GridAxis, grid_search};
+/// use pkm_optimizers::{GridAxis, GridSearch};
+/// let axis = GridAxis::new(0.0, 1.0, 1 << 12).unwrap();
+/// let grid = GridSearch::new(vec![axis; 2]).unwrap().keeping_landscape();
+/// assert!(grid.keeps_landscape() && grid.nodes() == 1 << 24);
+/// // Each axis is admissible, their product is not.
+/// let wide = GridAxis::new(0.0, 1.0, 1 << 13).unwrap();
+/// assert!(GridSearch::new(vec![wide; 2]).is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GridSearch {
+    axes: Vec<GridAxis>,
+    nodes: usize,
+    keep_landscape: bool,
+}
+
+impl GridSearch {
+    /// The grid spanned by `axes`, without its landscape.
+    ///
+    /// # Errors
+    /// [`OptimizeError::InvalidSetting`] for no axis or more than [`MAX_GRID_NODES`] nodes in all
+    /// (refused before anything is allocated).
+    pub fn new(axes: Vec<GridAxis>) -> Result<Self, OptimizeError> {
+        if axes.is_empty() {
+            return Err(invalid("axes", 0.0, "at least one axis"));
+        }
+        let nodes = axes
+            .iter()
+            .try_fold(1usize, |acc, a| acc.checked_mul(a.n))
+            .filter(|&n| n <= MAX_GRID_NODES)
+            .ok_or_else(|| {
+                let nodes = axes.iter().map(|a| a.n as f64).product();
+                invalid("nodes", nodes, "a grid has at most MAX_GRID_NODES nodes")
+            })?;
+        Ok(Self {
+            axes,
+            nodes,
+            keep_landscape: false,
+        })
+    }
+
+    /// The same grid, whose result keeps every node's value ([`GridResult::landscape`], for
+    /// plots).
+    #[must_use]
+    pub fn keeping_landscape(mut self) -> Self {
+        self.keep_landscape = true;
+        self
+    }
+
+    /// The axes.
+    pub fn axes(&self) -> &[GridAxis] {
+        &self.axes
+    }
+
+    /// Number of nodes.
+    pub fn nodes(&self) -> usize {
+        self.nodes
+    }
+
+    /// Whether the result keeps the landscape.
+    pub fn keeps_landscape(&self) -> bool {
+        self.keep_landscape
+    }
+}
+
+/// Evaluates `objective` on every node of `grid` and returns the best node in the sense of
+/// `sense` (the first in row-major order on a tie).
+///
+/// `progress` hears one task of one unit per node and is asked for cancellation before every
+/// evaluation.
+///
+/// # Errors
+/// [`OptimizeError::InvalidSetting`] when the grid does not match the objective's dimension;
+/// [`OptimizeError::NoFeasibleDesign`] when every node is infeasible;
+/// [`OptimizeError::Objective`] for an objective failure other than infeasibility;
+/// [`OptimizeError::Cancelled`] once `progress` is cancelled (a cancelled search returns no
+/// design, as every solver of this crate).
+///
+/// # Example
+/// ```
+/// use pkm_optimizers::{GridAxis, GridSearch, Sense, grid_search};
 /// use pkm_traits::{Bounds, Objective, ObjectiveError, Silent};
 /// struct Bowl([Bounds; 2]);
 /// impl Objective for Bowl {
@@ -192,16 +274,19 @@ fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
 ///     }
 /// }
 /// let b = Bounds::new(-1.0, 1.0).unwrap();
-/// let axes = [GridAxis::new(-1.0, 1.0, 21).unwrap(); 2];
-/// let result = grid_search(&Bowl([b, b]), &axes, false, &Silent).unwrap();
+/// let grid = GridSearch::new(vec![GridAxis::new(-1.0, 1.0, 21).unwrap(); 2]).unwrap();
+/// let result = grid_search(&Bowl([b, b]), Sense::Minimise, &grid, &Silent).unwrap();
 /// assert!((result.best[0] - 0.3).abs() < 1e-12 && (result.best[1] + 0.2).abs() < 1e-12);
+/// let worst = grid_search(&Bowl([b, b]), Sense::Maximise, &grid, &Silent).unwrap();
+/// assert_eq!(worst.best, vec![-1.0, 1.0]);
 /// ```
 pub fn grid_search<O: Objective + ?Sized>(
     objective: &O,
-    axes: &[GridAxis],
-    keep_landscape: bool,
+    sense: Sense,
+    grid: &GridSearch,
     progress: &dyn Progress,
 ) -> Result<GridResult, OptimizeError> {
+    let (axes, keep_landscape, n_nodes) = (&grid.axes[..], grid.keep_landscape, grid.nodes);
     if axes.len() != objective.dimension() {
         return Err(invalid(
             "axes",
@@ -209,14 +294,6 @@ pub fn grid_search<O: Objective + ?Sized>(
             "one axis per design variable",
         ));
     }
-    let n_nodes = axes
-        .iter()
-        .try_fold(1usize, |acc, a| acc.checked_mul(a.n))
-        .filter(|&n| n <= MAX_GRID_NODES)
-        .ok_or_else(|| {
-            let nodes = axes.iter().map(|a| a.n as f64).product();
-            invalid("nodes", nodes, "a grid has at most MAX_GRID_NODES nodes")
-        })?;
     progress.start("grid search", n_nodes as u64);
     let values = (0..n_nodes)
         .into_par_iter()
@@ -246,7 +323,7 @@ pub fn grid_search<O: Objective + ?Sized>(
             Err(e) => return Err(e.into()),
         };
         if let Some(v) = value
-            && best.is_none_or(|(_, b)| v < b)
+            && best.is_none_or(|(_, b)| sense.improves(v, b))
         {
             best = Some((flat, v));
         }
@@ -267,6 +344,9 @@ pub fn grid_search<O: Objective + ?Sized>(
             axes: axes.to_vec(),
             values: landscape_values,
         }),
+        termination: Termination::Converged {
+            criterion: "every node evaluated",
+        },
     })
 }
 
@@ -278,6 +358,25 @@ pub struct RefinementSettings {
     /// At most this many refinement levels. Default 20: with the default 5 nodes the spacing
     /// halves per level, so 20 levels refine any coarse grid by a factor of about 10⁶.
     pub max_levels: usize,
+}
+
+impl RefinementSettings {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    /// [`OptimizeError::InvalidSetting`] for fewer than 3 nodes per axis or more than
+    /// [`MAX_GRID_NODES`] (no level at all is a plain grid search).
+    pub fn validate(&self) -> Result<(), OptimizeError> {
+        if !(3..=MAX_GRID_NODES).contains(&self.nodes_per_axis) {
+            let n = self.nodes_per_axis as f64;
+            return Err(invalid(
+                "nodes_per_axis",
+                n,
+                "at least 3, at most MAX_GRID_NODES",
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for RefinementSettings {
@@ -294,34 +393,33 @@ impl Default for RefinementSettings {
 ///
 /// Each refined grid spans one coarse spacing either side of the incumbent (clipped to the
 /// objective's bounds) with [`RefinementSettings::nodes_per_axis`] nodes, so the spacing halves
-/// at each level with the default of 5 nodes. The landscape, if asked for, is the coarse one.
+/// at each level with the default of 5 nodes. The landscape, if `coarse` keeps it, is the
+/// coarse one.
 ///
 /// # Errors
 /// As [`grid_search`], and [`OptimizeError::InvalidSetting`] for a resolution that is not
-/// positive or fewer than 3 refinement nodes.
+/// positive or settings that fail [`RefinementSettings::validate`].
 pub fn refined_grid_search<O: Objective + ?Sized>(
     objective: &O,
-    coarse: &[GridAxis],
+    sense: Sense,
+    coarse: &GridSearch,
     resolution: &[f64],
     settings: &RefinementSettings,
-    keep_landscape: bool,
     progress: &dyn Progress,
 ) -> Result<GridResult, OptimizeError> {
-    if resolution.len() != coarse.len() || resolution.iter().any(|r| !(*r > 0.0)) {
+    if resolution.len() != coarse.axes.len() || resolution.iter().any(|r| !(*r > 0.0)) {
         return Err(invalid(
             "resolution",
             f64::NAN,
             "one positive resolution per axis",
         ));
     }
-    if settings.nodes_per_axis < 3 {
-        let n = settings.nodes_per_axis as f64;
-        return Err(invalid("nodes_per_axis", n, "at least 3"));
-    }
-    let mut result = grid_search(objective, coarse, keep_landscape, progress)?;
-    let mut axes = coarse.to_vec();
+    settings.validate()?;
+    let mut result = grid_search(objective, sense, coarse, progress)?;
+    let mut axes = coarse.axes.clone();
+    let resolved = |axes: &[GridAxis]| axes.iter().zip(resolution).all(|(a, r)| a.step() <= *r);
     for _ in 0..settings.max_levels {
-        if axes.iter().zip(resolution).all(|(a, r)| a.step() <= *r) {
+        if resolved(&axes) {
             break;
         }
         axes = refined_axes(
@@ -331,14 +429,21 @@ pub fn refined_grid_search<O: Objective + ?Sized>(
             resolution,
             settings.nodes_per_axis,
         )?;
-        let level = grid_search(objective, &axes, false, progress)?;
+        let level = grid_search(objective, sense, &GridSearch::new(axes.clone())?, progress)?;
         result.evaluations += level.evaluations;
         result.infeasible += level.infeasible;
-        if level.best_value <= result.best_value {
+        if sense.at_least_as_good(level.best_value, result.best_value) {
             result.best = level.best;
             result.best_value = level.best_value;
         }
     }
+    result.termination = if resolved(&axes) {
+        Termination::Converged {
+            criterion: "resolution reached",
+        }
+    } else {
+        Termination::MaxIterations
+    };
     Ok(result)
 }
 

@@ -5,7 +5,7 @@
 //! on the lattice of its own step, so the optimum is reported on the same lattice as a paper
 //! that tabulates its designs to two decimals.
 
-use crate::{GridAxis, GridResult, OptimizeError, grid_search};
+use crate::{GridAxis, GridResult, GridSearch, OptimizeError, Sense, Termination, grid_search};
 use pkm_traits::{Bounds, Objective, Progress};
 
 /// One refinement level of [`lattice_refined_search`].
@@ -22,18 +22,21 @@ pub struct LatticeLevel {
 /// its optimum lies on the window's edge but not on a bound, so that the reported optimum is a
 /// local optimum of the finest lattice. Axes with a single coarse node stay fixed.
 ///
-/// The landscape, if asked for, is the coarse one.
+/// The landscape, if `coarse` keeps it, is the coarse one.
 ///
 /// # Errors
 /// As [`grid_search`]; [`OptimizeError::InvalidSetting`] for a step that is not positive.
 pub fn lattice_refined_search<O: Objective + ?Sized>(
     objective: &O,
-    coarse: &[GridAxis],
+    sense: Sense,
+    coarse: &GridSearch,
     levels: &[LatticeLevel],
-    keep_landscape: bool,
     progress: &dyn Progress,
 ) -> Result<GridResult, OptimizeError> {
-    let mut result = grid_search(objective, coarse, keep_landscape, progress)?;
+    let mut result = grid_search(objective, sense, coarse, progress)?;
+    let coarse = coarse.axes();
+    // Whether some level's window still moved after its last repeat.
+    let mut exhausted = false;
     for level in levels {
         if !(level.step > 0.0 && level.step.is_finite()) {
             return Err(OptimizeError::InvalidSetting {
@@ -42,21 +45,32 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
                 requirement: "must be finite and > 0",
             });
         }
+        let mut window_moved = false;
         for _ in 0..MAX_REPEATS {
             let axes = lattice_window(objective.bounds(), coarse, &result.best, level)?;
-            let local = grid_search(objective, &axes, false, progress)?;
+            let local = grid_search(objective, sense, &GridSearch::new(axes.clone())?, progress)?;
             result.evaluations += local.evaluations;
             result.infeasible += local.infeasible;
-            let improved = local.best_value < result.best_value;
-            if local.best_value <= result.best_value {
+            let improved = sense.improves(local.best_value, result.best_value);
+            if sense.at_least_as_good(local.best_value, result.best_value) {
                 result.best_value = local.best_value;
                 result.best = local.best;
             }
-            if !(improved && on_open_edge(&axes, &result.best, objective.bounds(), level.step)) {
+            window_moved =
+                improved && on_open_edge(&axes, &result.best, objective.bounds(), level.step);
+            if !window_moved {
                 break;
             }
         }
+        exhausted |= window_moved;
     }
+    result.termination = if exhausted {
+        Termination::MaxIterations
+    } else {
+        Termination::Converged {
+            criterion: "optimum inside every window",
+        }
+    };
     Ok(result)
 }
 

@@ -18,44 +18,32 @@
 //! The dynamic-size normal equations and the Hessian eigenvalues use faer.
 
 use crate::error::OptimizeError;
-use crate::multistart::{run_multistart, uniform_start_points};
+use crate::finite_differences::{self, HESSIAN_RELATIVE_STEP, RELATIVE_STEP};
+use crate::multistart::{MAX_STARTS, run_multistart, uniform_start_points};
+use crate::sense::Sense;
 use crate::termination::Termination;
 use faer::Mat;
 use faer::Side;
 use faer::linalg::solvers::Solve;
-use pkm_traits::{Bounds, ObjectiveError, Residuals};
+use pkm_traits::{Bounds, ObjectiveError, Progress, Residuals};
+use std::cell::Cell;
 
 /// Initial damping relative to the largest diagonal entry of $A^\top A$:
 /// $\mu_0 = 10^{-3} \max_k (A^\top A)_{kk}$ (Marquardt's usual scale).
-const INITIAL_DAMPING_SCALE: f64 = 1e-3;
+pub const INITIAL_DAMPING_SCALE: f64 = 1e-3;
 /// Floor of $\max_k (A^\top A)_{kk}$ in $\mu_0$, so a vanishing Jacobian still starts with
 /// $\mu_0 > 0$.
-const MIN_NORMAL_DIAGONAL: f64 = 1e-12;
+pub const MIN_NORMAL_DIAGONAL: f64 = 1e-12;
 /// $\mu \leftarrow \mu / 3$ after a successful step.
-const DAMPING_DECREASE: f64 = 3.0;
+pub const DAMPING_DECREASE: f64 = 3.0;
 /// $\mu \leftarrow 4 \mu$ after a rejected step.
-const DAMPING_INCREASE: f64 = 4.0;
+pub const DAMPING_INCREASE: f64 = 4.0;
 /// Damping at which the search for an improving step gives up ([`Termination::Stalled`]): the
 /// step $\delta \approx \sigma A^\top r / \mu$ is then negligible.
-const MAX_DAMPING: f64 = 1e16;
-
-/// Whether the sum of squares is minimised or maximised.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Sense {
-    /// Find the smallest $\lVert r \rVert^2$.
-    Minimise,
-    /// Find the largest $\lVert r \rVert^2$.
-    Maximise,
-}
-
-impl Sense {
-    fn sign(self) -> f64 {
-        match self {
-            Self::Minimise => -1.0,
-            Self::Maximise => 1.0,
-        }
-    }
-}
+pub const MAX_DAMPING: f64 = 1e16;
+/// A variable within $10^{-12}(1 + w)$ of a bound ($w$ the interval width) sits on it
+/// ([`ActiveBound`]).
+pub const BOUND_TOLERANCE: f64 = 1e-12;
 
 /// Where a variable sits at the reported optimum.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,13 +59,14 @@ pub enum ActiveBound {
 /// Settings of [`levenberg_marquardt`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LmSettings {
-    /// Largest number of iterations.
+    /// Largest number of iterations (at least 1).
     pub max_iterations: usize,
     /// Stop when the projected gradient's largest entry, scaled by the interval width, is below
-    /// this, or when a step changes $f$ by less than this relative amount.
+    /// this, or when a step changes $f$ by less than this relative amount (finite and $> 0$).
     pub tolerance: f64,
     /// Finite-difference step, relative to each interval width (for problems without
-    /// [`Residuals::residual_jacobian`]).
+    /// [`Residuals::residual_jacobian`]); in $(0, 0.1)$. Default
+    /// [`finite_differences::RELATIVE_STEP`].
     pub fd_step: f64,
 }
 
@@ -86,8 +75,48 @@ impl Default for LmSettings {
         Self {
             max_iterations: 200,
             tolerance: 1e-12,
-            fd_step: 1e-6,
+            fd_step: RELATIVE_STEP,
         }
+    }
+}
+
+impl LmSettings {
+    /// Checks the settings.
+    ///
+    /// # Errors
+    /// [`OptimizeError::InvalidSetting`] for no iteration, a tolerance that is not finite and
+    /// positive, or a step outside $(0, 0.1)$.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_optimizers::LmSettings;
+    /// assert!(LmSettings::default().validate().is_ok());
+    /// assert!(LmSettings { tolerance: f64::NAN, ..LmSettings::default() }.validate().is_err());
+    /// assert!(LmSettings { max_iterations: 0, ..LmSettings::default() }.validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<(), OptimizeError> {
+        if self.max_iterations == 0 {
+            return Err(invalid("max_iterations", 0.0, "must be >= 1"));
+        }
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(invalid(
+                "tolerance",
+                self.tolerance,
+                "must be finite and > 0",
+            ));
+        }
+        if !(self.fd_step > 0.0 && self.fd_step < 0.1) {
+            return Err(invalid("fd_step", self.fd_step, "must be in (0, 0.1)"));
+        }
+        Ok(())
+    }
+}
+
+fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
+    OptimizeError::InvalidSetting {
+        setting,
+        value,
+        requirement,
     }
 }
 
@@ -108,10 +137,15 @@ pub struct LocalOptimum {
     pub reduced_hessian_eigenvalues: Vec<f64>,
     /// Iterations spent.
     pub iterations: usize,
+    /// Evaluations of the residuals (a call of [`Residuals::residuals`], or of
+    /// [`Residuals::residual_jacobian`] that provided a Jacobian), including those of the final
+    /// report (gradient and reduced Hessian).
+    pub evaluations: usize,
     /// Why the iteration stopped: [`Termination::Converged`] with criterion
     /// `"projected gradient"`, `"every variable held on a bound"` or `"relative change in f"`;
     /// [`Termination::MaxIterations`] after [`LmSettings::max_iterations`] iterations; or
-    /// [`Termination::Stalled`] when the damping reached its limit without an improving step.
+    /// [`Termination::Stalled`] when the damping reached [`MAX_DAMPING`] without an improving
+    /// step.
     pub termination: Termination,
 }
 
@@ -126,18 +160,23 @@ impl LocalOptimum {
     }
 }
 
-/// Runs bounded Levenberg–Marquardt from `start` (clamped into the box).
+/// Runs bounded Levenberg–Marquardt from `start` (clamped into the box), toward the smallest or
+/// the largest $\lVert r \rVert^2$ as `sense` says.
+///
+/// `progress` hears one task of [`LmSettings::max_iterations`] units, advanced once per
+/// iteration, and is asked for cancellation before every evaluation of a trial step.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] for a non-positive tolerance or step, or a start of the
-/// wrong length; [`OptimizeError::Objective`] when the residuals fail;
+/// [`OptimizeError::InvalidSetting`] for settings that fail [`LmSettings::validate`] or a start
+/// of the wrong length or not finite; [`OptimizeError::Objective`] when the residuals fail;
 /// [`OptimizeError::Numerical`] when the damped normal matrix is not positive definite or the
-/// eigenvalues of the reduced Hessian do not converge.
+/// eigenvalues of the reduced Hessian do not converge; [`OptimizeError::Cancelled`] once
+/// `progress` is cancelled (a cancelled run returns no design, as every solver of this crate).
 ///
 /// # Example
 /// ```
 /// use pkm_optimizers::{LmSettings, Sense, levenberg_marquardt};
-/// use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
+/// use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Silent};
 /// struct Paraboloid([Bounds; 2]);
 /// impl Objective for Paraboloid {
 ///     fn dimension(&self) -> usize { 2 }
@@ -153,19 +192,86 @@ impl LocalOptimum {
 /// }
 /// let b = Bounds::new(-1.0, 2.0).unwrap();
 /// let problem = Paraboloid([b, b]);
-/// let max = levenberg_marquardt(&problem, Sense::Maximise, &[0.5, 0.4], &LmSettings::default()).unwrap();
+/// let settings = LmSettings::default();
+/// let max = levenberg_marquardt(&problem, Sense::Maximise, &[0.5, 0.4], &settings, &Silent).unwrap();
 /// assert!((max.value - 8.0).abs() < 1e-9);
-/// let min = levenberg_marquardt(&problem, Sense::Minimise, &[0.5, 0.4], &LmSettings::default()).unwrap();
-/// assert!(min.value < 1e-12);
+/// let min = levenberg_marquardt(&problem, Sense::Minimise, &[0.5, 0.4], &settings, &Silent).unwrap();
+/// assert!(min.value < 1e-12 && min.termination.converged());
 /// ```
 pub fn levenberg_marquardt<P: Residuals + ?Sized>(
     problem: &P,
     sense: Sense,
     start: &[f64],
     settings: &LmSettings,
+    progress: &dyn Progress,
 ) -> Result<LocalOptimum, OptimizeError> {
-    validate(problem, start, settings)?;
-    let bounds = problem.bounds();
+    settings.validate()?;
+    progress.start("Levenberg-Marquardt", settings.max_iterations as u64);
+    let counted = Counted::new(problem);
+    let result = run(
+        &counted,
+        sense,
+        start,
+        settings,
+        progress,
+        Report::Iterations,
+    );
+    progress.finish();
+    result
+}
+
+/// Where a local run reports: its own iterations (a single run), or nothing (one start of a
+/// multistart, which reports finished starts).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Report {
+    Iterations,
+    Nothing,
+}
+
+/// The problem with a count of its residual evaluations.
+struct Counted<'a, P: ?Sized> {
+    problem: &'a P,
+    evaluations: Cell<usize>,
+}
+
+impl<'a, P: Residuals + ?Sized> Counted<'a, P> {
+    fn new(problem: &'a P) -> Self {
+        Self {
+            problem,
+            evaluations: Cell::new(0),
+        }
+    }
+
+    fn residuals(&self, p: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
+        self.evaluations.set(self.evaluations.get() + 1);
+        self.problem.residuals(p, r)
+    }
+
+    fn residual_jacobian(
+        &self,
+        p: &[f64],
+        r: &mut [f64],
+        jacobian: &mut [f64],
+    ) -> Result<bool, ObjectiveError> {
+        let provided = self.problem.residual_jacobian(p, r, jacobian)?;
+        if provided {
+            self.evaluations.set(self.evaluations.get() + 1);
+        }
+        Ok(provided)
+    }
+}
+
+fn run<P: Residuals + ?Sized>(
+    problem: &Counted<'_, P>,
+    sense: Sense,
+    start: &[f64],
+    settings: &LmSettings,
+    progress: &dyn Progress,
+    reporting: Report,
+) -> Result<LocalOptimum, OptimizeError> {
+    validate_start(problem.problem, start)?;
+    progress.check()?;
+    let bounds = problem.problem.bounds();
     let sign = sense.sign();
     let mut p: Vec<f64> = start.iter().zip(bounds).map(|(x, b)| b.clamp(*x)).collect();
     let mut f = sum_of_squares(problem, &p)?;
@@ -173,7 +279,11 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
     let mut iterations = 0;
     let mut termination = Termination::MaxIterations;
     while iterations < settings.max_iterations {
+        progress.check()?;
         iterations += 1;
+        if reporting == Report::Iterations {
+            progress.advance(1);
+        }
         let (r, a) = residuals_and_jacobian(problem, &p, settings.fd_step)?;
         let grad = gradient_from(&r, &a);
         let free = free_set(&p, &grad, bounds, sign);
@@ -201,6 +311,7 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
         // Why to stop after this iteration, if at all: stalled unless an improving step is found.
         let mut stop = Some(Termination::Stalled);
         while mu < MAX_DAMPING {
+            progress.check()?;
             let delta = solve_damped(&ata, &atr, mu, sign)?;
             let mut trial = p.clone();
             for (k, &j) in free.iter().enumerate() {
@@ -229,95 +340,183 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
     report(problem, p, f, iterations, termination, settings)
 }
 
-/// Multistart [`levenberg_marquardt`]: `n_starts` seeded uniform starts in the box (plus
-/// `extra_starts`, run first), in parallel; returns the best optimum in the sense of `sense`
-/// (ties broken by start order, so the result is independent of the thread count).
+/// The starts of [`multistart_levenberg_marquardt`]: `starts` seeded uniform points in the box
+/// ([`uniform_start_points`] with `seed`) after the `extra_starts` given, which run first.
+///
+/// # Example
+/// ```
+/// use pkm_optimizers::Multistart;
+/// let m = Multistart::new(32, 7).with_extra_starts(vec![vec![0.0, 1.0]]);
+/// assert_eq!(m.total(), 33);
+/// assert!(m.validate().is_ok());
+/// assert!(Multistart::new(0, 7).validate().is_err());
+/// assert!(Multistart::new(usize::MAX, 7).validate().is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Multistart {
+    /// Number of seeded uniform starts.
+    pub starts: usize,
+    /// Seed of the uniform starts (start `k` is a pure function of `(seed, k)`).
+    pub seed: u64,
+    /// Starts given by the caller, run before the seeded ones (each must have the problem's
+    /// dimension and be finite).
+    pub extra_starts: Vec<Vec<f64>>,
+}
+
+impl Multistart {
+    /// `starts` seeded uniform starts and no extra ones.
+    pub fn new(starts: usize, seed: u64) -> Self {
+        Self {
+            starts,
+            seed,
+            extra_starts: Vec::new(),
+        }
+    }
+
+    /// The same with `extra_starts` run first.
+    #[must_use]
+    pub fn with_extra_starts(mut self, extra_starts: Vec<Vec<f64>>) -> Self {
+        self.extra_starts = extra_starts;
+        self
+    }
+
+    /// Starts in all (saturating).
+    pub fn total(&self) -> usize {
+        self.starts.saturating_add(self.extra_starts.len())
+    }
+
+    /// Checks the counts (the extra starts themselves are checked by each run).
+    ///
+    /// # Errors
+    /// [`OptimizeError::InvalidSetting`] for no start at all or more than [`MAX_STARTS`].
+    pub fn validate(&self) -> Result<(), OptimizeError> {
+        let total = self.total();
+        if total == 0 {
+            return Err(invalid("starts", 0.0, "at least one start"));
+        }
+        if total > MAX_STARTS {
+            return Err(invalid(
+                "starts",
+                total as f64,
+                "at most MAX_STARTS start points",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The best of the local optima of a multistart, with the statistics of the whole run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MultistartOptimum {
+    /// The best local optimum (its [`LocalOptimum::termination`] says why that run stopped).
+    pub best: LocalOptimum,
+    /// Starts run.
+    pub starts: usize,
+    /// Starts that ended on an infeasible design ([`ObjectiveError::Infeasible`]).
+    pub infeasible_starts: usize,
+    /// Residual evaluations over all starts.
+    pub evaluations: usize,
+}
+
+/// Multistart [`levenberg_marquardt`] over the starts of `multistart`, in parallel; returns the
+/// best optimum in the sense of `sense` (ties broken by start order, so the result is
+/// independent of the thread count).
+///
+/// `progress` hears one task with a unit per start, advanced as each start finishes, and is
+/// asked for cancellation inside every start as in [`levenberg_marquardt`].
 ///
 /// # Errors
 /// As [`levenberg_marquardt`]; [`OptimizeError::NoFeasibleDesign`] when every start fails;
-/// [`OptimizeError::InvalidSetting`] for more than [`crate::MAX_STARTS`] starts.
+/// [`OptimizeError::InvalidSetting`] when `multistart` fails [`Multistart::validate`];
+/// [`OptimizeError::Cancelled`] once `progress` is cancelled.
 pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
     problem: &P,
     sense: Sense,
-    extra_starts: &[Vec<f64>],
-    n_starts: usize,
-    seed: u64,
+    multistart: &Multistart,
     settings: &LmSettings,
-) -> Result<LocalOptimum, OptimizeError> {
-    let mut starts = extra_starts.to_vec();
-    starts.extend(uniform_start_points(problem.bounds(), n_starts, seed)?);
+    progress: &dyn Progress,
+) -> Result<MultistartOptimum, OptimizeError> {
+    multistart.validate()?;
+    settings.validate()?;
+    let mut starts = multistart.extra_starts.clone();
+    starts.extend(uniform_start_points(
+        problem.bounds(),
+        multistart.starts,
+        multistart.seed,
+    )?);
+    progress.start("multistart Levenberg-Marquardt", starts.len() as u64);
     let outcomes = run_multistart(&starts, |s| {
-        levenberg_marquardt(problem, sense, s, settings)
+        let counted = Counted::new(problem);
+        let outcome = run(&counted, sense, s, settings, progress, Report::Nothing);
+        progress.advance(1);
+        (outcome, counted.evaluations.get())
     });
+    progress.finish();
     let mut best: Option<LocalOptimum> = None;
     let mut last_error = None;
-    for outcome in outcomes {
+    let mut infeasible_starts = 0;
+    let mut evaluations = 0;
+    for (outcome, n) in outcomes {
+        evaluations += n;
         match outcome {
             Ok(o) => {
                 if best
                     .as_ref()
-                    .is_none_or(|b| sense.sign() * (o.value - b.value) > 0.0)
+                    .is_none_or(|b| sense.improves(o.value, b.value))
                 {
                     best = Some(o);
                 }
             }
             Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason })) => {
+                infeasible_starts += 1;
                 last_error = Some(reason);
             }
             Err(e) => return Err(e),
         }
     }
-    best.ok_or(OptimizeError::NoFeasibleDesign {
+    let best = best.ok_or(OptimizeError::NoFeasibleDesign {
         evaluations: starts.len(),
-        last_reason: last_error.unwrap_or_else(|| "no starts".to_owned()),
+        // At least one start ran (validated), and every one ended infeasible.
+        last_reason: last_error.unwrap_or_default(),
+    })?;
+    Ok(MultistartOptimum {
+        best,
+        starts: starts.len(),
+        infeasible_starts,
+        evaluations,
     })
 }
 
-fn validate<P: Residuals + ?Sized>(
-    problem: &P,
-    start: &[f64],
-    settings: &LmSettings,
-) -> Result<(), OptimizeError> {
-    let invalid = |setting, value: f64, requirement| {
-        Err(OptimizeError::InvalidSetting {
-            setting,
-            value,
-            requirement,
-        })
-    };
-    if !(settings.tolerance > 0.0) {
-        return invalid("tolerance", settings.tolerance, "must be > 0");
-    }
-    if !(settings.fd_step > 0.0 && settings.fd_step < 0.1) {
-        return invalid("fd_step", settings.fd_step, "must be in (0, 0.1)");
-    }
+fn validate_start<P: Residuals + ?Sized>(problem: &P, start: &[f64]) -> Result<(), OptimizeError> {
     problem.check_dimension(start)?;
     if start.iter().any(|x| !x.is_finite()) {
-        return invalid("start", f64::NAN, "must be finite");
+        return Err(invalid("start", f64::NAN, "must be finite"));
     }
     Ok(())
 }
 
-fn sum_of_squares<P: Residuals + ?Sized>(problem: &P, p: &[f64]) -> Result<f64, OptimizeError> {
-    let mut r = vec![0.0; problem.n_residuals()];
+fn sum_of_squares<P: Residuals + ?Sized>(
+    problem: &Counted<'_, P>,
+    p: &[f64],
+) -> Result<f64, ObjectiveError> {
+    let mut r = vec![0.0; problem.problem.n_residuals()];
     problem.residuals(p, &mut r)?;
     let f: f64 = r.iter().map(|x| x * x).sum();
     if f.is_finite() {
         Ok(f)
     } else {
-        Err(ObjectiveError::NonFinite { value: f }.into())
+        Err(ObjectiveError::NonFinite { value: f })
     }
 }
 
 /// $r(p)$ and $A = \partial r / \partial p$: the problem's own Jacobian when
-/// [`Residuals::residual_jacobian`] provides one, else central differences (one-sided where a
-/// side leaves the box, see [`Bounds::difference_points`]).
+/// [`Residuals::residual_jacobian`] provides one, else [`finite_differences::jacobian`].
 fn residuals_and_jacobian<P: Residuals + ?Sized>(
-    problem: &P,
+    problem: &Counted<'_, P>,
     p: &[f64],
     rel: f64,
 ) -> Result<(Vec<f64>, Mat<f64>), OptimizeError> {
-    let (m, n) = (problem.n_residuals(), p.len());
+    let (m, n) = (problem.problem.n_residuals(), p.len());
     let mut r = vec![0.0; m];
     let mut analytic = vec![0.0; m * n];
     if problem.residual_jacobian(p, &mut r, &mut analytic)? {
@@ -327,25 +526,15 @@ fn residuals_and_jacobian<P: Residuals + ?Sized>(
         return Ok((r, Mat::from_fn(m, n, |i, j| analytic[i * n + j])));
     }
     problem.residuals(p, &mut r)?;
-    let mut a = Mat::<f64>::zeros(m, n);
-    let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
-    let mut q = p.to_vec();
-    for (j, b) in problem.bounds().iter().enumerate() {
-        let (hi, lo) = b.difference_points(p[j], rel);
-        if !(hi > lo) {
-            // A variable fixed by its bounds (lower = upper): its column stays zero.
-            continue;
-        }
-        q[j] = hi;
-        problem.residuals(&q, &mut rp)?;
-        q[j] = lo;
-        problem.residuals(&q, &mut rm)?;
-        q[j] = p[j];
-        for i in 0..m {
-            a[(i, j)] = (rp[i] - rm[i]) / (hi - lo);
-        }
-    }
-    Ok((r, a))
+    let bounds = problem.problem.bounds();
+    let a = finite_differences::jacobian(
+        &|q: &[f64], out: &mut [f64]| problem.residuals(q, out),
+        bounds,
+        p,
+        m,
+        rel,
+    )?;
+    Ok((r, Mat::from_fn(m, n, |i, j| a[i * n + j])))
 }
 
 fn gradient_from(r: &[f64], a: &Mat<f64>) -> Vec<f64> {
@@ -355,7 +544,7 @@ fn gradient_from(r: &[f64], a: &Mat<f64>) -> Vec<f64> {
 }
 
 fn at_bound(b: &Bounds, x: f64) -> ActiveBound {
-    let eps = 1e-12 * (1.0 + b.width());
+    let eps = BOUND_TOLERANCE * (1.0 + b.width());
     if x <= b.lower() + eps {
         ActiveBound::Lower
     } else if x >= b.upper() - eps {
@@ -407,14 +596,14 @@ fn solve_damped(
 }
 
 fn report<P: Residuals + ?Sized>(
-    problem: &P,
+    problem: &Counted<'_, P>,
     design: Vec<f64>,
     value: f64,
     iterations: usize,
     termination: Termination,
     settings: &LmSettings,
 ) -> Result<LocalOptimum, OptimizeError> {
-    let bounds = problem.bounds();
+    let bounds = problem.problem.bounds();
     let (r, a) = residuals_and_jacobian(problem, &design, settings.fd_step)?;
     let gradient = gradient_from(&r, &a);
     let active: Vec<ActiveBound> = design
@@ -425,11 +614,13 @@ fn report<P: Residuals + ?Sized>(
     let free: Vec<usize> = (0..design.len())
         .filter(|&j| active[j] == ActiveBound::Free)
         .collect();
-    let hessian = free_hessian(problem, &design, &free)?;
+    let f = |q: &[f64]| sum_of_squares(problem, q);
+    let n = free.len();
+    let h = finite_differences::hessian(&f, bounds, &design, &free, value, HESSIAN_RELATIVE_STEP)?;
     let reduced_hessian_eigenvalues = if free.is_empty() {
         Vec::new()
     } else {
-        hessian
+        Mat::from_fn(n, n, |k, l| h[k * n + l])
             .self_adjoint_eigenvalues(Side::Lower)
             .map_err(|_| OptimizeError::Numerical {
                 what: "the eigenvalues of the reduced Hessian did not converge",
@@ -442,45 +633,7 @@ fn report<P: Residuals + ?Sized>(
         active,
         reduced_hessian_eigenvalues,
         iterations,
+        evaluations: problem.evaluations.get(),
         termination,
     })
-}
-
-/// Central second differences of $f$ over the free variables, step $10^{-4}$ of each width.
-fn free_hessian<P: Residuals + ?Sized>(
-    problem: &P,
-    p: &[f64],
-    free: &[usize],
-) -> Result<Mat<f64>, OptimizeError> {
-    let bounds = problem.bounds();
-    let h: Vec<f64> = free
-        .iter()
-        .map(|&j| 1e-4 * bounds[j].width().max(1e-8))
-        .collect();
-    let f_at = |shifts: &[(usize, f64)]| {
-        let mut q = p.to_vec();
-        for &(k, s) in shifts {
-            q[free[k]] += s * h[k];
-        }
-        sum_of_squares(problem, &q)
-    };
-    let n = free.len();
-    let f0 = f_at(&[])?;
-    let mut hess = Mat::<f64>::zeros(n, n);
-    for k in 0..n {
-        for l in k..n {
-            let v = if k == l {
-                (f_at(&[(k, 1.0)])? - 2.0 * f0 + f_at(&[(k, -1.0)])?) / (h[k] * h[k])
-            } else {
-                (f_at(&[(k, 1.0), (l, 1.0)])?
-                    - f_at(&[(k, 1.0), (l, -1.0)])?
-                    - f_at(&[(k, -1.0), (l, 1.0)])?
-                    + f_at(&[(k, -1.0), (l, -1.0)])?)
-                    / (4.0 * h[k] * h[l])
-            };
-            hess[(k, l)] = v;
-            hess[(l, k)] = v;
-        }
-    }
-    Ok(hess)
 }

@@ -1,13 +1,30 @@
 //! Design optimisers. They see only the [`pkm_traits::Objective`] family of traits, never a
-//! mechanism, and every objective is minimised (maximisation negates).
+//! mechanism.
+//!
+//! One set of rules holds for every solver:
+//! - *Direction.* Every solver takes a [`Sense`] (minimise or maximise); an objective is never
+//!   negated to be maximised (Levenberg–Marquardt maximises $\lVert r \rVert^2$, which no
+//!   negation of residuals can express).
+//! - *Settings.* Counts, seeds and switches come in settings structs ([`LmSettings`],
+//!   [`Multistart`], [`GridSearch`], [`RefinementSettings`], [`AugmentedLagrangianSettings`]),
+//!   each with a `validate` (or a checked constructor) that refuses NaN, infinite, zero,
+//!   negative and oversized values with [`OptimizeError::InvalidSetting`].
+//! - *Progress and cancellation.* Every solver takes a [`pkm_traits::Progress`], reports its
+//!   work through it and checks [`pkm_traits::Progress::is_cancelled`] at least once per
+//!   iteration (or per evaluation). A cancelled run returns [`OptimizeError::Cancelled`], never
+//!   a partial result, so `?` carries a Ctrl-C through a whole study.
+//! - *Why it stopped.* The result of every solver carries a [`Termination`] and its counts
+//!   (iterations and evaluations; nodes for the grid searches).
+//! - *Derivatives.* Every finite difference goes through [`finite_differences`].
 //!
 //! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel
 //!   and deterministic, with the whole landscape on request and coarse-to-fine refinement
 //!   (Miller 2004 §2.2's 4-D search).
 //! - [`uniform_start_points`] and [`run_multistart`]: seeded starts for local optimisers, run in
 //!   parallel with outcomes in start order.
-//! - [`levenberg_marquardt`] and [`augmented_lagrangian`]: local solvers whose results say why
-//!   they stopped ([`Termination`]: converged and by which test, iteration limit, or stalled).
+//! - [`levenberg_marquardt`], [`multistart_levenberg_marquardt`] and [`augmented_lagrangian`]:
+//!   local solvers whose results say why they stopped ([`Termination`]: converged and by which
+//!   test, iteration limit, or stalled).
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -17,27 +34,32 @@ mod readme {}
 
 mod augmented_lagrangian;
 mod error;
+pub mod finite_differences;
 mod grid_search;
 mod lattice_refinement;
 mod levenberg_marquardt;
 mod multistart;
+mod sense;
 mod spg;
 mod termination;
 mod weighted_combination;
 
 pub use augmented_lagrangian::{
-    AugmentedLagrangianSettings, ConstrainedResult, augmented_lagrangian,
+    AugmentedLagrangianSettings, ConstrainedResult, INITIAL_PENALTY, MAX_PENALTY,
+    MULTIPLIER_TOLERANCE, PENALTY_GROWTH, REQUIRED_VIOLATION_DECREASE, augmented_lagrangian,
 };
 pub use error::OptimizeError;
 pub use grid_search::{
-    GridAxis, GridResult, Landscape, MAX_GRID_NODES, RefinementSettings, grid_search,
+    GridAxis, GridResult, GridSearch, Landscape, MAX_GRID_NODES, RefinementSettings, grid_search,
     refined_grid_search,
 };
 pub use lattice_refinement::{LatticeLevel, lattice_refined_search, lattice_window};
 pub use levenberg_marquardt::{
-    ActiveBound, LmSettings, LocalOptimum, Sense, levenberg_marquardt,
-    multistart_levenberg_marquardt,
+    ActiveBound, BOUND_TOLERANCE, DAMPING_DECREASE, DAMPING_INCREASE, INITIAL_DAMPING_SCALE,
+    LmSettings, LocalOptimum, MAX_DAMPING, MIN_NORMAL_DIAGONAL, Multistart, MultistartOptimum,
+    levenberg_marquardt, multistart_levenberg_marquardt,
 };
 pub use multistart::{MAX_STARTS, run_multistart, uniform_start_points};
+pub use sense::Sense;
 pub use termination::Termination;
-pub use weighted_combination::{WeightedMean, weighted_combination};
+pub use weighted_combination::weighted_combination;

@@ -1,7 +1,23 @@
 //! Spectral projected gradient (Birgin, Martínez & Raydan 2000) with central-difference
-//! gradients: the bound-constrained inner solver of [`crate::augmented_lagrangian`].
+//! gradients ([`crate::finite_differences::gradient`]): the bound-constrained inner solver of
+//! [`crate::augmented_lagrangian`].
 
-use pkm_traits::{Bounds, ObjectiveError};
+use crate::OptimizeError;
+use crate::finite_differences::{self, MIN_WIDTH};
+use pkm_traits::{Bounds, ObjectiveError, Progress};
+
+/// Armijo constant of the (monotone) backtracking line search: accept $t$ when
+/// $f(x + t d) \le f(x) + 10^{-4}\, t\, \nabla f \cdot d$.
+const ARMIJO: f64 = 1e-4;
+/// The line search halves $t$ until it accepts or $t$ drops below this.
+const MIN_STEP_FRACTION: f64 = 1e-10;
+/// The spectral step length $\lambda = s^\top s / s^\top y$ is kept in
+/// $[\lambda_{\min}, \lambda_{\max}] = [10^{-10}, 10^{10}]$.
+const MIN_SPECTRAL_STEP: f64 = 1e-10;
+/// See [`MIN_SPECTRAL_STEP`].
+const MAX_SPECTRAL_STEP: f64 = 1e10;
+/// Floor of the largest gradient entry in the first step length $\lambda_0 = 1/\max_k |g_k|$.
+const MIN_FIRST_GRADIENT: f64 = 1e-12;
 
 /// Projects `x` onto the box.
 pub(crate) fn project(bounds: &[Bounds], x: &mut [f64]) {
@@ -10,71 +26,52 @@ pub(crate) fn project(bounds: &[Bounds], x: &mut [f64]) {
     }
 }
 
-/// Central-difference gradient with step `h` scaled by each box width, one-sided at a bound.
-/// An infeasible neighbour counts as $+\infty$, so the gradient points back inside.
-pub(crate) fn gradient<F>(
-    f: &F,
-    bounds: &[Bounds],
-    x: &[f64],
-    h: f64,
-) -> Result<Vec<f64>, ObjectiveError>
-where
-    F: Fn(&[f64]) -> Result<f64, ObjectiveError>,
-{
-    let mut g = vec![0.0; x.len()];
-    let mut probe = x.to_vec();
-    let f0 = f(x)?;
-    for k in 0..x.len() {
-        let step = h * bounds[k].width().max(1e-12);
-        let hi = bounds[k].clamp(x[k] + step);
-        let lo = bounds[k].clamp(x[k] - step);
-        let mut at = |v: f64| {
-            probe[k] = v;
-            let r = if (v - x[k]).abs() > 0.0 {
-                f(&probe)
-            } else {
-                Ok(f0)
-            };
-            probe[k] = x[k];
-            r
-        };
-        let (fp, fm) = (at(hi)?, at(lo)?);
-        g[k] = if hi > lo { (fp - fm) / (hi - lo) } else { 0.0 };
-    }
-    Ok(g)
+/// Settings of one inner solve.
+pub(crate) struct InnerSettings {
+    /// Relative finite-difference step.
+    pub fd_step: f64,
+    /// Stop when the projected-gradient step is below this, in box widths.
+    pub tolerance: f64,
+    /// Iteration limit.
+    pub max_iterations: usize,
 }
 
 /// Minimises `f` over the box from `x` (projected), stopping when the projected-gradient step
-/// is below `tolerance` (in units of the box widths) or after `max_iterations`.
+/// is below the tolerance (in units of the box widths) or after the iteration limit. Returns
+/// $f(x)$ and the iterations spent.
 ///
 /// # Errors
 /// An objective error other than a recorded infeasibility, which the line search treats as
-/// $+\infty$.
+/// $+\infty$; [`OptimizeError::Cancelled`] once `progress` is cancelled (checked every
+/// iteration).
 pub(crate) fn minimise_in_box<F>(
     f: &F,
     bounds: &[Bounds],
     x: &mut Vec<f64>,
-    h: f64,
-    tolerance: f64,
-    max_iterations: usize,
-) -> Result<f64, ObjectiveError>
+    settings: &InnerSettings,
+    progress: &dyn Progress,
+) -> Result<(f64, usize), OptimizeError>
 where
     F: Fn(&[f64]) -> Result<f64, ObjectiveError>,
 {
     project(bounds, x);
+    let h = settings.fd_step;
     let mut fx = f(x)?;
-    let mut g = gradient(f, bounds, x, h)?;
-    let mut lambda = 1.0 / g.iter().map(|v| v.abs()).fold(1e-12, f64::max);
-    for _ in 0..max_iterations {
+    let mut g = finite_differences::gradient(f, bounds, x, fx, h)?;
+    let mut lambda = 1.0 / g.iter().map(|v| v.abs()).fold(MIN_FIRST_GRADIENT, f64::max);
+    let mut iterations = 0;
+    while iterations < settings.max_iterations {
+        progress.check()?;
+        iterations += 1;
         let mut d: Vec<f64> = x.iter().zip(&g).map(|(xi, gi)| xi - lambda * gi).collect();
         project(bounds, &mut d);
         d.iter_mut().zip(x.iter()).for_each(|(di, xi)| *di -= xi);
         let size = d
             .iter()
             .zip(bounds)
-            .map(|(di, b)| (di / b.width().max(1e-12)).abs())
+            .map(|(di, b)| (di / b.width().max(MIN_WIDTH)).abs())
             .fold(0.0, f64::max);
-        if size < tolerance {
+        if size < settings.tolerance {
             break;
         }
         let slope: f64 = d.iter().zip(&g).map(|(a, b)| a * b).sum();
@@ -82,29 +79,29 @@ where
         let accepted = loop {
             let trial: Vec<f64> = x.iter().zip(&d).map(|(xi, di)| xi + t * di).collect();
             match f(&trial) {
-                Ok(ft) if ft <= fx + 1e-4 * t * slope => break Some((trial, ft)),
+                Ok(ft) if ft <= fx + ARMIJO * t * slope => break Some((trial, ft)),
                 Ok(_) | Err(ObjectiveError::Infeasible { .. }) => {}
-                Err(e) => return Err(e),
+                Err(e) => return Err(e.into()),
             }
             t *= 0.5;
-            if t < 1e-10 {
+            if t < MIN_STEP_FRACTION {
                 break None;
             }
         };
         let Some((trial, ft)) = accepted else { break };
-        let g_new = gradient(f, bounds, &trial, h)?;
+        let g_new = finite_differences::gradient(f, bounds, &trial, ft, h)?;
         let s: Vec<f64> = trial.iter().zip(x.iter()).map(|(a, b)| a - b).collect();
         let y: Vec<f64> = g_new.iter().zip(&g).map(|(a, b)| a - b).collect();
         let sy: f64 = s.iter().zip(&y).map(|(a, b)| a * b).sum();
         let ss: f64 = s.iter().map(|v| v * v).sum();
         lambda = if sy > 0.0 {
-            (ss / sy).clamp(1e-10, 1e10)
+            (ss / sy).clamp(MIN_SPECTRAL_STEP, MAX_SPECTRAL_STEP)
         } else {
-            1e10_f64.min(lambda * 10.0)
+            MAX_SPECTRAL_STEP.min(lambda * 10.0)
         };
         *x = trial;
         fx = ft;
         g = g_new;
     }
-    Ok(fx)
+    Ok((fx, iterations))
 }

@@ -1,17 +1,10 @@
-//! The weighted combination of per-task optima (Wolf & Shoham eq. 15).
+//! The weighted mean of per-task optima (Wolf & Shoham eq. 15, read as a mean; the form as
+//! printed, divided by the number of tasks, is `eq15_as_printed` in the `pkm` facade's `papers::wolf2006`).
 
 use crate::error::OptimizeError;
 
-/// How eq. 15 normalises the weighted sum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum WeightedMean {
-    /// $Q = \sum_i w_i q_i / \sum_i w_i$, a true weighted mean (the consistent reading).
-    NormalisedByWeights,
-    /// $Q = \sum_i w_i q_i / n$, as printed; a mean only when $\sum_i w_i = n$.
-    AsPrinted,
-}
-
-/// Combines the optima `optima[i]` (each a design vector) of `n` tasks with weights `weights`.
+/// The weighted mean $Q = \sum_i w_i q_i / \sum_i w_i$ of the optima `optima[i]` (each a design
+/// vector) of the tasks, with weights `weights`.
 ///
 /// # Errors
 /// [`OptimizeError::InvalidSetting`] when there are no tasks, the lengths differ, a weight is
@@ -20,17 +13,17 @@ pub enum WeightedMean {
 ///
 /// # Example
 /// ```
-/// use pkm_optimizers::{WeightedMean, weighted_combination};
+/// use pkm_optimizers::weighted_combination;
 /// let q = [vec![0.0, 2.0], vec![4.0, 6.0]];
-/// let mean = weighted_combination(&q, &[1.0, 3.0], WeightedMean::NormalisedByWeights).unwrap();
+/// let mean = weighted_combination(&q, &[1.0, 3.0]).unwrap();
 /// assert_eq!(mean, vec![3.0, 5.0]);
-/// let printed = weighted_combination(&q, &[1.0, 3.0], WeightedMean::AsPrinted).unwrap();
-/// assert_eq!(printed, vec![6.0, 10.0]);
+/// // Weights that overflow when summed still give the mean.
+/// let huge = weighted_combination(&q, &[f64::MAX, f64::MAX]).unwrap();
+/// assert_eq!(huge, vec![2.0, 4.0]);
 /// ```
 pub fn weighted_combination(
     optima: &[Vec<f64>],
     weights: &[f64],
-    form: WeightedMean,
 ) -> Result<Vec<f64>, OptimizeError> {
     let invalid = |setting, value, requirement| OptimizeError::InvalidSetting {
         setting,
@@ -60,10 +53,7 @@ pub fn weighted_combination(
     if let Some(v) = optima.iter().flatten().find(|v| !v.is_finite()) {
         return Err(invalid("optimum", *v, "must be finite"));
     }
-    let denominator = match form {
-        WeightedMean::NormalisedByWeights => weights.iter().sum(),
-        WeightedMean::AsPrinted => optima.len() as f64,
-    };
+    let denominator: f64 = weights.iter().sum();
     if !(denominator > 0.0) {
         return Err(invalid("sum of weights", denominator, "must be > 0"));
     }
@@ -75,15 +65,7 @@ pub fn weighted_combination(
     // largest, exact in exponent; what still overflows has no finite value.
     let w_max = weights.iter().fold(0.0_f64, |m, w| m.max(*w));
     let scaled: Vec<f64> = weights.iter().map(|w| w / w_max).collect();
-    let mean = match form {
-        WeightedMean::NormalisedByWeights => {
-            combine(optima, &scaled, scaled.iter().sum(), first.len())
-        }
-        WeightedMean::AsPrinted => combine(optima, &scaled, denominator, first.len())
-            .into_iter()
-            .map(|v| v * w_max)
-            .collect(),
-    };
+    let mean = combine(optima, &scaled, scaled.iter().sum(), first.len());
     match mean.iter().find(|v| !v.is_finite()) {
         Some(v) => Err(invalid(
             "weighted sum",

@@ -3,9 +3,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, OptimizeError, Termination, augmented_lagrangian,
+    AugmentedLagrangianSettings, OptimizeError, Sense, Termination, augmented_lagrangian,
 };
-use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError};
+use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
 
 type Fun = fn(&[f64]) -> f64;
 
@@ -50,7 +50,14 @@ fn hs21() {
         f: |x| 0.01 * x[0] * x[0] + x[1] * x[1] - 100.0,
         g: vec![|x| 10.0 - 10.0 * x[0] + x[1]],
     };
-    let r = augmented_lagrangian(&p, &[-1.0, -1.0], &Default::default()).unwrap();
+    let r = augmented_lagrangian(
+        &p,
+        Sense::Minimise,
+        &[-1.0, -1.0],
+        &Default::default(),
+        &Silent,
+    )
+    .unwrap();
     assert!((r.value + 99.96).abs() < 1e-6, "{r:?}");
     assert!((r.design[0] - 2.0).abs() < 1e-5 && r.design[1].abs() < 1e-4);
 }
@@ -69,7 +76,14 @@ fn hs35() {
         },
         g: vec![|x| x[0] + x[1] + 2.0 * x[2] - 3.0],
     };
-    let r = augmented_lagrangian(&p, &[0.5, 0.5, 0.5], &Default::default()).unwrap();
+    let r = augmented_lagrangian(
+        &p,
+        Sense::Minimise,
+        &[0.5, 0.5, 0.5],
+        &Default::default(),
+        &Silent,
+    )
+    .unwrap();
     let expected = [4.0 / 3.0, 7.0 / 9.0, 4.0 / 9.0];
     assert!((r.value - 1.0 / 9.0).abs() < 1e-7, "{r:?}");
     assert!(
@@ -105,7 +119,8 @@ fn hs43_rosen_suzuki() {
             |x| -(5.0 - 2.0 * x[0] * x[0] - x[1] * x[1] - x[2] * x[2] - 2.0 * x[0] + x[1] + x[3]),
         ],
     };
-    let r = augmented_lagrangian(&p, &[0.0; 4], &Default::default()).unwrap();
+    let r =
+        augmented_lagrangian(&p, Sense::Minimise, &[0.0; 4], &Default::default(), &Silent).unwrap();
     let expected = [0.0, 1.0, 2.0, -1.0];
     assert!((r.value + 44.0).abs() < 1e-5, "{r:?}");
     assert!(
@@ -124,7 +139,7 @@ fn infeasible_constraint_set_returns_no_design() {
         f: |x| x[0] * x[0],
         g: vec![|x| 2.0 - x[0], |x| x[0] - 1.0],
     };
-    let r = augmented_lagrangian(&p, &[0.0], &Default::default());
+    let r = augmented_lagrangian(&p, Sense::Minimise, &[0.0], &Default::default(), &Silent);
     assert!(
         matches!(r, Err(OptimizeError::NoFeasibleDesign { .. })),
         "{r:?}"
@@ -138,12 +153,21 @@ fn bad_settings_are_typed_errors() {
         f: |x| x[0],
         g: vec![],
     };
-    assert!(augmented_lagrangian(&p, &[0.0, 1.0], &Default::default()).is_err());
+    assert!(
+        augmented_lagrangian(
+            &p,
+            Sense::Minimise,
+            &[0.0, 1.0],
+            &Default::default(),
+            &Silent
+        )
+        .is_err()
+    );
     let s = AugmentedLagrangianSettings {
         fd_step: f64::NAN,
         ..Default::default()
     };
-    assert!(augmented_lagrangian(&p, &[0.0], &s).is_err());
+    assert!(augmented_lagrangian(&p, Sense::Minimise, &[0.0], &s, &Silent).is_err());
 }
 
 #[test]
@@ -155,7 +179,14 @@ fn termination_tells_convergence_from_the_outer_iteration_limit() {
         f: |x| x[0] * x[0] + x[1] * x[1],
         g: vec![|x| 1.0 - x[0] - x[1]],
     };
-    let converged = augmented_lagrangian(&p, &[2.0, -1.0], &Default::default()).unwrap();
+    let converged = augmented_lagrangian(
+        &p,
+        Sense::Minimise,
+        &[2.0, -1.0],
+        &Default::default(),
+        &Silent,
+    )
+    .unwrap();
     assert_eq!(
         converged.termination,
         Termination::Converged {
@@ -168,7 +199,7 @@ fn termination_tells_convergence_from_the_outer_iteration_limit() {
         feasibility: 0.5,
         ..Default::default()
     };
-    let cut = augmented_lagrangian(&p, &[2.0, -1.0], &one).unwrap();
+    let cut = augmented_lagrangian(&p, Sense::Minimise, &[2.0, -1.0], &one, &Silent).unwrap();
     assert_eq!(cut.termination, Termination::MaxIterations, "{cut:?}");
     assert!((cut.constraints[0] - 1.0 / 11.0).abs() < 1e-6, "{cut:?}");
     assert!((cut.multipliers[0] - 10.0 / 11.0).abs() < 1e-5, "{cut:?}");

@@ -2,10 +2,10 @@
 #![allow(clippy::unwrap_used)]
 
 use pkm_optimizers::{
-    ActiveBound, LmSettings, Sense, Termination, levenberg_marquardt,
+    ActiveBound, LmSettings, Multistart, Sense, Termination, levenberg_marquardt,
     multistart_levenberg_marquardt,
 };
-use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
+use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Silent};
 
 /// $r = (p_0 - 1,\; 2 (p_1 + 0.5),\; p_0 p_1)$ on $[-2, 3] \times [-1, 1]$.
 struct Quadratic([Bounds; 2]);
@@ -42,8 +42,10 @@ fn problem() -> Quadratic {
 }
 
 fn best(sense: Sense, seed: u64) -> pkm_optimizers::LocalOptimum {
-    multistart_levenberg_marquardt(&problem(), sense, &[], 16, seed, &LmSettings::default())
+    let starts = Multistart::new(16, seed);
+    multistart_levenberg_marquardt(&problem(), sense, &starts, &LmSettings::default(), &Silent)
         .unwrap()
+        .best
 }
 
 #[test]
@@ -140,10 +142,17 @@ impl Residuals for Rosenbrock {
 fn analytic_jacobian_reaches_the_same_optimum_as_finite_differences() {
     let run = |analytic, sense| {
         let problem = Rosenbrock::new(analytic);
-        let starts = [vec![-1.2, 1.0], vec![1.5, -1.5]];
-        let optimum =
-            multistart_levenberg_marquardt(&problem, sense, &starts, 8, 3, &LmSettings::default())
-                .unwrap();
+        let starts =
+            Multistart::new(8, 3).with_extra_starts(vec![vec![-1.2, 1.0], vec![1.5, -1.5]]);
+        let optimum = multistart_levenberg_marquardt(
+            &problem,
+            sense,
+            &starts,
+            &LmSettings::default(),
+            &Silent,
+        )
+        .unwrap()
+        .best;
         (optimum, problem.evaluations.into_inner())
     };
     let ((fd_min, fd_calls), (an_min, an_calls)) =
@@ -171,9 +180,11 @@ fn a_variable_fixed_by_equal_bounds_stays_put_and_reports_finite_numbers() {
         Bounds::new(-2.0, 3.0).unwrap(),
         Bounds::new(0.25, 0.25).unwrap(),
     ]);
-    let min =
-        multistart_levenberg_marquardt(&fixed, Sense::Minimise, &[], 8, 3, &LmSettings::default())
-            .unwrap();
+    let starts = Multistart::new(8, 3);
+    let settings = LmSettings::default();
+    let min = multistart_levenberg_marquardt(&fixed, Sense::Minimise, &starts, &settings, &Silent)
+        .unwrap()
+        .best;
     // r = (p0 - 1, 1.5, 0.25 p0): minimum of (p0 - 1)² + p0²/16 at p0 = 16/17.
     assert!(
         (min.design[0] - 16.0 / 17.0).abs() < 1e-6,
@@ -197,15 +208,21 @@ fn a_variable_fixed_by_equal_bounds_stays_put_and_reports_finite_numbers() {
 fn termination_tells_convergence_from_the_iteration_limit() {
     let problem = Rosenbrock::new(true);
     let start = [-1.2, 1.0];
-    let converged =
-        levenberg_marquardt(&problem, Sense::Minimise, &start, &LmSettings::default()).unwrap();
+    let converged = levenberg_marquardt(
+        &problem,
+        Sense::Minimise,
+        &start,
+        &LmSettings::default(),
+        &Silent,
+    )
+    .unwrap();
     assert!(converged.termination.converged(), "{converged:?}");
     assert!(converged.iterations < LmSettings::default().max_iterations);
     let one = LmSettings {
         max_iterations: 1,
         ..LmSettings::default()
     };
-    let cut = levenberg_marquardt(&problem, Sense::Minimise, &start, &one).unwrap();
+    let cut = levenberg_marquardt(&problem, Sense::Minimise, &start, &one, &Silent).unwrap();
     assert_eq!(cut.termination, Termination::MaxIterations, "{cut:?}");
     assert_eq!(cut.iterations, 1);
     assert_eq!(cut.termination.to_string(), "iteration limit reached");
@@ -219,6 +236,7 @@ fn termination_tells_convergence_from_the_iteration_limit() {
         Sense::Maximise,
         &[-2.0, -2.0],
         &LmSettings::default(),
+        &Silent,
     )
     .unwrap();
     assert_eq!(
@@ -264,8 +282,14 @@ impl Residuals for Kink {
 #[test]
 fn an_objective_that_never_improves_reports_a_stall() {
     let problem = Kink([Bounds::new(-1.0, 1.0).unwrap()]);
-    let stalled =
-        levenberg_marquardt(&problem, Sense::Minimise, &[KINK], &LmSettings::default()).unwrap();
+    let stalled = levenberg_marquardt(
+        &problem,
+        Sense::Minimise,
+        &[KINK],
+        &LmSettings::default(),
+        &Silent,
+    )
+    .unwrap();
     assert_eq!(stalled.termination, Termination::Stalled, "{stalled:?}");
     assert_eq!(stalled.iterations, 1);
     assert!(stalled.free_gradient_norm() > 1.0, "{stalled:?}");
@@ -282,7 +306,7 @@ proptest::proptest! {
     /// and a projected-gradient stop leaves a free gradient below the tolerance.
     #[test]
     fn termination_agrees_with_iterations_and_gradient(
-        x in -2.0..2.0f64, y in -2.0..2.0f64, max_iterations in 0..40usize, analytic in proptest::bool::ANY,
+        x in -2.0..2.0f64, y in -2.0..2.0f64, max_iterations in 1..40usize, analytic in proptest::bool::ANY,
         at_minimum in proptest::bool::ANY,
     ) {
         let problem = Rosenbrock::new(analytic);
@@ -290,14 +314,14 @@ proptest::proptest! {
         // From the minimiser (1, 1), where r = 0, the projected-gradient test stops the first
         // iteration; elsewhere the relative change in f is what normally stops it.
         let start = if at_minimum { [1.0, 1.0] } else { [x, y] };
-        let o = levenberg_marquardt(&problem, Sense::Minimise, &start, &settings).unwrap();
+        let o = levenberg_marquardt(&problem, Sense::Minimise, &start, &settings, &Silent).unwrap();
         proptest::prop_assert!(o.iterations <= max_iterations, "{o:?}");
         if o.termination == Termination::MaxIterations {
             proptest::prop_assert_eq!(o.iterations, max_iterations);
         } else {
             proptest::prop_assert!(o.iterations >= 1, "{o:?}");
         }
-        if at_minimum && max_iterations > 0 {
+        if at_minimum {
             proptest::prop_assert_eq!(o.termination, Termination::Converged { criterion: "projected gradient" });
             proptest::prop_assert_eq!(o.iterations, 1);
         }

@@ -3,7 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use pkm_optimizers::{
-    GridAxis, LatticeLevel, RefinementSettings, lattice_refined_search, refined_grid_search,
+    GridAxis, GridSearch, LatticeLevel, RefinementSettings, Sense, Termination,
+    lattice_refined_search, refined_grid_search,
 };
 use pkm_traits::{Bounds, Objective, ObjectiveError, Silent};
 use proptest::prelude::*;
@@ -52,8 +53,8 @@ proptest! {
 
     #[test]
     fn lattice_refinement_recovers_the_minimum_to_the_finest_step(c in prop::array::uniform3(-0.95..0.95f64)) {
-        let coarse = [GridAxis::with_step(-1.0, 1.0, 0.1).unwrap(); 3];
-        let result = lattice_refined_search(&bowl(c), &coarse, &LEVELS, false, &Silent).unwrap();
+        let coarse = GridSearch::new(vec![GridAxis::with_step(-1.0, 1.0, 0.1).unwrap(); 3]).unwrap();
+        let result = lattice_refined_search(&bowl(c), Sense::Minimise, &coarse, &LEVELS, &Silent).unwrap();
         for k in 0..3 {
             prop_assert!((result.best[k] - c[k]).abs() <= 0.005 + 1e-9, "{:?} vs {c:?}", result.best);
         }
@@ -61,9 +62,9 @@ proptest! {
 
     #[test]
     fn halving_refinement_recovers_the_minimum_to_its_resolution(c in prop::array::uniform3(-0.95..0.95f64)) {
-        let coarse = [GridAxis::new(-1.0, 1.0, 11).unwrap(); 3];
+        let coarse = GridSearch::new(vec![GridAxis::new(-1.0, 1.0, 11).unwrap(); 3]).unwrap();
         let settings = RefinementSettings::default();
-        let result = refined_grid_search(&bowl(c), &coarse, &[1e-3; 3], &settings, false, &Silent).unwrap();
+        let result = refined_grid_search(&bowl(c), Sense::Minimise, &coarse, &[1e-3; 3], &settings, &Silent).unwrap();
         for k in 0..3 {
             prop_assert!((result.best[k] - c[k]).abs() <= 1e-3, "{:?} vs {c:?}", result.best);
         }
@@ -73,14 +74,16 @@ proptest! {
 #[test]
 fn grid_searches_give_the_same_bits_for_1_2_and_8_threads() {
     let objective = bowl([0.123, -0.456, 0.789]);
-    let coarse = [GridAxis::with_step(-1.0, 1.0, 0.1).unwrap(); 3];
+    let coarse = GridSearch::new(vec![GridAxis::with_step(-1.0, 1.0, 0.1).unwrap(); 3])
+        .unwrap()
+        .keeping_landscape();
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
         pool.install(|| {
-            lattice_refined_search(&objective, &coarse, &LEVELS, true, &Silent).unwrap()
+            lattice_refined_search(&objective, Sense::Minimise, &coarse, &LEVELS, &Silent).unwrap()
         })
     };
     let reference = run(1);
@@ -93,4 +96,77 @@ fn grid_searches_give_the_same_bits_for_1_2_and_8_threads() {
         assert_eq!(bits(&other), bits(&reference));
         assert_eq!(other.landscape, reference.landscape);
     }
+}
+
+/// $f(x) = -x$ on $[-10, 10]$: every window's best node is its upper edge.
+struct Ramp([Bounds; 1]);
+
+impl Objective for Ramp {
+    fn dimension(&self) -> usize {
+        1
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.0
+    }
+    fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+        Ok(-p[0])
+    }
+}
+
+#[test]
+fn grid_searches_say_why_they_stopped() {
+    let c = [0.123, -0.456, 0.789];
+    let coarse = GridSearch::new(vec![GridAxis::new(-1.0, 1.0, 11).unwrap(); 3]).unwrap();
+    let plain = pkm_optimizers::grid_search(&bowl(c), Sense::Minimise, &coarse, &Silent).unwrap();
+    assert_eq!(
+        plain.termination,
+        Termination::Converged {
+            criterion: "every node evaluated"
+        }
+    );
+    let refine = |max_levels| {
+        let settings = RefinementSettings {
+            max_levels,
+            ..RefinementSettings::default()
+        };
+        refined_grid_search(
+            &bowl(c),
+            Sense::Minimise,
+            &coarse,
+            &[1e-3; 3],
+            &settings,
+            &Silent,
+        )
+        .unwrap()
+    };
+    // 0.2 halves to below 1e-3 in 8 levels.
+    assert_eq!(
+        refine(20).termination,
+        Termination::Converged {
+            criterion: "resolution reached"
+        }
+    );
+    assert_eq!(refine(3).termination, Termination::MaxIterations);
+    // The bowl's optimum settles inside the windows; the ramp's keeps leaving them.
+    let levels = [LatticeLevel {
+        step: 0.01,
+        half_width: 2,
+    }];
+    let settled =
+        lattice_refined_search(&bowl(c), Sense::Minimise, &coarse, &levels, &Silent).unwrap();
+    assert_eq!(
+        settled.termination,
+        Termination::Converged {
+            criterion: "optimum inside every window"
+        }
+    );
+    let ramp = Ramp([Bounds::new(-10.0, 10.0).unwrap()]);
+    let short = GridSearch::new(vec![GridAxis::new(-1.0, 1.0, 3).unwrap()]).unwrap();
+    let moving = lattice_refined_search(&ramp, Sense::Minimise, &short, &levels, &Silent).unwrap();
+    assert_eq!(moving.termination, Termination::MaxIterations);
+    assert!(
+        moving.best[0] > 1.0 && moving.best[0] < 10.0,
+        "{:?}",
+        moving.best
+    );
 }

@@ -1,12 +1,9 @@
-//! Vector fields, integrator steps and extended-space inertia models.
+//! Vector fields and integrator steps.
 //!
 //! A state $z \in \mathbb{R}^M$ evolves by $\dot z = f(t, z)$ ([`VectorField`]); an
-//! [`Integrator`] advances it by one step. Mechanisms that take part in dynamics describe their
-//! inertia in the *extended space* $s = (x, q) \in \mathbb{R}^N$ of task and joint coordinates
-//! ([`ExtendedInertia`], Miller 2004 §3.2), with kinetic energy
-//! $T = \tfrac12 \dot s^\top M(s) \dot s$ and potential $V(s)$.
+//! [`Integrator`] advances it by one step.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 use thiserror::Error;
 
 /// Right-hand side $\dot z = f(t, z)$ of an ordinary differential equation.
@@ -51,17 +48,6 @@ pub struct StepReport {
     pub evaluations: usize,
     /// Attempts rejected by error control before the accepted one.
     pub rejections: usize,
-}
-
-/// Inertia model in the extended space $s = (x, q)$: kinetic energy
-/// $T = \tfrac12 \dot s^\top M(s) \dot s$ and potential energy $V(s)$ (Miller 2004, eq. 8–10).
-pub trait ExtendedInertia<const N: usize> {
-    /// The symmetric positive definite mass matrix $M(s)$.
-    fn mass_matrix(&self, s: &SVector<f64, N>) -> SMatrix<f64, N, N>;
-    /// The potential energy $V(s)$.
-    fn potential(&self, s: &SVector<f64, N>) -> f64;
-    /// $\partial V / \partial s$.
-    fn potential_gradient(&self, s: &SVector<f64, N>) -> SVector<f64, N>;
 }
 
 /// A vector field could not be evaluated.

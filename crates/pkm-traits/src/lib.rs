@@ -49,9 +49,7 @@ pub mod region;
 pub mod testkit;
 pub mod workspace;
 
-pub use dynamics::{
-    ExtendedInertia, IntegrationError, Integrator, RhsError, StepReport, VectorField,
-};
+pub use dynamics::{IntegrationError, Integrator, RhsError, StepReport, VectorField};
 pub use error::{DesignError, InvalidInput, KinematicsError, ObjectiveError};
 pub use kinematics::{
     ClosedChain, ForwardKinematics, InverseKinematics, Joints, NewtonSettings, Task,
@@ -59,6 +57,6 @@ pub use kinematics::{
 };
 pub use lanes::Lanes;
 pub use objective::{Bounds, Constraints, Objective, Residuals};
-pub use progress::{Cancelled, Progress, Silent};
+pub use progress::{CancelOnly, Cancelled, Progress, Silent};
 pub use region::{Extents, SlicedRegion};
 pub use workspace::{ConstrainedWorkspace, ConstraintError, ConstraintKind, WorkspaceConstraint};

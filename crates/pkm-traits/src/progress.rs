@@ -39,3 +39,29 @@ impl Progress for Silent {}
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 #[error("cancelled")]
 pub struct Cancelled;
+
+/// Forwards only the cancellation of another [`Progress`]: for a solver run many times in
+/// parallel (one run per start of a multistart), whose own `start`/`advance`/`finish` calls
+/// would interleave on the caller's display.
+///
+/// # Example
+/// ```
+/// use pkm_traits::{CancelOnly, Progress, Silent};
+/// assert!(!CancelOnly(&Silent).is_cancelled());
+/// ```
+#[derive(Clone, Copy)]
+pub struct CancelOnly<'a>(pub &'a dyn Progress);
+
+impl std::fmt::Debug for CancelOnly<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CancelOnly")
+            .field("cancelled", &self.0.is_cancelled())
+            .finish()
+    }
+}
+
+impl Progress for CancelOnly<'_> {
+    fn is_cancelled(&self) -> bool {
+        self.0.is_cancelled()
+    }
+}

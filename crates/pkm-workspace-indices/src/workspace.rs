@@ -19,9 +19,9 @@ use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
 /// ```
 /// use nalgebra::Vector3;
 /// use pkm_traits::{Silent, WorkspaceConstraint};
-/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 /// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
-/// let delta = RotaryDelta::delta(Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.0 })?;
+/// let delta = RotaryDelta::new(presets::miller_delta(Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.0 }))?;
 /// let below = WorkspaceConstraint::below(0.0)?;
 /// let arm_limits = WorkspaceConstraint::joint_range(-0.5, 1.5)?;
 /// let ws = Workspace::new(&delta, &[ElbowMode::Out], &[below, arm_limits])?;

@@ -3,7 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 use pkm_traits::{ConstraintError, Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{
     Domain, ErrorModel, IndexError, MAX_POINTS, PointSet, Region, Sampler, Workspace,
@@ -75,10 +75,8 @@ proptest! {
     fn one_sector_times_three_is_the_whole_region(
         alpha_deg in 0.0f64..90.0, beta_deg in 0.0f64..90.0, seed in 1u64..1000,
     ) {
-        let m = RotaryDelta::prototype(
-            (alpha_deg.to_radians(), beta_deg.to_radians()),
-            Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.3 },
-        ).unwrap();
+        let m = RotaryDelta::new(presets::miller_prototype(alpha_deg.to_radians(), beta_deg.to_radians(), Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.3 },
+        )).unwrap();
         let (radius, depth) = m.reach_cylinder();
         let ws = Workspace::new(&m, &[ElbowMode::Out], &[WorkspaceConstraint::below(0.0).unwrap()]).unwrap();
         let full = Domain::new(Region::axial_cylinder(radius, -depth, 0.0)).unwrap();
@@ -94,7 +92,7 @@ proptest! {
     /// The orthogonality identity e_i·e_j = sin²α − ½cos²α holds for every α and β.
     #[test]
     fn motor_axis_products_follow_the_closed_form(alpha in -1.6f64..1.6, beta in -3.2f64..3.2) {
-        let m = RotaryDelta::prototype((alpha, beta), Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.7 }).unwrap();
+        let m = RotaryDelta::new(presets::miller_prototype(alpha, beta, Placement { motor_plane_z: 0.0, azimuth_motor_1: 0.7 })).unwrap();
         let l = m.legs();
         let expected = alpha.sin().powi(2) - 0.5 * alpha.cos().powi(2);
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
@@ -166,7 +164,12 @@ fn sweep_bits(threads: usize) -> Vec<u64> {
         };
         let designs: Vec<RotaryDelta> = (0..6)
             .map(|k| {
-                RotaryDelta::prototype((0.1 * f64::from(k), 0.2 * f64::from(k)), place).unwrap()
+                RotaryDelta::new(presets::miller_prototype(
+                    0.1 * f64::from(k),
+                    0.2 * f64::from(k),
+                    place,
+                ))
+                .unwrap()
             })
             .collect();
         let below = [WorkspaceConstraint::below(0.0).unwrap()];
@@ -287,7 +290,7 @@ fn bad_constraints_are_typed_errors() {
     assert!(h.holds_at_position(&Vector3::new(0.0, 0.0, 0.5)));
     assert!(!h.holds_at_position(&Vector3::new(0.0, 0.0, 1.5)));
     // A joint that does not exist, and no modes.
-    let m = RotaryDelta::delta(Placement::canonical()).unwrap();
+    let m = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
     let c = WorkspaceConstraint::joint_range_of(3, 0.0, 1.0).unwrap();
     assert!(matches!(
         Workspace::new(&m, &[ElbowMode::Out], &[c]),
@@ -298,10 +301,10 @@ fn bad_constraints_are_typed_errors() {
 
 #[test]
 fn joint_limits_only_shrink_the_workspace() {
-    let m = RotaryDelta::nuwar(Placement {
+    let m = RotaryDelta::new(presets::nuwar(Placement {
         motor_plane_z: 0.0,
         azimuth_motor_1: 0.0,
-    })
+    }))
     .unwrap();
     let (radius, depth) = m.reach_cylinder();
     let domain = Domain::new(Region::axial_cylinder(radius, -depth, 0.0))
@@ -327,9 +330,9 @@ fn joint_limits_only_shrink_the_workspace() {
 
 #[test]
 fn the_tsai_workspace_through_the_traits_matches_the_stamper_kernel() {
-    use pkm_mechanisms::{Elbow, Tsai3Dof};
+    use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
     use pkm_workspace_indices::inverse_condition_number_3x3;
-    let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let tsai = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     let radius = tsai.reach();
     let sampler = Sampler::MonteCarlo { seed: 4 };
     let unit = sampler.unit_hemisphere_points(20_000).unwrap();
@@ -359,9 +362,9 @@ fn the_tsai_workspace_through_the_traits_matches_the_stamper_kernel() {
 
 #[test]
 fn a_constraint_the_mechanism_cannot_evaluate_is_a_typed_error() {
-    use pkm_mechanisms::{Elbow, Tsai3Dof};
+    use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
     use pkm_traits::ConstraintKind;
-    let tsai = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let tsai = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     for c in [
         WorkspaceConstraint::passive_cone(0.5).unwrap(),
         WorkspaceConstraint::leg_clearance(0.01).unwrap(),

@@ -8,10 +8,10 @@ use nalgebra::Vector3;
 use pkm_draw::{PathKind, Scene};
 use pkm_mechanisms::{LegBranch, Skeleton};
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, OptimizeError, augmented_lagrangian, run_multistart,
+    AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, run_multistart,
     uniform_start_points,
 };
-use pkm_traits::{Bounds, Objective};
+use pkm_traits::{Bounds, CancelOnly, Objective};
 use pkm_workspace_indices::{HemisphereEstimate, Sampler};
 
 /// One optimisation study and the design the paper reports.
@@ -100,12 +100,16 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
             .map(feasible_start),
     );
     ctx.progress.check()?;
-    let polished = screened_starts(&problem, &starts, &settings, study.polished_starts);
+    let cancel = CancelOnly(ctx.progress);
+    let polished = screened_starts(&problem, &starts, &settings, study.polished_starts, &cancel);
     ctx.progress.check()?;
-    let best = run_multistart(&polished, |s| augmented_lagrangian(&problem, s, &settings))
-        .into_iter()
-        .filter_map(Result::ok)
-        .min_by(|a, b| a.value.total_cmp(&b.value))
+    let best = run_multistart(&polished, |s| {
+        augmented_lagrangian(&problem, Sense::Maximise, s, &settings, &cancel)
+    })
+    .into_iter()
+    .filter_map(Result::ok)
+    // The first of the largest values (`max_by` would return the last).
+    .min_by(|a, b| b.value.total_cmp(&a.value))
         .ok_or_else(|| OptimizeError::NoFeasibleDesign {
             evaluations: polished.len(),
             last_reason: "no start converged to a feasible design".into(),
@@ -239,7 +243,8 @@ fn coarse_grid_starts(problem: &StamperProblem<'_>, n_best: usize) -> Vec<Vec<f6
         .enumerate()
         .filter_map(|(k, v)| v.ok().map(|v| (v, k)))
         .collect();
-    ranked.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    // Largest values first, ties by the earlier design.
+    ranked.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
     ranked
         .into_iter()
         .take(n_best)
@@ -265,6 +270,7 @@ fn screened_starts(
     starts: &[Vec<f64>],
     settings: &AugmentedLagrangianSettings,
     polished_starts: usize,
+    cancel: &CancelOnly<'_>,
 ) -> Vec<Vec<f64>> {
     let screening = problem.screening();
     let (max_outer, max_inner) = SCREENING_ITERATIONS;
@@ -274,13 +280,16 @@ fn screened_starts(
         feasibility: SCREENING_FEASIBILITY,
         ..*settings
     };
-    let values = run_multistart(starts, |s| augmented_lagrangian(&screening, s, &short));
+    let values = run_multistart(starts, |s| {
+        augmented_lagrangian(&screening, Sense::Maximise, s, &short, cancel)
+    });
     let mut ranked: Vec<(f64, usize)> = values
         .into_iter()
         .enumerate()
-        .map(|(k, r)| (r.map_or(f64::INFINITY, |r| r.value), k))
+        .map(|(k, r)| (r.map_or(f64::NEG_INFINITY, |r| r.value), k))
         .collect();
-    ranked.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    // Largest values first (a failed run last), ties by the earlier start.
+    ranked.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
     ranked
         .into_iter()
         .take(polished_starts)

@@ -4,7 +4,7 @@
 //! $\phi_3 \le 355$) and non-negative lengths (bounds; $c - r \ge 0$, spec §4 A4).
 
 use nalgebra::Vector3;
-use pkm_mechanisms::Tsai3Dof;
+use pkm_mechanisms::{Tsai3Dof, TsaiDesign};
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
 use pkm_workspace_indices::{
     HemisphereEstimate, hemisphere_estimate, inverse_condition_number_3x3,
@@ -34,7 +34,9 @@ pub(super) struct StamperProblem<'a> {
 
 /// The design of a design vector.
 pub(super) fn design(x: &[f64]) -> Result<Tsai3Dof, ObjectiveError> {
-    Ok(Tsai3Dof::from_degrees(x[0], x[1], x[2], x[3], x[4], x[5])?)
+    Ok(Tsai3Dof::new(TsaiDesign::from_deg(
+        x[0], x[1], x[2], x[3], x[4], x[5],
+    ))?)
 }
 
 /// $W$ and $\eta$ of `design` on the unit-hemisphere `points` (one pass).
@@ -100,10 +102,10 @@ impl Objective for StamperProblem<'_> {
         self.check_dimension(x)?;
         let d = design(&self.evaluated(x))?;
         match self.criterion {
-            Criterion::Volume { ngrid } => Ok(-d.column_volume(ngrid)?),
+            Criterion::Volume { ngrid } => Ok(d.column_volume(ngrid)?),
             Criterion::Gci => {
                 estimate(&d, self.points)
-                    .map(|e| -e.gci)
+                    .map(|e| e.gci)
                     .map_err(|e| ObjectiveError::Infeasible {
                         reason: e.to_string(),
                     })

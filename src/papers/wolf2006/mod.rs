@@ -23,7 +23,10 @@ use pkm_optimizers::LocalOptimum;
 /// # Errors
 /// [`ExperimentError`] when the problem cannot be built (it always can).
 pub fn section_4_1_problem(lambda: f64) -> Result<StewartTaskProblem, ExperimentError> {
-    pose_report::pose_problem(s4_1::DESIGN, pose_report::section_4_1_twist(lambda))
+    pose_report::pose_problem(
+        pkm_mechanisms::presets::wolf_shoham_stewart_s4_1(),
+        pose_report::section_4_1_twist(lambda),
+    )
 }
 
 /// The seeded multistart maximisation the §4.1 and §4.3 experiments run (20 starts in quick
@@ -35,7 +38,42 @@ pub fn maximise_pose(
     problem: &StewartTaskProblem,
     mode: Mode,
 ) -> Result<LocalOptimum, ExperimentError> {
-    pose_report::maximise(problem, mode)
+    pose_report::maximise(problem, mode, &pkm_traits::Silent)
+}
+
+/// Eq. 15 as printed, $Q = \sum_i w_i q_i / n$ for $n$ tasks: the weighted mean of
+/// [`pkm_optimizers::weighted_combination`] times $\sum_i w_i / n$, so a mean only when the
+/// weights sum to $n$ (as with the equal unit weights of §4.2, where both readings agree).
+///
+/// # Errors
+/// As [`pkm_optimizers::weighted_combination`], and
+/// [`OptimizeError::InvalidSetting`](pkm_optimizers::OptimizeError::InvalidSetting) when the
+/// printed sum overflows.
+///
+/// # Example
+/// ```
+/// use pkm::papers::wolf2006::eq15_as_printed;
+/// let q = [vec![0.0, 2.0], vec![4.0, 6.0]];
+/// assert_eq!(eq15_as_printed(&q, &[1.0, 3.0]).unwrap(), vec![6.0, 10.0]);
+/// assert_eq!(eq15_as_printed(&q, &[1.0, 1.0]).unwrap(), vec![2.0, 4.0]);
+/// ```
+pub fn eq15_as_printed(
+    optima: &[Vec<f64>],
+    weights: &[f64],
+) -> Result<Vec<f64>, pkm_optimizers::OptimizeError> {
+    let mean = pkm_optimizers::weighted_combination(optima, weights)?;
+    // Σ w_i / n summed as Σ (w_i / n), which cannot overflow for finite weights.
+    let n = optima.len() as f64;
+    let scale: f64 = weights.iter().map(|w| w / n).sum();
+    let printed: Vec<f64> = mean.iter().map(|m| m * scale).collect();
+    match printed.iter().find(|v| !v.is_finite()) {
+        Some(&value) => Err(pkm_optimizers::OptimizeError::InvalidSetting {
+            setting: "weighted sum",
+            value,
+            requirement: "must be representable (it overflows)",
+        }),
+        None => Ok(printed),
+    }
 }
 
 /// The experiments of this paper.

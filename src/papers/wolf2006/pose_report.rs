@@ -4,10 +4,10 @@
 use crate::papers::{Comparison, ExperimentError, Mode, Source};
 use nalgebra::{Isometry3, Vector3};
 use pkm_draw::{Axis, Scene};
-use pkm_mechanisms::{JointLayout, Skeleton, StewartGough, StewartTaskProblem};
-use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
+use pkm_mechanisms::{Skeleton, StewartDesign, StewartGough, StewartTaskProblem};
+use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
-use pkm_traits::Bounds;
+use pkm_traits::{Bounds, Progress};
 
 /// $F$ at the paper's printed pose and at pkm's optimum, each against the printed `paper_f` with
 /// the 2 % tolerance of spec §6 (F is flat in orientation, so F values are compared, not
@@ -39,13 +39,12 @@ pub(super) fn section_4_1_twist(lambda: f64) -> Twist {
 
 /// The §4.1 / §4.3 box: $-10 \le p_{x,y} \le 10$, $20 \le p_z \le 50$ (cm), $|\alpha| \le 30°$.
 pub(super) fn pose_problem(
-    design: [f64; 4],
+    design: StewartDesign,
     twist: Twist,
 ) -> Result<StewartTaskProblem, ExperimentError> {
     let xy = Bounds::new(-10.0, 10.0)?;
     Ok(StewartTaskProblem::new(
         design,
-        JointLayout::default(),
         Vector3::new(0.0, 0.0, 35.0),
         Vector3::zeros(),
         twist,
@@ -60,15 +59,17 @@ pub(super) fn pose_problem(
 pub(super) fn maximise(
     problem: &StewartTaskProblem,
     mode: Mode,
+    progress: &dyn Progress,
 ) -> Result<LocalOptimum, ExperimentError> {
+    let starts = Multistart::new(mode.pick(20, 64), 2006);
     Ok(multistart_levenberg_marquardt(
         problem,
         Sense::Maximise,
-        &[],
-        mode.pick(20, 64),
-        2006,
+        &starts,
         &LmSettings::default(),
-    )?)
+        progress,
+    )?
+    .best)
 }
 
 /// A pose printed by the paper: position, axis n (any length), angle α in degrees.

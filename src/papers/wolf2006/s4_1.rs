@@ -6,9 +6,7 @@ use super::pose_report::{
     section_4_1_twist,
 };
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
-use pkm_mechanisms::StewartGough;
-
-pub(super) const DESIGN: [f64; 4] = [12.0, 8.0, 30.0, 8.0];
+use pkm_mechanisms::{StewartGough, presets};
 
 /// The paper's printed λ = 1 optimum: n = z, α = −13.5°, p = (−10, −10, 50) cm.
 const PAPER_POSE_LAMBDA1: PaperPose = PaperPose {
@@ -62,11 +60,11 @@ fn run(
 ) -> Result<Outcome, ExperimentError> {
     let source = Source::new(id, Paper::WolfShoham, "§4.1");
     let twist = section_4_1_twist(lambda);
-    let mechanism = StewartGough::new(DESIGN[0], DESIGN[1], DESIGN[2], DESIGN[3])?;
+    let mechanism = StewartGough::new(presets::wolf_shoham_stewart_s4_1())?;
     let f_paper_pose = mechanism.task_objective(&paper.isometry()?, &twist)?;
     context.progress.check()?;
-    let problem = pose_problem(DESIGN, twist)?;
-    let optimum = maximise(&problem, context.mode)?;
+    let problem = pose_problem(presets::wolf_shoham_stewart_s4_1(), twist)?;
+    let optimum = maximise(&problem, context.mode, context.progress)?;
     let (optimal, pose) = problem.evaluate(&optimum.design)?;
     let note = "F at the paper's printed pose (n normalised), same-pattern layout";
     let [mut f_row, mut optimum_row] =

@@ -6,30 +6,33 @@ use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
 use pkm_draw::{Axis, Scene};
-use pkm_mechanisms::{JointLayout, Skeleton, StewartGough, StewartTaskProblem};
+use pkm_mechanisms::{
+    Skeleton, StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, presets,
+};
 use pkm_optimizers::{
-    LmSettings, LocalOptimum, Sense, WeightedMean, multistart_levenberg_marquardt,
+    LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,
     weighted_combination,
 };
 use pkm_screw_theory::{Twist, line_set_rank};
 use pkm_traits::{Bounds, Objective};
 
+/// The paper's design [`presets::wolf_shoham_stewart_s4_2`] as the problem's variables
+/// $(x_1, x_2, x_3, x_4)$ (cm, cm, deg, deg).
 const PAPER_DESIGN: [f64; 4] = [3.5, 3.5, 15.0, 15.0];
 
 fn problem(twist: Twist) -> Result<StewartTaskProblem, ExperimentError> {
     let radius = Bounds::new(2.0, 6.0)?;
     let angle = Bounds::new(0.0, 30.0)?;
     Ok(StewartTaskProblem::new(
-        [4.0, 4.0, 15.0, 15.0],
-        JointLayout::default(),
+        StewartDesign::from_deg(4.0, 4.0, 15.0, 15.0),
         Vector3::new(0.0, 0.0, 40.0),
         Vector3::zeros(),
         twist,
     )?
-    .free_design(0, radius)?
-    .free_design(1, radius)?
-    .free_design(2, angle)?
-    .free_design(3, angle)?)
+    .free_design(StewartDesignVariable::BaseRadius, radius)
+    .free_design(StewartDesignVariable::PlatformRadius, radius)
+    .free_design(StewartDesignVariable::BaseSeparationDeg, angle)
+    .free_design(StewartDesignVariable::PlatformSeparationDeg, angle))
 }
 
 fn optimise(
@@ -38,14 +41,15 @@ fn optimise(
     context: &Context<'_>,
 ) -> Result<LocalOptimum, ExperimentError> {
     context.progress.check()?;
+    let starts = Multistart::new(context.mode.pick(20, 48), 42);
     Ok(multistart_levenberg_marquardt(
         problem,
         sense,
-        &[],
-        context.mode.pick(20, 48),
-        42,
+        &starts,
         &LmSettings::default(),
-    )?)
+        context.progress,
+    )?
+    .best)
 }
 
 /// Runs §4.2.
@@ -56,18 +60,10 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let (p_t, p_r) = (problem(translation)?, problem(rotation)?);
     let max_t = optimise(&p_t, Sense::Maximise, context)?;
     let min_r = optimise(&p_r, Sense::Minimise, context)?;
-    let combined = weighted_combination(
-        &[max_t.design.clone(), min_r.design.clone()],
-        &[1.0, 1.0],
-        WeightedMean::NormalisedByWeights,
-    )?;
+    let combined =
+        weighted_combination(&[max_t.design.clone(), min_r.design.clone()], &[1.0, 1.0])?;
     let pose = Isometry3::translation(0.0, 0.0, 40.0);
-    let paper = StewartGough::new(
-        PAPER_DESIGN[0],
-        PAPER_DESIGN[1],
-        PAPER_DESIGN[2],
-        PAPER_DESIGN[3],
-    )?;
+    let paper = StewartGough::new(presets::wolf_shoham_stewart_s4_2())?;
     let rows: Vec<_> = paper
         .wrench_rows(&pose)?
         .row_iter()
@@ -128,7 +124,8 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         &max_t,
     ));
     comparisons.extend(kkt_rows(&source.with_id("wolf2006.s4_2.rotation"), &min_r));
-    let figure = combined_drawing(&combined, &pose, &translation, &rotation)?;
+    let (combined_mechanism, _) = p_t.evaluate(&combined)?;
+    let figure = combined_drawing(&combined_mechanism, &pose, &translation, &rotation)?;
     Ok(Outcome {
         comparisons,
         figures: vec![figure],
@@ -139,15 +136,13 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
 /// Fig. 7: the eq. 15 combination of the two optimal geometries at the task pose, with the axes
 /// of both task twists (the platform normal).
 fn combined_drawing(
-    design: &[f64],
+    mechanism: &StewartGough,
     pose: &Isometry3<f64>,
     translation: &Twist,
     rotation: &Twist,
 ) -> Result<Figure, ExperimentError> {
-    let [x1, x2, x3, x4] = [0, 1, 2, 3].map(|k| design.get(k).copied().unwrap_or(f64::NAN));
-    let mechanism = StewartGough::new(x1, x2, x3, x4)?;
     let centre = pose.translation.vector;
-    let scene = Scene::new(Skeleton::stewart_gough(&mechanism, pose)?)
+    let scene = Scene::new(Skeleton::stewart_gough(mechanism, pose)?)
         .with_axis(Axis::of_twist(
             "translation task (maximise F)",
             translation,
@@ -158,8 +153,13 @@ fn combined_drawing(
             rotation,
             centre,
         )?);
+    let d = mechanism.design();
     let title = format!(
-        "Fig. 7: pkm's geometry for the peg-in-hole task pair, x = ({x1:.2}, {x2:.2},          {x3:.1}°, {x4:.1}°)"
+        "Fig. 7: pkm's geometry for the peg-in-hole task pair, x = ({:.2}, {:.2}, {:.1}°, {:.1}°)",
+        d.base_radius,
+        d.platform_radius,
+        d.base_separation.to_degrees(),
+        d.platform_separation.to_degrees()
     );
     Ok(Figure::robot("fig7_optimized_geometry", title, scene, "cm"))
 }

@@ -6,7 +6,7 @@ use super::pose_report::{
     section_4_1_twist,
 };
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source};
-use pkm_mechanisms::StewartGough;
+use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartGough, presets};
 use pkm_traits::Bounds;
 
 /// Runs §4.3.
@@ -18,13 +18,18 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         alpha_deg: 4.3,
         p: [-10.0, -10.0, 50.0],
     };
-    let paper_angle = 21.1;
-    let at_paper = StewartGough::new(12.0, 8.0, 30.0, paper_angle)?;
+    let paper_angle: f64 = 21.1;
+    let at_paper = StewartGough::new(StewartDesign {
+        platform_separation: paper_angle.to_radians(),
+        ..presets::wolf_shoham_stewart_s4_1()
+    })?;
     let f_paper_pose = at_paper.task_objective(&paper.isometry()?, &twist)?;
     context.progress.check()?;
-    let problem =
-        pose_problem([12.0, 8.0, 30.0, 8.0], twist)?.free_design(3, Bounds::new(0.0, 30.0)?)?;
-    let optimum = maximise(&problem, context.mode)?;
+    let problem = pose_problem(presets::wolf_shoham_stewart_s4_1(), twist)?.free_design(
+        StewartDesignVariable::PlatformSeparationDeg,
+        Bounds::new(0.0, 30.0)?,
+    );
+    let optimum = maximise(&problem, context.mode, context.progress)?;
     let (mechanism, pose) = problem.evaluate(&optimum.design)?;
     let paper_f = 524.7;
     let note = "F at the paper's printed pose and upper angle 21.1 deg";
@@ -39,13 +44,17 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         f_row,
         optimum_row,
         source
-            .info("x3", "deg", mechanism.design()[3])
+            .info(
+                "x3",
+                "deg",
+                mechanism.design().platform_separation.to_degrees(),
+            )
             .with_note("upper-platform joint separation at pkm's optimum; paper prints 21.1"),
     ];
     comparisons.extend(pose_rows(&source, &pose, &paper, &optimum));
     let title = format!(
         "Fig. 8: pkm's optimal pose and upper joint angle x3 = {:.1}° (F = {:.1}), task axis",
-        mechanism.design()[3],
+        mechanism.design().platform_separation.to_degrees(),
         optimum.value
     );
     let drawing = optimal_pose_drawing(&mechanism, &pose, &twist, 1.0)?;

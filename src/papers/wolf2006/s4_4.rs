@@ -8,13 +8,10 @@ use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
 use pkm_draw::{Axis, Scene};
-use pkm_mechanisms::{Skeleton, ThreeUpu, UJointAxes};
-use pkm_optimizers::{LmSettings, LocalOptimum, Sense, multistart_levenberg_marquardt};
+use pkm_mechanisms::{Skeleton, ThreeUpu, ThreeUpuDesign, UJointAxes, presets};
+use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
-
-const BASE_RADIUS: f64 = 20.0;
-const PLATFORM_RADIUS: f64 = 10.0;
 
 /// Spec §3.6's bound on |F(u1, u2 swapped) − F(Park)| over random leg geometries.
 const SWAP_TOLERANCE: f64 = 0.002;
@@ -37,20 +34,25 @@ fn exact_a1() -> Result<(Twist, f64), ExperimentError> {
 
 /// The home pose: $R = I$, $p = (0, 0, h)$ with the apex $h a / (a - b)$ at height `apex`.
 fn home(apex: f64) -> Isometry3<f64> {
-    Isometry3::translation(
-        0.0,
-        0.0,
-        apex * (BASE_RADIUS - PLATFORM_RADIUS) / BASE_RADIUS,
-    )
+    let ThreeUpuDesign {
+        base_radius: a,
+        platform_radius: b,
+        ..
+    } = presets::park_3upu();
+    Isometry3::translation(0.0, 0.0, apex * (a - b) / a)
 }
 
-fn park_axes() -> [UJointAxes; 3] {
-    ThreeUpu::PARK_AZIMUTHS.map(|t| UJointAxes::park(t.to_radians()))
+/// Park's 3-UPU ([`presets::park_3upu`]) with the upper U-joint axes `upper`.
+fn park_with_axes(upper: [UJointAxes; 3]) -> ThreeUpuDesign {
+    ThreeUpuDesign {
+        upper,
+        ..presets::park_3upu()
+    }
 }
 
 /// Park's axes of joint i tilted by β about the radial and γ about the tangent (degrees).
 fn tilted_axes(design: &[f64]) -> [UJointAxes; 3] {
-    let park = park_axes();
+    let park = presets::park_3upu().upper;
     std::array::from_fn(|i| {
         let UJointAxes { u1, u2 } = park[i];
         let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), design[2 * i].to_radians())
@@ -89,7 +91,7 @@ impl Residuals for UpperAxesProblem {
     }
     fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
         self.check_dimension(design)?;
-        let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, tilted_axes(design))?;
+        let upu = ThreeUpu::new(park_with_axes(tilted_axes(design)))?;
         let rows = upu
             .wrench_rows(&self.pose)
             .map_err(|e| ObjectiveError::Infeasible {
@@ -112,14 +114,15 @@ fn optimise(
         bounds: [tilt; 6],
     };
     context.progress.check()?;
+    let starts = Multistart::new(context.mode.pick(20, 32), 18);
     let optimum = multistart_levenberg_marquardt(
         &problem,
         sense,
-        &[],
-        context.mode.pick(20, 32),
-        18,
+        &starts,
         &LmSettings::default(),
-    )?;
+        context.progress,
+    )?
+    .best;
     Ok((optimum, problem))
 }
 
@@ -127,7 +130,7 @@ fn optimise(
 pub(super) fn run_min(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let source = Source::new("wolf2006.s4_4.min", Paper::WolfShoham, "§4.4");
     let (twist, apex) = exact_a1()?;
-    let park = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, park_axes())?;
+    let park = ThreeUpu::new(presets::park_3upu())?;
     let f_park = park.task_objective(&home(apex), &twist)?;
     let f_printed = park.task_objective(&home(apex), &printed_a1())?;
     let (optimum, _) = optimise(Sense::Minimise, context)?;
@@ -163,9 +166,9 @@ pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError>
         u2: Vector3::from(u2),
     });
     let (twist, apex) = exact_a1()?;
-    let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, listed)?;
+    let upu = ThreeUpu::new(park_with_axes(listed))?;
     let f_listed = upu.task_objective(&home(apex), &twist)?;
-    let park = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, park_axes())?;
+    let park = ThreeUpu::new(presets::park_3upu())?;
     let f_park = park.task_objective(&home(apex), &twist)?;
     let (optimum, problem) = optimise(Sense::Maximise, context)?;
     // Evidence (spec §3.6): swapping u1 and u2 only flips the couple u1 × u2, so the listed
@@ -215,8 +218,8 @@ fn upper_joints_drawing(
     problem: &UpperAxesProblem,
 ) -> Result<Figure, ExperimentError> {
     let axes = tilted_axes(&optimum.design);
-    let upu = ThreeUpu::new(BASE_RADIUS, PLATFORM_RADIUS, axes)?;
-    let skeleton = Skeleton::three_upu(&upu, (BASE_RADIUS, PLATFORM_RADIUS), &problem.pose)?;
+    let upu = ThreeUpu::new(park_with_axes(axes))?;
+    let skeleton = Skeleton::three_upu(&upu, &problem.pose)?;
     let joints: Vec<Vector3<f64>> = skeleton
         .points
         .iter()
@@ -234,7 +237,7 @@ fn upper_joints_drawing(
                 label: label.to_owned(),
                 point: *joint,
                 direction: problem.pose.rotation * direction,
-                length: Some(PLATFORM_RADIUS),
+                length: Some(upu.design().platform_radius),
             });
         }
     }

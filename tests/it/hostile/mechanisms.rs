@@ -5,9 +5,10 @@ use super::{
 };
 use nalgebra::{Isometry3, SVector, Vector3};
 use pkm_mechanisms::{
-    Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaMode, LinearDeltaRatios,
-    Placement, RotaryDelta, StewartGough, StewartTaskProblem, ThreeUpu, Tsai3Dof, UJointAxes,
-    platform_pose, pose_from_task,
+    Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
+    LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
+    StewartDesignVariable, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
+    TsaiDesign, UJointAxes, platform_pose, pose_from_task, presets,
 };
 use pkm_screw_theory::Twist;
 use pkm_traits::{
@@ -71,7 +72,9 @@ fn valid_tsai() -> impl Strategy<Value = Tsai3Dof> {
         prop_oneof![Just(0.0), 0.0..0.3f64],
         -0.2..0.2f64,
     )
-        .prop_map(|(a, b, s, h)| Tsai3Dof::from_degrees(a, b, s, h, 120.0, 240.0).unwrap())
+        .prop_map(|(a, b, s, h)| {
+            Tsai3Dof::new(TsaiDesign::from_deg(a, b, s, h, 120.0, 240.0)).unwrap()
+        })
 }
 
 proptest! {
@@ -79,10 +82,11 @@ proptest! {
 
     #[test]
     fn tsai_constructor_and_kinematics(design in tsai_design(), p in hostile_vec3(), guess in hostile_vec3()) {
-        let (a, b, s, h, p2, p3) = design;
-        judge("Tsai3Dof::new", || Tsai3Dof::new(a, b, s, h, p2, p3), |d| d.reach().is_finite())?;
-        judge("Tsai3Dof::from_degrees", || Tsai3Dof::from_degrees(a, b, s, h, p2, p3), |d| d.reach().is_finite())?;
-        if let Ok(d) = Tsai3Dof::new(a, b, s, h, p2, p3) {
+        let (a, b, d_plus_e, c_minus_r, phi2, phi3) = design;
+        let design = TsaiDesign { a, b, d_plus_e, c_minus_r, phi2, phi3 };
+        judge("Tsai3Dof::new", || Tsai3Dof::new(design), |d| d.reach().is_finite())?;
+        judge("TsaiDesign::from_deg", || Tsai3Dof::new(TsaiDesign::from_deg(a, b, d_plus_e, c_minus_r, phi2, phi3)), |d| d.reach().is_finite())?;
+        if let Ok(d) = Tsai3Dof::new(design) {
             kinematics("Tsai3Dof::inverse_kinematics", &d, &p, [Elbow::Out; 3], &guess)?;
             judge_value("Tsai3Dof::jacobian_eq7", || d.jacobian_eq7(&p), |j| j.is_none_or(|j| all_finite(j.iter())))?;
         }
@@ -109,10 +113,11 @@ proptest! {
         y in hostile_f64(), z in hostile_f64(), x in hostile_vec3(), guess in hostile_vec3(),
     ) {
         let ratios = LinearDeltaRatios { l1_over_yr: r.0, ya_over_yr: r.1, zr_over_yr: r.2, l2_over_l1: r.3 };
-        judge("LinearDelta::new", || LinearDelta::new(ratios, yr), |d| {
+        let design = LinearDeltaDesign { ratios, yr };
+        judge("LinearDelta::new", || LinearDelta::new(design), |d| {
             all_finite(d.arm_lengths().iter()) && d.rails().iter().all(|r| all_finite(r.iter()))
         })?;
-        if let Ok(d) = LinearDelta::new(ratios, yr) {
+        if let Ok(d) = LinearDelta::new(design) {
             judge("LinearDelta::arm_reaches", || d.arm_reaches(y, z), |q| all_finite(q.iter()))?;
             judge("LinearDelta::velocity_jacobian", || d.velocity_jacobian(y, z, LinearDeltaMode::PAPER), |j| all_finite(j.iter()))?;
             let section = d.cross_section();
@@ -127,7 +132,7 @@ proptest! {
         r in (1.0..2.0f64, -0.9..0.9f64, -1.0..1.0f64, 0.5..1.5f64), y in -1.0..1.0f64, z in -2.0..2.0f64,
     ) {
         let ratios = LinearDeltaRatios { l1_over_yr: r.0, ya_over_yr: r.1, zr_over_yr: r.2, l2_over_l1: r.3 };
-        let d = LinearDelta::new(ratios, 1.0).unwrap();
+        let d = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
         kinematics("LinearDelta::inverse_kinematics", &d, &Vector3::new(0.1, y, z), LinearDeltaMode::PAPER, &Vector3::new(0.0, y, z))?;
     }
 
@@ -136,17 +141,19 @@ proptest! {
         x in (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64()), offset in hostile_f64(),
         p in hostile_vec3(), w in hostile_vec3(), alpha in hostile_f64(),
     ) {
-        judge("StewartGough::new", || StewartGough::new(x.0, x.1, x.2, x.3), |s| {
+        let finite_joints = |s: &StewartGough| {
             s.base_joints().iter().chain(s.platform_joints()).all(|v| all_finite(v.iter()))
-        })?;
+        };
+        judge("StewartDesign::from_deg", || StewartGough::new(StewartDesign::from_deg(x.0, x.1, x.2, x.3)), finite_joints)?;
         let layout = JointLayout { offset_deg: offset, ..JointLayout::default() };
-        judge("StewartGough::with_layout", || StewartGough::with_layout(x.0, x.1, x.2, x.3, layout), |s| {
-            s.base_joints().iter().chain(s.platform_joints()).all(|v| all_finite(v.iter()))
-        })?;
+        let design = StewartDesign {
+            base_radius: x.0, platform_radius: x.1, base_separation: x.2, platform_separation: x.3, layout,
+        };
+        judge("StewartGough::new", || StewartGough::new(design), finite_joints)?;
         judge("platform_pose", || platform_pose(p, w, alpha), |g| all_finite(g.to_homogeneous().iter()))?;
         let task = SVector::<f64, 6>::new(p.x, p.y, p.z, w.x, w.y, w.z);
         judge("pose_from_task", || pose_from_task(&task), |g| all_finite(g.to_homogeneous().iter()))?;
-        let sg = StewartGough::new(1.0, 0.5, 20.0, 30.0).unwrap();
+        let sg = StewartGough::new(StewartDesign::from_deg(1.0, 0.5, 20.0, 30.0)).unwrap();
         if let Ok(pose) = pose_from_task(&task) {
             let twist = Twist::new(Vector3::new(0.0, 0.0, 1.0), Vector3::new(0.1, 0.0, 0.0));
             judge("StewartGough::wrench_rows", || sg.wrench_rows(&pose), |m| all_finite(m.iter()))?;
@@ -163,8 +170,15 @@ proptest! {
         theta in hostile_f64(), p in hostile_vec3(),
     ) {
         let axes = UJointAxes { u1, u2 };
-        judge("ThreeUpu::new", || ThreeUpu::new(a, b, [axes, UJointAxes::park(theta), axes]), |_| true)?;
-        if let Ok(m) = ThreeUpu::new(a, b, [UJointAxes::park(0.3); 3]) {
+        let design = ThreeUpuDesign {
+            base_radius: a,
+            platform_radius: b,
+            azimuths: [theta, 0.3, -theta],
+            upper: [axes, UJointAxes::park(theta), axes],
+        };
+        judge("ThreeUpu::new", || ThreeUpu::new(design), |_| true)?;
+        let park = ThreeUpuDesign { base_radius: a, platform_radius: b, ..presets::park_3upu() };
+        if let Ok(m) = ThreeUpu::new(ThreeUpuDesign { upper: [UJointAxes::park(0.3); 3], ..park }) {
             let pose = Isometry3::translation(p.x, p.y, p.z);
             let twist = Twist::new(Vector3::new(0.0, 0.0, 1.0), Vector3::zeros());
             judge("ThreeUpu::wrench_rows", || m.wrench_rows(&pose), |r| all_finite(r.iter()))?;
@@ -179,14 +193,14 @@ proptest! {
         v in prop::collection::vec(hostile_f64(), 0..6),
     ) {
         let twist = Twist::new(chi, Vector3::new(0.1, 0.0, 0.0));
-        let design = [design.0, design.1, design.2, design.3];
-        judge("StewartTaskProblem::new", || StewartTaskProblem::new(design, JointLayout::default(), p, w, twist), |_| true)?;
-        let base = StewartTaskProblem::new([1.0, 0.5, 20.0, 30.0], JointLayout::default(), Vector3::new(0.0, 0.0, 1.0), Vector3::zeros(), twist);
+        let design = StewartDesign::from_deg(design.0, design.1, design.2, design.3);
+        judge("StewartTaskProblem::new", || StewartTaskProblem::new(design, p, w, twist), |_| true)?;
+        let base = StewartTaskProblem::new(StewartDesign::from_deg(1.0, 0.5, 20.0, 30.0), Vector3::new(0.0, 0.0, 1.0), Vector3::zeros(), twist);
         if let (Ok(problem), Ok(bounds)) = (base, Bounds::new(0.5, 2.0)) {
-            judge("StewartTaskProblem::free_design", || problem.clone().free_design(k, bounds), |_| true)?;
             judge("StewartTaskProblem::free_position", || problem.clone().free_position(k, bounds), |_| true)?;
             judge("StewartTaskProblem::free_rotation", || problem.clone().free_rotation(max_angle), |_| true)?;
-            if let Ok(free) = problem.free_design(0, bounds).and_then(|p| p.free_rotation(0.5)) {
+            let free = problem.free_design(StewartDesignVariable::BaseRadius, bounds).free_rotation(0.5);
+            if let Ok(free) = free {
                 judge("StewartTaskProblem::value", || free.value(&v), |f| f.is_finite())?;
             }
         }
@@ -198,16 +212,19 @@ proptest! {
         z0 in hostile_f64(), x in hostile_vec3(), guess in hostile_vec3(),
     ) {
         let placement = Placement { motor_plane_z: z0, azimuth_motor_1: 0.3 };
-        judge("RotaryDelta::new", || RotaryDelta::new(g.0, g.1, g.2, g.3, angles, placement), |d| d.arm().is_finite())?;
-        judge("RotaryDelta::delta", || RotaryDelta::delta(placement), |d| d.arm().is_finite())?;
-        let d = RotaryDelta::delta(Placement::canonical()).unwrap();
+        let design = RotaryDeltaDesign {
+            base_radius: g.0, plate_offset: g.1, arm: g.2, forearm: g.3, alpha: angles.0, beta: angles.1, placement,
+        };
+        judge("RotaryDelta::new", || RotaryDelta::new(design), |d| d.arm().is_finite())?;
+        judge("presets::miller_delta", || RotaryDelta::new(presets::miller_delta(placement)), |d| d.arm().is_finite())?;
+        let d = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
         kinematics("RotaryDelta::inverse_kinematics", &d, &x, ElbowMode::Out, &guess)?;
     }
 }
 
 #[test]
 fn tsai_column_volume_refuses_huge_grids() {
-    let d = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    let d = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     for ngrid in [0, usize::MAX, 1 << 40] {
         super::expect(judge_err("Tsai3Dof::column_volume (huge)", || {
             d.column_volume(ngrid)

@@ -2,12 +2,12 @@
 
 use super::{all_finite, config, extreme_finite, hostile_f64, hostile_vec3, judge, judge_value};
 use nalgebra::Vector3;
-use pkm_mechanisms::Tsai3Dof;
+use pkm_mechanisms::{Tsai3Dof, presets};
 use pkm_traits::{Bounds, ClosedChain, NewtonSettings, newton_forward_kinematics};
 use proptest::prelude::*;
 
 fn tsai() -> Tsai3Dof {
-    Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap()
+    Tsai3Dof::new(presets::stamper_max_gci()).unwrap()
 }
 
 proptest! {

@@ -45,18 +45,12 @@ pub trait ForwardForm: VectorField<13> {
 /// Name of the saddle-point matrix in [`DynamicsError::Singular`].
 pub const SADDLE_MATRIX: &str = "[M Phi_q^T; Phi_q 0]";
 
-impl From<DynamicsError> for RhsError {
-    fn from(e: DynamicsError) -> Self {
-        let t = match e {
-            DynamicsError::Singular { t, .. }
-            | DynamicsError::NonFinite { t, .. }
-            | DynamicsError::Unreachable { t, .. } => t,
-            _ => f64::NAN,
-        };
-        Self {
-            t,
-            reason: e.to_string(),
-        }
+/// A failure of the forward form at time `t` as the integrator's error (the form's errors all
+/// carry their time already; the integrator keeps `t` and the message).
+fn rhs_error(t: f64, e: &DynamicsError) -> RhsError {
+    RhsError {
+        t,
+        reason: e.to_string(),
     }
 }
 
@@ -121,9 +115,9 @@ impl<'a, F: Fn(f64) -> Vector3<f64>> HamiltonForm<'a, F> {
     /// ```
     /// # use pkm_dynamics_hamilton::{ExtendedModel, MassParameters, DynamicsError};
     /// # use pkm_dynamics_hamilton::forward::HamiltonForm;
-    /// # use pkm_mechanisms::{Placement, RotaryDelta};
+    /// # use pkm_mechanisms::{Placement, RotaryDelta, presets};
     /// # use nalgebra::Vector3;
-    /// let delta = RotaryDelta::nuwar(Placement::canonical())?;
+    /// let delta = RotaryDelta::new(presets::nuwar(Placement::canonical()))?;
     /// let model = ExtendedModel::new(delta, &MassParameters::miller2004())?;
     /// assert!(HamiltonForm::new(&model, |_| Vector3::zeros(), 20.0).is_ok());
     /// assert!(HamiltonForm::new(&model, |_| Vector3::zeros(), -1.0).is_err());
@@ -169,7 +163,7 @@ impl<F: Fn(f64) -> Vector3<f64>> VectorField<13> for HamiltonForm<'_, F> {
     /// [`Configuration`].
     fn rhs(&self, t: f64, z: &State, dz: &mut State) -> Result<(), RhsError> {
         let at = self.model.at(&self.positions(z));
-        let (qd, sigma) = self.solve_at(&at, t, z)?;
+        let (qd, sigma) = self.solve_at(&at, t, z).map_err(|e| rhs_error(t, &e))?;
         let tau = (self.torque)(t);
         let pd = momentum_rate(at.model_constants(), at.legs(), &qd, &sigma) + joint_force(&tau);
         dz.fixed_rows_mut::<6>(0).copy_from(&qd);
@@ -191,7 +185,7 @@ impl<F: Fn(f64) -> Vector3<f64>> ForwardForm for HamiltonForm<'_, F> {
     }
 
     fn velocity(&self, t: f64, z: &State) -> Result<Vector6<f64>, RhsError> {
-        Ok(self.solve(t, z)?.0)
+        Ok(self.solve(t, z).map_err(|e| rhs_error(t, &e))?.0)
     }
 }
 
@@ -245,7 +239,7 @@ impl<F: Fn(f64) -> Vector3<f64>> VectorField<13> for AccelerationForm<'_, F> {
     fn rhs(&self, t: f64, z: &State, dz: &mut State) -> Result<(), RhsError> {
         let qd: Vector6<f64> = z.fixed_rows::<6>(6).into();
         let tau = (self.torque)(t);
-        let (qdd, _) = self.solve(t, z, &tau)?;
+        let (qdd, _) = self.solve(t, z, &tau).map_err(|e| rhs_error(t, &e))?;
         dz.fixed_rows_mut::<6>(0).copy_from(&qd);
         dz.fixed_rows_mut::<6>(6).copy_from(&qdd);
         dz[12] = tau.dot(&qd.fixed_rows::<3>(3));
@@ -271,14 +265,14 @@ impl<F: Fn(f64) -> Vector3<f64>> ForwardForm for AccelerationForm<'_, F> {
 mod tests {
     use super::*;
     use crate::MassParameters;
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
     use pkm_traits::IntegrationError;
 
     /// The Delta (α = β = 0) with all three forearm vectors $v_i = C_i - B_i$ zero: the plate on
     /// the vertical axis with every elbow on it, $\cos\theta = (r - R)/L_a$. Then $\Phi_q = 0$ and
     /// the saddle-point matrix has rank 6.
     fn collapsed() -> (ExtendedModel, State) {
-        let delta = RotaryDelta::delta(Placement::canonical()).unwrap();
+        let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
         let model = ExtendedModel::new(delta, &MassParameters::miller2004()).unwrap();
         let theta = ((0.03f64 - 0.194) / 0.26).acos();
         let z = -0.2928 - 0.26 * theta.sin();
@@ -330,7 +324,7 @@ mod tests {
     #[test]
     fn the_canonical_start_is_far_from_singular() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();
@@ -349,7 +343,7 @@ mod tests {
     #[test]
     fn baumgarte_gains_must_be_finite_and_non_negative() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();

@@ -153,19 +153,18 @@ pub(crate) fn per_sample(
 mod tests {
     use super::*;
     use crate::inverse::{self, Differencing};
-    use crate::trajectory::{CycleReading, Trajectory};
     use crate::{ExtendedModel, MassParameters};
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
 
     #[test]
     #[allow(clippy::print_stdout)]
     fn operation_counts() {
         let model = ExtendedModel::new(
-            RotaryDelta::nuwar(Placement::canonical()).unwrap(),
+            RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap(),
             &MassParameters::miller2004(),
         )
         .unwrap();
-        let trajectory = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+        let trajectory = crate::trajectory::tests::ellipse_cycle(0.5);
         let dt = 1e-3;
         let samples = inverse::sample(&model, &trajectory, dt).unwrap();
         let state = |k: usize| (samples[k].1.q, samples[k].1.qd, samples[k].1.qdd);

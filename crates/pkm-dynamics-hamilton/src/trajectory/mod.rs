@@ -1,6 +1,8 @@
 //! Task-space trajectories: motion programs ([`MotionLaw`]: parabolic, cycloidal, 3-4-5)
 //! composed with path shapes ([`Path`]: straight line, ellipse, sheared ellipse, clothoid), with
-//! analytic velocity and acceleration (Miller 2004 §3.5).
+//! analytic velocity and acceleration (Miller 2004 §3.5). Miller's own cycle, with the two
+//! readings of its cycle time, is a preset of the reproduction (`pkm::papers::miller2004::
+//! dynamics::pick_and_place`), not of this library.
 //!
 //! On a segment of duration $T$ with path parameter $u = s(t/T)$:
 //! $\dot p = p'(u)\,s'/T$, $\ddot p = p''(u)\,(s'/T)^2 + p'(u)\,s''/T^2$.
@@ -13,7 +15,6 @@ pub use path::Path;
 
 use crate::DynamicsError;
 use nalgebra::Vector3;
-use std::f64::consts::PI;
 
 /// Position, velocity and acceleration of the plate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -57,15 +58,6 @@ impl Segment {
     }
 }
 
-/// How "time to traverse the ellipse … and back to the start point → 0.5 s" is read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CycleReading {
-    /// The round trip takes the cycle time; each leg half of it (canonical).
-    RoundTrip,
-    /// Each leg (go, back) takes the cycle time.
-    EachLeg,
-}
-
 /// A sequence of segments run one after the other.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trajectory {
@@ -102,47 +94,6 @@ impl Trajectory {
         Ok(Self { segments })
     }
 
-    /// Miller's elliptical pick-and-place cycle (§3.5): the half ellipse through
-    /// $(0, -0.2, -0.9)$, $(0, 0, -0.5)$, $(0, 0.2, -0.9)$ (centre $(0, 0, -0.9)$, semi-axes
-    /// 0.2 in $y$ and 0.4 in $z$), 3-4-5 on the eccentric angle, there and back.
-    ///
-    /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for a non-positive cycle time.
-    ///
-    /// # Example
-    /// ```
-    /// use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
-    /// let t = Trajectory::pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
-    /// assert!((t.duration() - 0.5).abs() < 1e-15);
-    /// assert!((t.sample(0.25).p.z + 0.9).abs() < 1e-12);
-    /// ```
-    pub fn pick_and_place(cycle_time: f64, reading: CycleReading) -> Result<Self, DynamicsError> {
-        let leg = match reading {
-            CycleReading::RoundTrip => cycle_time / 2.0,
-            CycleReading::EachLeg => cycle_time,
-        };
-        let path = Path::Ellipse {
-            centre: Vector3::new(0.0, 0.0, -0.9),
-            axis_1: Vector3::new(0.0, -0.2, 0.0),
-            axis_2: Vector3::new(0.0, 0.0, 0.4),
-            start_angle: 0.0,
-            sweep: PI,
-        };
-        let go = Segment {
-            path,
-            law: MotionLaw::Polynomial345,
-            duration: leg,
-            reverse: false,
-        };
-        Self::new(vec![
-            go,
-            Segment {
-                reverse: true,
-                ..go
-            },
-        ])
-    }
-
     /// Total duration.
     pub fn duration(&self) -> f64 {
         self.segments.iter().map(|s| s.duration).sum()
@@ -159,5 +110,42 @@ impl Trajectory {
         }
         // `new` guarantees a segment, so the loop returns; keep a total function anyway.
         self.segments[0].sample(0.0)
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A half ellipse there and back (3-4-5), each way in half of `duration`: the test cycle of
+    /// this crate's unit tests.
+    pub(crate) fn ellipse_cycle(duration: f64) -> Trajectory {
+        let path = Path::Ellipse {
+            centre: Vector3::new(0.0, 0.0, -0.9),
+            axis_1: Vector3::new(0.0, -0.2, 0.0),
+            axis_2: Vector3::new(0.0, 0.0, 0.4),
+            start_angle: 0.0,
+            sweep: std::f64::consts::PI,
+        };
+        let go = Segment {
+            path,
+            law: MotionLaw::Polynomial345,
+            duration: duration / 2.0,
+            reverse: false,
+        };
+        let back = Segment {
+            reverse: true,
+            ..go
+        };
+        Trajectory::new(vec![go, back]).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn the_test_cycle_goes_there_and_back() {
+        let t = ellipse_cycle(0.5);
+        assert!((t.duration() - 0.5).abs() < 1e-15);
+        assert!((t.sample(0.25).p.z + 0.9).abs() < 1e-12);
+        assert!((t.sample(0.125).p.z + 0.5).abs() < 1e-12);
+        assert!((t.sample(0.0).p - t.sample(0.5).p).norm() < 1e-12);
     }
 }

@@ -33,9 +33,9 @@ impl RotaryDelta {
     /// # Example
     /// ```
     /// use nalgebra::Vector3;
-    /// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+    /// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
     /// use pkm_traits::{ClosedChain, InverseKinematics};
-    /// let delta = RotaryDelta::delta(Placement::canonical()).unwrap();
+    /// let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
     /// let p = Vector3::new(0.05, -0.02, -0.7);
     /// let lanes = delta.jacobian_lanes(&[p, Vector3::new(f64::NAN, 0.0, 0.0)], ElbowMode::Out);
     /// let q = delta.inverse_kinematics(&p, ElbowMode::Out).unwrap();
@@ -79,7 +79,7 @@ impl RotaryDelta {
         p: &[Lanes<N>; 3],
         sign: f64,
     ) -> ([Lanes<N>; 3], [bool; N]) {
-        let (la, lb) = (self.arm, self.forearm);
+        let (la, lb) = (self.design.arm, self.design.forearm);
         let offset = leg.plate_offset - leg.motor;
         let d = [0, 1, 2].map(|k| p[k] + offset[k]);
         let dot = |v: &Vector3<f64>| d[0] * v.x + d[1] * v.y + d[2] * v.z;
@@ -100,6 +100,7 @@ impl RotaryDelta {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::float_cmp)]
     use super::*;
+    use crate::presets;
     use crate::rotary_delta::Placement;
     use nalgebra::Matrix3;
     use pkm_traits::{ClosedChain, InverseKinematics};
@@ -108,8 +109,8 @@ mod tests {
     fn designs() -> [RotaryDelta; 2] {
         let p = Placement::canonical();
         [
-            RotaryDelta::delta(p).unwrap(),
-            RotaryDelta::nuwar(p).unwrap(),
+            RotaryDelta::new(presets::miller_delta(p)).unwrap(),
+            RotaryDelta::new(presets::nuwar(p)).unwrap(),
         ]
     }
 

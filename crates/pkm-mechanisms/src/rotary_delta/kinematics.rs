@@ -17,7 +17,7 @@ pub enum ElbowMode {
 
 impl ClosedChain<3, 3> for RotaryDelta {
     fn closure(&self, x: &Task<3>, q: &Joints<3>) -> Joints<3> {
-        let f2 = self.forearm * self.forearm;
+        let f2 = self.design.forearm * self.design.forearm;
         Vector3::from_fn(|i, _| self.forearm_vector(i, x, q[i]).norm_squared() - f2)
     }
 
@@ -30,7 +30,7 @@ impl ClosedChain<3, 3> for RotaryDelta {
     fn jacobian_q(&self, x: &Task<3>, q: &Joints<3>) -> Matrix3<f64> {
         Matrix3::from_diagonal(&Vector3::from_fn(|i, _| {
             let d1 = self.legs[i].arm_direction_derivative(q[i]);
-            -2.0 * self.arm * self.forearm_vector(i, x, q[i]).dot(&d1)
+            -2.0 * self.design.arm * self.forearm_vector(i, x, q[i]).dot(&d1)
         }))
     }
 }
@@ -51,8 +51,9 @@ impl InverseKinematics<3, 3> for RotaryDelta {
         let mut theta = Vector3::zeros();
         for (i, leg) in self.legs.iter().enumerate() {
             let d = x + leg.plate_offset - leg.motor;
-            let k = (d.norm_squared() + self.arm * self.arm - self.forearm * self.forearm)
-                / (2.0 * self.arm);
+            let k = (d.norm_squared() + self.design.arm * self.design.arm
+                - self.design.forearm * self.design.forearm)
+                / (2.0 * self.design.arm);
             let (a, b) = (d.dot(&leg.u), -d.dot(&leg.w));
             let ratio = k / a.hypot(b);
             if !(ratio.abs() <= 1.0) {
@@ -76,6 +77,7 @@ impl ForwardKinematics<3> for RotaryDelta {}
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::presets;
     use crate::rotary_delta::Placement;
     use pkm_traits::testkit::{
         check_closure, check_ik_fk_round_trip, check_jacobians_against_central_differences,
@@ -97,8 +99,8 @@ mod tests {
     fn designs() -> [RotaryDelta; 2] {
         let p = Placement::canonical();
         [
-            RotaryDelta::nuwar(p).unwrap(),
-            RotaryDelta::delta(p).unwrap(),
+            RotaryDelta::new(presets::nuwar(p)).unwrap(),
+            RotaryDelta::new(presets::miller_delta(p)).unwrap(),
         ]
     }
 

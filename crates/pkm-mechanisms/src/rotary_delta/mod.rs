@@ -22,10 +22,12 @@ pub use workspace::FOREARM_CLEARANCE_SPAN;
 
 use nalgebra::{Rotation3, Vector3};
 use pkm_traits::DesignError;
+use serde::{Deserialize, Serialize};
 
 /// Where the robot sits in the task frame: the open choices of the paper (its Figures 2 and 7 are
 /// missing), see `docs/conventions.md` "Miller 2004 §3: dynamics".
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Placement {
     /// Height $z_0$ of the motor plane in the task frame (m).
     pub motor_plane_z: f64,
@@ -71,50 +73,59 @@ impl Leg {
     }
 }
 
+/// The design of a rotary Delta / NUWAR: lengths in metres, angles in radians. The paper's
+/// designs are in [`crate::presets`] ([`crate::presets::miller_delta`],
+/// [`crate::presets::nuwar`], [`crate::presets::miller_prototype`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotaryDeltaDesign {
+    /// Radial distance $R$ of the motor points from the centreline (m); positive.
+    pub base_radius: f64,
+    /// Radial plate offset $r$ of the joint-pair mid-points (m); finite.
+    pub plate_offset: f64,
+    /// Arm length $L_a$ (m); positive.
+    pub arm: f64,
+    /// Forearm (parallelogram) length $L_b$ (m); positive.
+    pub forearm: f64,
+    /// Motor-axis inclination $\alpha$ to the horizontal (rad); finite.
+    pub alpha: f64,
+    /// Motor turn $\beta$ about the vertical (rad); finite.
+    pub beta: f64,
+    /// Where the robot sits in the task frame.
+    pub placement: Placement,
+}
+
 /// A validated rotary Delta / NUWAR design.
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta};
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 /// use pkm_traits::InverseKinematics;
 /// use nalgebra::Vector3;
-/// let nuwar = RotaryDelta::nuwar(Placement::canonical()).unwrap();
+/// let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
 /// let theta = nuwar.inverse_kinematics(&Vector3::new(0.0, -0.2, -0.9), ElbowMode::Out).unwrap();
 /// assert!((theta[0].to_degrees() - 72.2).abs() < 0.1);
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct RotaryDelta {
-    base_radius: f64,
-    plate_offset: f64,
-    arm: f64,
-    forearm: f64,
-    alpha: f64,
-    beta: f64,
+    design: RotaryDeltaDesign,
     legs: [Leg; 3],
 }
 
 impl RotaryDelta {
-    /// Builds a design: motor radial distance `base_radius` $R$, plate offset `plate_offset` $r$,
-    /// arm $L_a$, forearm $L_b$, motor inclination $\alpha$ and turn $\beta$ (rad).
+    /// Builds the mechanism of `design`.
     ///
     /// # Errors
-    /// [`DesignError`] for a non-positive length or a non-finite angle or placement.
-    pub fn new(
-        base_radius: f64,
-        plate_offset: f64,
-        arm: f64,
-        forearm: f64,
-        (alpha, beta): (f64, f64),
-        placement: Placement,
-    ) -> Result<Self, DesignError> {
-        let base_radius = DesignError::require_positive("R", base_radius)?;
-        let r = DesignError::require_finite("r", plate_offset)?;
-        let arm = DesignError::require_positive("La", arm)?;
-        let forearm = DesignError::require_positive("Lb", forearm)?;
-        let alpha = DesignError::require_finite("alpha", alpha)?;
-        let beta = DesignError::require_finite("beta", beta)?;
-        let z0 = DesignError::require_finite("z0", placement.motor_plane_z)?;
-        let phi1 = DesignError::require_finite("phi1", placement.azimuth_motor_1)?;
+    /// [`DesignError`] for a non-positive length or a non-finite offset, angle or placement.
+    pub fn new(design: RotaryDeltaDesign) -> Result<Self, DesignError> {
+        let base_radius = DesignError::require_positive("R", design.base_radius)?;
+        let r = DesignError::require_finite("r", design.plate_offset)?;
+        DesignError::require_positive("La", design.arm)?;
+        DesignError::require_positive("Lb", design.forearm)?;
+        let alpha = DesignError::require_finite("alpha", design.alpha)?;
+        let beta = DesignError::require_finite("beta", design.beta)?;
+        let z0 = DesignError::require_finite("z0", design.placement.motor_plane_z)?;
+        let phi1 = DesignError::require_finite("phi1", design.placement.azimuth_motor_1)?;
         let legs = [0.0, 1.0, 2.0].map(|i: f64| {
             let phi = phi1 + i * 120f64.to_radians();
             let frame = Rotation3::from_axis_angle(&Vector3::z_axis(), phi + beta)
@@ -128,51 +139,23 @@ impl RotaryDelta {
                 plate_offset: radial * r,
             }
         });
-        Ok(Self {
-            base_radius,
-            plate_offset: r,
-            arm,
-            forearm,
-            alpha,
-            beta,
-            legs,
-        })
+        Ok(Self { design, legs })
     }
 
-    /// The §3.5 prototype's dimensions ($R = 0.194$ m, $r = 0.03$ m, $L_a = 0.26$ m,
-    /// $L_b = 0.48$ m) with motor inclination and turn `(alpha, beta)` (rad): the design family
-    /// of the §2.1 workspace study.
-    ///
-    /// # Errors
-    /// [`DesignError`] for a non-finite angle or placement.
-    pub fn prototype(angles: (f64, f64), placement: Placement) -> Result<Self, DesignError> {
-        Self::new(0.194, 0.03, 0.26, 0.48, angles, placement)
-    }
-
-    /// The paper's Delta (§3.5 dimensions, $\alpha = \beta = 0$).
-    ///
-    /// # Errors
-    /// [`DesignError`] for a non-finite placement.
-    pub fn delta(placement: Placement) -> Result<Self, DesignError> {
-        Self::prototype((0.0, 0.0), placement)
-    }
-
-    /// The paper's NUWAR (§3.5 dimensions, $\alpha = 35.26°$, $\beta = 60°$).
-    ///
-    /// # Errors
-    /// [`DesignError`] for a non-finite placement.
-    pub fn nuwar(placement: Placement) -> Result<Self, DesignError> {
-        Self::prototype((35.26f64.to_radians(), 60f64.to_radians()), placement)
+    /// The design the mechanism was built from (the plate offsets as designed, radial even after
+    /// [`RotaryDelta::with_turned_plate_offsets`]).
+    pub fn design(&self) -> RotaryDeltaDesign {
+        self.design
     }
 
     /// Base radius $R$ (radial distance of the motor points from the centreline).
     pub fn base_radius(&self) -> f64 {
-        self.base_radius
+        self.design.base_radius
     }
 
     /// Radial plate offset $r$ of the joint-pair mid-points.
     pub fn plate_offset(&self) -> f64 {
-        self.plate_offset
+        self.design.plate_offset
     }
 
     /// A vertical cylinder about the centreline that holds every reachable plate position, as
@@ -180,7 +163,7 @@ impl RotaryDelta {
     /// $\rho \le \max_i |(c_i - A_i)_{xy}| + L_a + L_b$ (that is $|R - r| + L_a + L_b$ for radial
     /// plate offsets) and $|z - z_0| \le L_a + L_b$, whatever $\alpha, \beta$.
     pub fn reach_cylinder(&self) -> (f64, f64) {
-        let reach = self.arm + self.forearm;
+        let reach = self.design.arm + self.design.forearm;
         let offset = self
             .legs
             .iter()
@@ -200,7 +183,7 @@ impl RotaryDelta {
     /// $c_i$ radial).
     #[must_use]
     pub fn with_turned_plate_offsets(mut self) -> Self {
-        let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), self.beta);
+        let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), self.design.beta);
         for leg in &mut self.legs {
             leg.plate_offset = turn * leg.plate_offset;
         }
@@ -209,17 +192,17 @@ impl RotaryDelta {
 
     /// Arm length $L_a$.
     pub fn arm(&self) -> f64 {
-        self.arm
+        self.design.arm
     }
 
     /// Forearm length $L_b$.
     pub fn forearm(&self) -> f64 {
-        self.forearm
+        self.design.forearm
     }
 
     /// Motor inclination $\alpha$ and turn $\beta$ (rad).
     pub fn angles(&self) -> (f64, f64) {
-        (self.alpha, self.beta)
+        (self.design.alpha, self.design.beta)
     }
 
     /// The three legs.
@@ -230,7 +213,7 @@ impl RotaryDelta {
     /// Elbow $B_i = A_i + L_a d_i(\theta_i)$.
     pub fn elbow(&self, leg: usize, theta: f64) -> Vector3<f64> {
         let l = &self.legs[leg % 3];
-        l.motor + l.arm_direction(theta) * self.arm
+        l.motor + l.arm_direction(theta) * self.design.arm
     }
 
     /// Forearm vector $v_i = C_i - B_i$ at plate position `p`.

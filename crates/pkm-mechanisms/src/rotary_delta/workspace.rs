@@ -23,8 +23,8 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     /// $a = D\cdot u_i$, $b = -D\cdot w_i$; tested as $(|D|^2 + L_a^2 - L_b^2)^2 \le
     /// 4L_a^2 (a^2 + b^2)$, with no division, square root or trigonometry.
     fn reachable(&self, x: &Task<3>, _mode: ElbowMode) -> bool {
-        let offset = self.arm * self.arm - self.forearm * self.forearm;
-        let scale = 4.0 * self.arm * self.arm;
+        let offset = self.design.arm * self.design.arm - self.design.forearm * self.design.forearm;
+        let scale = 4.0 * self.design.arm * self.design.arm;
         self.legs.iter().all(|leg| {
             let d = x + (leg.plate_offset - leg.motor);
             let s = d.norm_squared() + offset;
@@ -119,12 +119,13 @@ fn segment_distance(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::presets;
     use crate::rotary_delta::Placement;
     use pkm_traits::InverseKinematics;
     use proptest::prelude::*;
 
     fn nuwar() -> RotaryDelta {
-        RotaryDelta::nuwar(Placement::canonical()).unwrap()
+        RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap()
     }
 
     /// Brute force: the minimum over a fine grid of both parameters.
@@ -180,7 +181,7 @@ mod tests {
     fn ball_joints_of_the_delta_are_unbent_in_the_symmetric_plane() {
         // The Delta's forearm i lies in the plane normal to e_i when the plate is on the
         // centreline, so every bend is zero there.
-        let m = RotaryDelta::delta(Placement::canonical()).unwrap();
+        let m = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
         let p = Vector3::new(0.0, 0.0, -0.8);
         let q = m.inverse_kinematics(&p, ElbowMode::Out).unwrap();
         let bend = m.passive_joint_angles(&p, &q).unwrap();

@@ -18,8 +18,8 @@ impl Tsai3Dof {
     /// # Example
     /// ```
     /// use nalgebra::Vector3;
-    /// use pkm_mechanisms::Tsai3Dof;
-    /// let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+    /// use pkm_mechanisms::{Tsai3Dof, presets};
+    /// let design = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     /// let p = Vector3::new(0.1, -0.2, 0.5);
     /// let lanes = design.jacobian_eq7_lanes(&[p, Vector3::new(0.0, 0.0, 5.0)]);
     /// let scalar = design.jacobian_eq7(&p).unwrap();
@@ -85,12 +85,13 @@ impl Tsai3Dof {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::float_cmp)]
     use super::*;
+    use crate::{TsaiDesign, presets};
     use proptest::prelude::*;
 
     fn designs() -> [Tsai3Dof; 2] {
         [
-            Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap(),
-            Tsai3Dof::from_degrees(0.3, 0.5, 0.1, -0.05, 100.0, 230.0).unwrap(),
+            Tsai3Dof::new(presets::stamper_max_gci()).unwrap(),
+            Tsai3Dof::new(TsaiDesign::from_deg(0.3, 0.5, 0.1, -0.05, 100.0, 230.0)).unwrap(),
         ]
     }
 

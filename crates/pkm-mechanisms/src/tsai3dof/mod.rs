@@ -14,15 +14,58 @@ mod volume;
 pub use leg::{Elbow, LegAngles, LegBranch};
 
 use pkm_traits::DesignError;
+use serde::{Deserialize, Serialize};
 
-/// A validated design $(a, b, d + e, c - r, \phi_2, \phi_3)$ of the Tsai platform, $\phi_1 = 0$.
+/// The design $(a, b, d + e, c - r, \phi_2, \phi_3)$ of the Tsai platform, $\phi_1 = 0$: lengths
+/// in metres (or any one length unit), angles in radians. Stamper's maximum-GCI design is
+/// [`crate::presets::stamper_max_gci`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TsaiDesign {
+    /// Lower arm length $a = |A_iB_i|$ (m); positive.
+    pub a: f64,
+    /// Parallelogram length $b = |C_iD_i|$ (m); positive.
+    pub b: f64,
+    /// Offset sum $d + e$ along the arm direction (m); at least 0.
+    pub d_plus_e: f64,
+    /// Platform minus base radius $c - r$ (m); finite.
+    pub c_minus_r: f64,
+    /// Azimuth $\phi_2$ of leg 2 about $Z$ (rad); finite.
+    pub phi2: f64,
+    /// Azimuth $\phi_3$ of leg 3 about $Z$ (rad); finite.
+    pub phi3: f64,
+}
+
+impl TsaiDesign {
+    /// The design with the leg azimuths $\phi_2, \phi_3$ in degrees, as the paper prints them.
+    pub fn from_deg(
+        a: f64,
+        b: f64,
+        d_plus_e: f64,
+        c_minus_r: f64,
+        phi2_deg: f64,
+        phi3_deg: f64,
+    ) -> Self {
+        Self {
+            a,
+            b,
+            d_plus_e,
+            c_minus_r,
+            phi2: phi2_deg.to_radians(),
+            phi3: phi3_deg.to_radians(),
+        }
+    }
+}
+
+/// A validated Tsai platform.
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::Tsai3Dof;
-/// let design = Tsai3Dof::from_degrees(0.44, 0.56, 0.0, 0.0, 120.0, 240.0).unwrap();
+/// use pkm_mechanisms::{Tsai3Dof, TsaiDesign, presets};
+/// let design = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
 /// assert!((design.reach() - 1.0).abs() < 1e-12);
-/// assert!(Tsai3Dof::new(-0.1, 0.5, 0.0, 0.0, 1.0, 2.0).is_err());
+/// let negative_arm = TsaiDesign { a: -0.1, ..presets::stamper_max_gci() };
+/// assert!(Tsai3Dof::new(negative_arm).is_err());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tsai3Dof {
@@ -36,21 +79,14 @@ pub struct Tsai3Dof {
 }
 
 impl Tsai3Dof {
-    /// A design with leg angles $\phi_2, \phi_3$ in radians.
+    /// Builds the platform of `design`.
     ///
     /// # Errors
     /// [`DesignError`] when $a \le 0$, $b \le 0$, $d + e < 0$ or any value is not finite.
-    pub fn new(
-        a: f64,
-        b: f64,
-        d_plus_e: f64,
-        c_minus_r: f64,
-        phi2: f64,
-        phi3: f64,
-    ) -> Result<Self, DesignError> {
-        let a = DesignError::require_positive("a", a)?;
-        let b = DesignError::require_positive("b", b)?;
-        let s = DesignError::require_finite("d+e", d_plus_e)?;
+    pub fn new(design: TsaiDesign) -> Result<Self, DesignError> {
+        let a = DesignError::require_positive("a", design.a)?;
+        let b = DesignError::require_positive("b", design.b)?;
+        let s = DesignError::require_finite("d+e", design.d_plus_e)?;
         if s < 0.0 {
             return Err(DesignError {
                 parameter: "d+e",
@@ -58,11 +94,11 @@ impl Tsai3Dof {
                 requirement: "must be >= 0",
             });
         }
-        let h = DesignError::require_finite("c-r", c_minus_r)?;
+        let h = DesignError::require_finite("c-r", design.c_minus_r)?;
         let phi = [
             0.0,
-            DesignError::require_finite("phi_2", phi2)?,
-            DesignError::require_finite("phi_3", phi3)?,
+            DesignError::require_finite("phi_2", design.phi2)?,
+            DesignError::require_finite("phi_3", design.phi3)?,
         ];
         let trig = phi.map(|p| (p.cos(), p.sin()));
         Ok(Self {
@@ -75,26 +111,16 @@ impl Tsai3Dof {
         })
     }
 
-    /// As [`Tsai3Dof::new`] with $\phi_2, \phi_3$ in degrees, as the paper prints them.
-    ///
-    /// # Errors
-    /// As [`Tsai3Dof::new`].
-    pub fn from_degrees(
-        a: f64,
-        b: f64,
-        d_plus_e: f64,
-        c_minus_r: f64,
-        phi2_deg: f64,
-        phi3_deg: f64,
-    ) -> Result<Self, DesignError> {
-        Self::new(
-            a,
-            b,
-            d_plus_e,
-            c_minus_r,
-            phi2_deg.to_radians(),
-            phi3_deg.to_radians(),
-        )
+    /// The design the platform was built from.
+    pub fn design(&self) -> TsaiDesign {
+        TsaiDesign {
+            a: self.a,
+            b: self.b,
+            d_plus_e: self.s,
+            c_minus_r: self.h,
+            phi2: self.phi[1],
+            phi3: self.phi[2],
+        }
     }
 
     /// Lower arm length $a = |A_iB_i|$.

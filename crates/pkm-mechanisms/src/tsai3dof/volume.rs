@@ -21,9 +21,10 @@ impl Tsai3Dof {
     ///
     /// # Example
     /// ```
-    /// use pkm_mechanisms::Tsai3Dof;
+    /// use pkm_mechanisms::{Tsai3Dof, TsaiDesign};
     /// // Coincident legs, d+e = c-r = 0: W = π² a b² (Pappus).
-    /// let d = Tsai3Dof::new(0.3, 0.7, 0.0, 0.0, 0.0, 0.0).unwrap();
+    /// let coincident = TsaiDesign { a: 0.3, b: 0.7, d_plus_e: 0.0, c_minus_r: 0.0, phi2: 0.0, phi3: 0.0 };
+    /// let d = Tsai3Dof::new(coincident).unwrap();
     /// let exact = std::f64::consts::PI.powi(2) * 0.3 * 0.49;
     /// assert!((d.column_volume(400).unwrap() / exact - 1.0).abs() < 1e-3);
     /// assert!(d.column_volume(0).is_err() && d.column_volume(usize::MAX).is_err());

@@ -12,7 +12,7 @@ use nalgebra::{SVector, Vector3};
 use pkm_dynamics_hamilton::forward::{AccelerationForm, ForwardForm, HamiltonForm, SampledTorques};
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing, lagrange_torques};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
-use pkm_dynamics_hamilton::{DynamicsError, ExtendedModel};
+use pkm_dynamics_hamilton::{ConfigurationError, ExtendedModel};
 use pkm_integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, Solution, integrate};
 use pkm_mechanisms::Placement;
 
@@ -52,7 +52,7 @@ fn simulate<F: ForwardForm>(
     context: &Context<'_>,
 ) -> Result<Solution<13>, ExperimentError> {
     let m = trajectory.sample(0.0);
-    let s = form.model().joint_motion(&m.p, &m.v, &m.a)?;
+    let s = (form.model().joint_motion(&m.p, &m.v, &m.a)).map_err(|e| e.at(0.0))?;
     let z0 = form.initial_state(&s.q, &s.qd);
     let out = OutputTimes::Uniform(DT);
     Ok(integrate(
@@ -95,7 +95,7 @@ fn exact_torque<'a>(
         let torque = m
             .joint_motion(&c.p, &c.v, &c.a)
             .and_then(|s| lagrange_torques(m, &s.q, &s.qd, &s.qdd));
-        torque.unwrap_or_else(|_: DynamicsError| Vector3::repeat(f64::NAN))
+        torque.unwrap_or_else(|_: ConfigurationError| Vector3::repeat(f64::NAN))
     }
 }
 

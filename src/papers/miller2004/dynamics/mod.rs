@@ -5,16 +5,18 @@
 //! choices (motor-plane height, azimuth of motor 1, reading of the cycle time) are reported
 //! beside it. Evidence for every erratum: `docs/conventions.md`, "Miller 2004 §3: dynamics".
 
+mod cycle;
 mod forward;
 mod start_angle_search;
 mod start_angles;
 mod torques;
 
 use crate::papers::{Experiment, ExperimentError, LinePlot, LineSeries, SeriesStyle};
+pub use cycle::{CycleReading, pick_and_place};
 use pkm_draw::{Axis, PathKind, Scene};
-use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
+use pkm_dynamics_hamilton::trajectory::Trajectory;
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, Skeleton};
+use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, Skeleton, presets};
 
 /// The experiments of this part of the paper.
 pub fn experiments() -> Vec<Experiment> {
@@ -42,8 +44,8 @@ const CYCLE_TIME: f64 = 0.5;
 
 fn mechanism(robot: Robot, placement: Placement) -> Result<RotaryDelta, ExperimentError> {
     Ok(match robot {
-        Robot::Nuwar => RotaryDelta::nuwar(placement)?,
-        Robot::Delta => RotaryDelta::delta(placement)?,
+        Robot::Nuwar => RotaryDelta::new(presets::nuwar(placement))?,
+        Robot::Delta => RotaryDelta::new(presets::miller_delta(placement))?,
     })
 }
 
@@ -91,10 +93,7 @@ fn drawing(
 }
 
 fn canonical_trajectory() -> Result<Trajectory, ExperimentError> {
-    Ok(Trajectory::pick_and_place(
-        CYCLE_TIME,
-        CycleReading::RoundTrip,
-    )?)
+    Ok(pick_and_place(CYCLE_TIME, CycleReading::RoundTrip)?)
 }
 
 /// The canonical placement with motor 1 at `azimuth_deg`.

@@ -827,7 +827,7 @@ mod tests {
     #![allow(clippy::unwrap_used, clippy::expect_used)]
 
     use super::*;
-    use pkm_mechanisms::{Placement, RotaryDelta};
+    use pkm_mechanisms::{Placement, RotaryDelta, presets};
     use pkm_traits::InverseKinematics;
 
     fn start() -> Vector3<f64> {
@@ -843,7 +843,7 @@ mod tests {
                     motor_plane_z: z0,
                     azimuth_motor_1: (30.0 * azimuth_step as f64).to_radians(),
                 };
-                let nuwar = RotaryDelta::nuwar(placement).unwrap();
+                let nuwar = RotaryDelta::new(presets::nuwar(placement)).unwrap();
                 let convention = Convention {
                     motor_1_step: azimuth_step,
                     ..Convention::canonical(AlphaValue::Printed)

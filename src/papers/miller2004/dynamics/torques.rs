@@ -2,13 +2,14 @@
 //! torques along it (Fig. 8) by Hamilton and Lagrange, and the Delta/NUWAR ratio.
 
 use super::{CYCLE_TIME, DT, Robot, canonical_trajectory, drawing, lines, model, placement_at};
+use super::{CycleReading, pick_and_place};
 use crate::papers::{
     Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source, Table,
     Verdict,
 };
 use nalgebra::Vector3;
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm_dynamics_hamilton::trajectory::{CycleReading, Trajectory};
+use pkm_dynamics_hamilton::trajectory::Trajectory;
 use pkm_mechanisms::Placement;
 
 pub(super) const TRAJECTORY: Experiment = Experiment {
@@ -55,10 +56,7 @@ fn max_acceleration(trajectory: &Trajectory) -> f64 {
 fn run_trajectory(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let source = Source::new(TRAJECTORY.id, Paper::Miller2004, "§3.5, trajectory");
     let canonical = max_acceleration(&canonical_trajectory()?);
-    let each_leg = max_acceleration(&Trajectory::pick_and_place(
-        CYCLE_TIME,
-        CycleReading::EachLeg,
-    )?);
+    let each_leg = max_acceleration(&pick_and_place(CYCLE_TIME, CycleReading::EachLeg)?);
     // |p̈| scales as 1/T²: the leg time at which the canonical law reaches the printed value.
     let leg_time = CYCLE_TIME / 2.0 * (canonical / PAPER_MAX_ACCELERATION).sqrt();
     // Evidence: the sampled maximum is the closed form of the stated law (so the trajectory is

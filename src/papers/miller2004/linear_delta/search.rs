@@ -3,7 +3,9 @@
 
 use super::evaluation::{Eta1Memo, Eta1Rule, Utility};
 use crate::papers::{Context, ExperimentError, Mode};
-use pkm_optimizers::{GridAxis, LatticeLevel, lattice_refined_search, lattice_window};
+use pkm_optimizers::{
+    GridAxis, GridSearch, LatticeLevel, Sense, lattice_refined_search, lattice_window,
+};
 use pkm_traits::Bounds;
 
 /// Step of the coarse grid.
@@ -93,11 +95,23 @@ pub fn optimise(
         .map(|b| GridAxis::with_step(b.lower(), b.upper(), COARSE_STEP))
         .collect::<Result<Vec<_>, _>>()?;
     let coarse_utility = utility(rules.coarse);
-    let middle =
-        lattice_refined_search(&coarse_utility, &coarse, &[MIDDLE], false, context.progress)?;
+    let coarse = GridSearch::new(coarse)?;
+    let middle = lattice_refined_search(
+        &coarse_utility,
+        Sense::Maximise,
+        &coarse,
+        &[MIDDLE],
+        context.progress,
+    )?;
     let fine_utility = utility(rules.fine);
-    let window = lattice_window(&bounds, &coarse, &middle.best, &FINE)?;
-    let fine = lattice_refined_search(&fine_utility, &window, &[FINE], false, context.progress)?;
+    let window = GridSearch::new(lattice_window(&bounds, coarse.axes(), &middle.best, &FINE)?)?;
+    let fine = lattice_refined_search(
+        &fine_utility,
+        Sense::Maximise,
+        &window,
+        &[FINE],
+        context.progress,
+    )?;
     let design: [f64; 4] = std::array::from_fn(|k| {
         if bounds[k].width() > 0.0 {
             on_lattice(fine.best[k])

@@ -8,7 +8,7 @@ mod figures;
 mod readings;
 
 use crate::papers::{Comparison, Context, Experiment, ExperimentError, Outcome, Paper, Source};
-use pkm_mechanisms::{Placement, RotaryDelta};
+use pkm_mechanisms::{Placement, RotaryDelta, presets};
 use readings::{Reading, SweepResult};
 
 /// The experiments of §2.1.
@@ -46,10 +46,11 @@ fn study_placement() -> Placement {
 }
 
 fn design(alpha_deg: f64, beta_deg: f64) -> Result<RotaryDelta, ExperimentError> {
-    Ok(RotaryDelta::prototype(
-        (alpha_deg.to_radians(), beta_deg.to_radians()),
+    Ok(RotaryDelta::new(presets::miller_prototype(
+        alpha_deg.to_radians(),
+        beta_deg.to_radians(),
         study_placement(),
-    )?)
+    ))?)
 }
 
 /// The largest $|e_i \cdot e_j|$ over the three axis pairs and $\beta \in \{0°, 1°, …, 90°\}$,
@@ -58,7 +59,11 @@ fn axis_products(alpha: f64) -> Result<(f64, f64), ExperimentError> {
     let closed_form = alpha.sin().powi(2) - 0.5 * alpha.cos().powi(2);
     let (mut largest, mut deviation) = (0.0f64, 0.0f64);
     for beta in 0..=90 {
-        let m = RotaryDelta::prototype((alpha, f64::from(beta).to_radians()), study_placement())?;
+        let m = RotaryDelta::new(presets::miller_prototype(
+            alpha,
+            f64::from(beta).to_radians(),
+            study_placement(),
+        ))?;
         let legs = m.legs();
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
             let dot = legs[i].e.dot(&legs[j].e);

@@ -1,0 +1,82 @@
+//! The subcommands. Adding one is a module here with an `Args` type (clap `Args`) that
+//! implements [`Run`], plus one line in [`subcommands!`]'s invocation below.
+
+use crate::CliError;
+use crate::progress::Spinner;
+use std::path::PathBuf;
+
+/// What every command receives: where to write and how to report progress.
+#[derive(Debug)]
+pub struct Context {
+    /// The output directory (`--out`).
+    pub out: PathBuf,
+    /// Progress bar and Ctrl-C flag.
+    pub progress: Spinner,
+}
+
+/// What a command tells the user when it is done (printed by `main`, one line each).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Report {
+    /// Lines of the summary.
+    pub lines: Vec<String>,
+}
+
+impl Report {
+    /// Adds a line.
+    pub fn line(&mut self, line: impl Into<String>) {
+        self.lines.push(line.into());
+    }
+}
+
+/// A subcommand's arguments know how to run it.
+pub trait Run {
+    /// Runs the command.
+    ///
+    /// # Errors
+    /// Whatever stops the command; [`CliError::Cancelled`] on Ctrl-C.
+    fn run(&self, context: &Context) -> Result<Report, CliError>;
+}
+
+/// Declares the subcommand modules, the [`Command`] enum with one variant per module (its
+/// `Args`), and the dispatch.
+macro_rules! subcommands {
+    ($($(#[$doc:meta])* $variant:ident => $module:ident,)*) => {
+        $(pub mod $module;)*
+
+        /// The subcommands of `pkm`.
+        #[derive(Debug, clap::Subcommand)]
+        pub enum Command {
+            $($(#[$doc])* $variant($module::Args),)*
+        }
+
+        impl Command {
+            /// The subcommand's name.
+            pub fn name(&self) -> &'static str {
+                match self {
+                    $(Self::$variant(_) => stringify!($module),)*
+                }
+            }
+
+            /// Runs the subcommand.
+            ///
+            /// # Errors
+            /// As the subcommand's [`Run::run`].
+            pub fn run(&self, context: &Context) -> Result<Report, CliError> {
+                match self {
+                    $(Self::$variant(args) => Run::run(args, context),)*
+                }
+            }
+        }
+    };
+}
+
+subcommands! {
+    /// Workspace volume ± standard error, η and GCI, slices and cross-sections of one design.
+    Workspace => workspace,
+    /// Exhaustive grid over design variables, weighted utility, refinement, landscape.
+    Sweep => sweep,
+    /// Non-dominated designs of two or more indices and the weights that select each.
+    Pareto => pareto,
+    /// Joins the outputs of `--shard 1/N … N/N` into the result of a single run.
+    Merge => merge,
+}

@@ -1,0 +1,167 @@
+//! What a command leaves in `--out DIR`: `results.json` (a versioned schema with the study file
+//! echoed in it), CSV tables and SVG figures, each written atomically (a temporary file renamed
+//! into place), so an interrupted run never leaves a half-written file.
+//!
+//! Nothing that depends on the run (time, thread count, host) goes into `results.json`: two
+//! runs of the same study, or a sharded run and its merge, write the same bytes.
+
+use crate::CliError;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The schema of `results.json`; bumped on any incompatible change.
+pub const SCHEMA: &str = "pkm-cli/results/v1";
+
+/// The study as echoed in `results.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StudyEcho {
+    /// The path the study was read from, as given.
+    pub file: String,
+    /// Its full text.
+    pub text: String,
+}
+
+/// The envelope of every `results.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Results<R> {
+    /// [`SCHEMA`].
+    pub schema: String,
+    /// The command that wrote it.
+    pub command: String,
+    /// Version of pkm-cli.
+    pub version: String,
+    /// The study file.
+    pub study: StudyEcho,
+    /// The command's result.
+    pub result: R,
+    /// The other files written beside it, in the order written.
+    pub files: Vec<String>,
+}
+
+/// The output directory of one command.
+#[derive(Debug)]
+pub struct Output {
+    dir: PathBuf,
+    files: Vec<String>,
+}
+
+impl Output {
+    /// Creates `dir` (and its parents) if needed.
+    ///
+    /// # Errors
+    /// [`CliError::Io`] when it cannot be created or is not a directory.
+    pub fn create(dir: &Path) -> Result<Self, CliError> {
+        std::fs::create_dir_all(dir).map_err(|e| CliError::io(dir, e))?;
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            files: Vec::new(),
+        })
+    }
+
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The path of `name` in the directory.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// Writes `bytes` to `name` atomically and records it.
+    ///
+    /// # Errors
+    /// [`CliError::Io`].
+    pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<PathBuf, CliError> {
+        let path = self.path(name);
+        let temporary = self.path(&format!(".{name}.partial"));
+        std::fs::write(&temporary, bytes).map_err(|e| CliError::io(&temporary, e))?;
+        std::fs::rename(&temporary, &path).map_err(|e| CliError::io(&path, e))?;
+        if !self.files.iter().any(|f| f == name) {
+            self.files.push(name.to_owned());
+        }
+        Ok(path)
+    }
+
+    /// Writes a CSV table: `header`, then `rows` (each already formatted).
+    ///
+    /// # Errors
+    /// [`CliError::Io`].
+    pub fn write_csv(
+        &mut self,
+        name: &str,
+        header: &[impl AsRef<str>],
+        rows: impl IntoIterator<Item = Vec<String>>,
+    ) -> Result<PathBuf, CliError> {
+        let mut text = header
+            .iter()
+            .map(AsRef::as_ref)
+            .collect::<Vec<_>>()
+            .join(",");
+        text.push('\n');
+        for row in rows {
+            let _ = writeln!(text, "{}", row.join(","));
+        }
+        self.write(name, text.as_bytes())
+    }
+
+    /// Renders an SVG with `draw` into `name` (through a temporary file) and records it.
+    ///
+    /// # Errors
+    /// [`CliError::Io`], or [`CliError::Invalid`] with plotters' message.
+    pub fn write_svg(
+        &mut self,
+        name: &str,
+        draw: impl FnOnce(&Path) -> Result<(), String>,
+    ) -> Result<PathBuf, CliError> {
+        let temporary = self.path(&format!(".{name}.partial.svg"));
+        draw(&temporary).map_err(|e| CliError::Invalid(format!("{name}: {e}")))?;
+        let path = self.path(name);
+        std::fs::rename(&temporary, &path).map_err(|e| CliError::io(&path, e))?;
+        if !self.files.iter().any(|f| f == name) {
+            self.files.push(name.to_owned());
+        }
+        Ok(path)
+    }
+
+    /// Writes `results.json` last, listing every file written before it.
+    ///
+    /// # Errors
+    /// [`CliError::Io`]; [`CliError::Invalid`] when the result cannot be serialised.
+    pub fn finish<R: Serialize>(
+        mut self,
+        command: &str,
+        study: StudyEcho,
+        result: R,
+    ) -> Result<PathBuf, CliError> {
+        let results = Results {
+            schema: SCHEMA.to_owned(),
+            command: command.to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            study,
+            result,
+            files: self.files.clone(),
+        };
+        let mut json = serde_json::to_string_pretty(&results)
+            .map_err(|e| CliError::Invalid(format!("results.json: {e}")))?;
+        json.push('\n');
+        self.write("results.json", json.as_bytes())
+    }
+}
+
+/// Formats a value for a CSV cell: shortest round-trip decimal, empty for none.
+pub fn cell(v: Option<f64>) -> String {
+    v.map_or_else(String::new, |v| format!("{v}"))
+}
+
+/// A number for a summary line: at most 6 decimals, trailing zeros dropped (files keep every
+/// digit).
+pub fn short(v: f64) -> String {
+    let text = format!("{v:.6}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
+}

@@ -1,0 +1,537 @@
+//! The one place where a study's `[mechanism.*]` and `[constraints]` tables become library
+//! values: the mechanism with its working modes, its workspace constraints, its reach region
+//! and the design variables a sweep may vary.
+//!
+//! Lengths are metres, angles in keys ending in `_deg` degrees (converted to radians here),
+//! ratios dimensionless.
+
+use super::units::{
+    ConeDegrees, DegreeRange, Degrees, MetreRange, Metres, NonNegativeMetres, PositiveMetres, Real,
+};
+use crate::CliError;
+use nalgebra::Vector3;
+use pkm_mechanisms::{
+    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
+};
+use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
+use pkm_workspace_indices::{Region, Workspace};
+use serde::{Deserialize, Serialize};
+
+/// The `[mechanism.<kind>]` table: exactly one kind.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MechanismSpec {
+    /// Rotary Delta / NUWAR family (Miller 2004): motors inclined by α and turned by β.
+    RotaryDelta(RotaryDeltaSpec),
+    /// The Tsai 3-DOF translational platform (Stamper, Tsai & Walsh 1997).
+    Tsai(TsaiSpec),
+    /// The Linear Delta (Miller 2004 §2.2): three parallel rails along x.
+    LinearDelta(LinearDeltaSpec),
+}
+
+/// An elbow branch of the rotary Delta's arms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElbowSpec {
+    /// Elbow away from the centreline (the canonical branch).
+    Out,
+    /// The other branch.
+    In,
+}
+
+/// `[mechanism.rotary_delta]`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotaryDeltaSpec {
+    /// Radial distance R of the motor points from the centreline (m).
+    pub base_radius: PositiveMetres,
+    /// Radial offset r of the plate joint pairs (m).
+    pub plate_offset: Metres,
+    /// Arm length La (m).
+    pub arm: PositiveMetres,
+    /// Forearm length Lb (m).
+    pub forearm: PositiveMetres,
+    /// Motor-axis inclination α (degrees); 0 for the Delta, 35.26 for NUWAR.
+    #[serde(default = "zero_deg")]
+    pub alpha_deg: Degrees,
+    /// Motor-axis turn β about the vertical (degrees); 0 for the Delta, 60 for NUWAR.
+    #[serde(default = "zero_deg")]
+    pub beta_deg: Degrees,
+    /// Height z0 of the motor plane (m).
+    #[serde(default = "zero_m")]
+    pub motor_plane_z: Metres,
+    /// Azimuth of motor 1 about the vertical (degrees).
+    #[serde(default = "zero_deg")]
+    pub azimuth_motor_1_deg: Degrees,
+    /// Turn each plate joint pair with its motor by β (default: radial).
+    #[serde(default)]
+    pub turned_plate_offsets: bool,
+    /// Allowed elbow branches (default `["out"]`).
+    #[serde(default = "default_elbows")]
+    pub elbow: Vec<ElbowSpec>,
+}
+
+/// A Tsai leg's θ1 root.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TsaiElbowSpec {
+    /// The root with the larger cos θ1 (elbow radially outward).
+    Out,
+    /// The other root.
+    In,
+}
+
+/// `[mechanism.tsai]`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TsaiSpec {
+    /// Lower arm length a (m).
+    pub a: PositiveMetres,
+    /// Parallelogram length b (m).
+    pub b: PositiveMetres,
+    /// Offset sum d + e (m).
+    #[serde(default = "zero_nonneg")]
+    pub d_plus_e: NonNegativeMetres,
+    /// Platform minus base radius c − r (m).
+    #[serde(default = "zero_m")]
+    pub c_minus_r: Metres,
+    /// Azimuth of leg 2 (degrees; leg 1 is at 0).
+    #[serde(default = "deg_120")]
+    pub phi2_deg: Degrees,
+    /// Azimuth of leg 3 (degrees).
+    #[serde(default = "deg_240")]
+    pub phi3_deg: Degrees,
+    /// Allowed working modes, one elbow per leg (default `[["out", "out", "out"]]`).
+    #[serde(default = "default_tsai_modes")]
+    pub modes: Vec<[TsaiElbowSpec; 3]>,
+}
+
+/// `[mechanism.linear_delta]`: the ratios of Miller 2004, Table 1, and the scale YR.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinearDeltaSpec {
+    /// L1/YR, outer arm length over actuator separation (≥ 1).
+    pub l1_over_yr: Real,
+    /// YA/YR, horizontal eccentricity of the centre rail (|YA/YR| < 1).
+    pub ya_over_yr: Real,
+    /// ZR/YR, vertical eccentricity of the centre rail.
+    pub zr_over_yr: Real,
+    /// L2/L1, centre arm over outer arm length (> 0).
+    pub l2_over_l1: Real,
+    /// The actuator separation YR (m), the length unit of the ratios.
+    #[serde(default = "one_m")]
+    pub yr: PositiveMetres,
+    /// Which way each arm leans along the rails (default: the paper's `[true, true, false]`).
+    #[serde(default = "paper_leans")]
+    pub leans_positive: [bool; 3],
+}
+
+fn zero_deg() -> Degrees {
+    Degrees(0.0)
+}
+fn deg_120() -> Degrees {
+    Degrees(120.0)
+}
+fn deg_240() -> Degrees {
+    Degrees(240.0)
+}
+fn zero_m() -> Metres {
+    Metres(0.0)
+}
+fn zero_nonneg() -> NonNegativeMetres {
+    NonNegativeMetres(0.0)
+}
+fn one_m() -> PositiveMetres {
+    PositiveMetres(1.0)
+}
+fn default_elbows() -> Vec<ElbowSpec> {
+    vec![ElbowSpec::Out]
+}
+fn default_tsai_modes() -> Vec<[TsaiElbowSpec; 3]> {
+    vec![[TsaiElbowSpec::Out; 3]]
+}
+fn paper_leans() -> [bool; 3] {
+    LinearDeltaMode::PAPER.leans_positive
+}
+
+/// The `[constraints]` table: workspace limits in the units of their keys.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintsSpec {
+    /// Positions at or below this height (m).
+    pub below_z: Option<Metres>,
+    /// Half-spaces n·x ≤ offset.
+    #[serde(default)]
+    pub half_spaces: Vec<HalfSpaceSpec>,
+    /// Every revolute actuated joint within `[lower, upper]` (degrees).
+    pub joint_range_deg: Option<DegreeRange>,
+    /// Every prismatic actuated joint within `[lower, upper]` (m).
+    pub joint_range: Option<MetreRange>,
+    /// One revolute actuated joint's range (degrees).
+    #[serde(default)]
+    pub joint_ranges_deg: Vec<JointRangeDegSpec>,
+    /// One prismatic actuated joint's range (m).
+    #[serde(default)]
+    pub joint_ranges: Vec<JointRangeSpec>,
+    /// Largest bend of the passive ball joints (degrees).
+    pub passive_cone_deg: Option<ConeDegrees>,
+    /// Smallest distance between neighbouring legs' links (m).
+    pub leg_clearance: Option<NonNegativeMetres>,
+}
+
+/// A half-space n·x ≤ offset.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct HalfSpaceSpec {
+    /// Outward normal n (dimensionless, any length).
+    pub normal: [Real; 3],
+    /// Offset (m, for a unit normal).
+    pub offset: Metres,
+}
+
+/// The range of one revolute joint (from 0), degrees.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointRangeDegSpec {
+    /// Joint number, from 0.
+    pub joint: usize,
+    /// `[lower, upper]` (degrees).
+    pub range_deg: DegreeRange,
+}
+
+/// The range of one prismatic joint (from 0), metres.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointRangeSpec {
+    /// Joint number, from 0.
+    pub joint: usize,
+    /// `[lower, upper]` (m).
+    pub range: MetreRange,
+}
+
+/// Receives a built workspace, whatever the mechanism type (closures cannot be generic).
+pub trait WorkspaceVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Works on `workspace`.
+    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(
+        self,
+        workspace: &Workspace<'_, M>,
+    ) -> Self::Output;
+}
+
+/// Why a design has no workspace: an invalid design (recorded as infeasible in sweeps) or a
+/// constraint the mechanism cannot evaluate (an error of the study).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BuildError {
+    /// The design parameters are invalid (the library's reason).
+    Design(String),
+    /// A constraint does not apply to this mechanism.
+    Constraint(String),
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Design(m) | Self::Constraint(m) => f.write_str(m),
+        }
+    }
+}
+
+/// Whether a mechanism's actuated joints are revolute (degrees in study files) or prismatic (m).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum JointKind {
+    Revolute,
+    Prismatic,
+}
+
+impl MechanismSpec {
+    /// The kind's key in study files.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::RotaryDelta(_) => "rotary_delta",
+            Self::Tsai(_) => "tsai",
+            Self::LinearDelta(_) => "linear_delta",
+        }
+    }
+
+    /// Names of the parameters a sweep may vary (the keys of the table, in their units).
+    pub fn variables(&self) -> &'static [&'static str] {
+        match self {
+            Self::RotaryDelta(_) => &[
+                "base_radius",
+                "plate_offset",
+                "arm",
+                "forearm",
+                "alpha_deg",
+                "beta_deg",
+                "motor_plane_z",
+                "azimuth_motor_1_deg",
+            ],
+            Self::Tsai(_) => &["a", "b", "d_plus_e", "c_minus_r", "phi2_deg", "phi3_deg"],
+            Self::LinearDelta(_) => &["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1", "yr"],
+        }
+    }
+
+    /// Sets parameter `name` to `value` (in the key's unit). The value is checked when the
+    /// mechanism is built, so a sweep records an invalid node as infeasible.
+    ///
+    /// # Errors
+    /// The list of valid names when `name` is not one of [`MechanismSpec::variables`].
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let slot: &mut f64 = match (self, name) {
+            (Self::RotaryDelta(s), "base_radius") => &mut s.base_radius.0,
+            (Self::RotaryDelta(s), "plate_offset") => &mut s.plate_offset.0,
+            (Self::RotaryDelta(s), "arm") => &mut s.arm.0,
+            (Self::RotaryDelta(s), "forearm") => &mut s.forearm.0,
+            (Self::RotaryDelta(s), "alpha_deg") => &mut s.alpha_deg.0,
+            (Self::RotaryDelta(s), "beta_deg") => &mut s.beta_deg.0,
+            (Self::RotaryDelta(s), "motor_plane_z") => &mut s.motor_plane_z.0,
+            (Self::RotaryDelta(s), "azimuth_motor_1_deg") => &mut s.azimuth_motor_1_deg.0,
+            (Self::Tsai(s), "a") => &mut s.a.0,
+            (Self::Tsai(s), "b") => &mut s.b.0,
+            (Self::Tsai(s), "d_plus_e") => &mut s.d_plus_e.0,
+            (Self::Tsai(s), "c_minus_r") => &mut s.c_minus_r.0,
+            (Self::Tsai(s), "phi2_deg") => &mut s.phi2_deg.0,
+            (Self::Tsai(s), "phi3_deg") => &mut s.phi3_deg.0,
+            (Self::LinearDelta(s), "l1_over_yr") => &mut s.l1_over_yr.0,
+            (Self::LinearDelta(s), "ya_over_yr") => &mut s.ya_over_yr.0,
+            (Self::LinearDelta(s), "zr_over_yr") => &mut s.zr_over_yr.0,
+            (Self::LinearDelta(s), "l2_over_l1") => &mut s.l2_over_l1.0,
+            (Self::LinearDelta(s), "yr") => &mut s.yr.0,
+            (spec, _) => {
+                return Err(format!(
+                    "`{name}` is not a design variable of {}: expected one of {}",
+                    spec.kind(),
+                    spec.variables().join(", ")
+                ));
+            }
+        };
+        *slot = value;
+        Ok(())
+    }
+
+    /// The Linear Delta's ratios `[L1/YR, YA/YR, ZR/YR, L2/L1]` (its cross-section indices
+    /// η1, η2 and the area are functions of these alone), `None` for other mechanisms.
+    pub fn linear_delta_ratios(&self) -> Option<[f64; 4]> {
+        match self {
+            Self::LinearDelta(s) => Some([
+                s.l1_over_yr.0,
+                s.ya_over_yr.0,
+                s.zr_over_yr.0,
+                s.l2_over_l1.0,
+            ]),
+            _ => None,
+        }
+    }
+
+    fn joint_kind(&self) -> JointKind {
+        match self {
+            Self::LinearDelta(_) => JointKind::Prismatic,
+            Self::RotaryDelta(_) | Self::Tsai(_) => JointKind::Revolute,
+        }
+    }
+
+    /// The library constraints of `spec` (SI units, radians).
+    ///
+    /// # Errors
+    /// A message when a joint range is given in the wrong unit for this mechanism's joints
+    /// or the library refuses a value.
+    pub fn constraints(&self, spec: &ConstraintsSpec) -> Result<Vec<WorkspaceConstraint>, String> {
+        let kind = self.joint_kind();
+        let wrong_unit = |key: &str, use_key: &str| {
+            format!(
+                "{key}: the actuated joints of {} are {}; use {use_key}",
+                self.kind(),
+                match kind {
+                    JointKind::Revolute => "revolute (angles in degrees)",
+                    JointKind::Prismatic => "prismatic (carriage positions in metres)",
+                }
+            )
+        };
+        let library = |e: pkm_traits::ConstraintError| e.to_string();
+        let mut out = Vec::new();
+        if let Some(z) = spec.below_z {
+            out.push(WorkspaceConstraint::below(z.0).map_err(library)?);
+        }
+        for h in &spec.half_spaces {
+            let normal = Vector3::new(h.normal[0].0, h.normal[1].0, h.normal[2].0);
+            out.push(WorkspaceConstraint::half_space(normal, h.offset.0).map_err(library)?);
+        }
+        match (kind, spec.joint_range_deg, spec.joint_range) {
+            (JointKind::Prismatic, Some(_), _) => {
+                return Err(wrong_unit("joint_range_deg", "joint_range"));
+            }
+            (JointKind::Revolute, _, Some(_)) => {
+                return Err(wrong_unit("joint_range", "joint_range_deg"));
+            }
+            (_, Some(r), _) => out.push(
+                WorkspaceConstraint::joint_range(r.lower.to_radians(), r.upper.to_radians())
+                    .map_err(library)?,
+            ),
+            (_, None, Some(r)) => {
+                out.push(WorkspaceConstraint::joint_range(r.lower, r.upper).map_err(library)?);
+            }
+            (_, None, None) => {}
+        }
+        if kind == JointKind::Prismatic && !spec.joint_ranges_deg.is_empty() {
+            return Err(wrong_unit("joint_ranges_deg", "joint_ranges"));
+        }
+        if kind == JointKind::Revolute && !spec.joint_ranges.is_empty() {
+            return Err(wrong_unit("joint_ranges", "joint_ranges_deg"));
+        }
+        for j in &spec.joint_ranges_deg {
+            let (lo, hi) = (
+                j.range_deg.lower.to_radians(),
+                j.range_deg.upper.to_radians(),
+            );
+            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
+        }
+        for j in &spec.joint_ranges {
+            let (lo, hi) = (j.range.lower, j.range.upper);
+            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
+        }
+        if let Some(cone) = spec.passive_cone_deg {
+            out.push(WorkspaceConstraint::passive_cone(cone.0.to_radians()).map_err(library)?);
+        }
+        if let Some(d) = spec.leg_clearance {
+            out.push(WorkspaceConstraint::leg_clearance(d.0).map_err(library)?);
+        }
+        Ok(out)
+    }
+
+    /// A region that holds every reachable position of this design, when the mechanism has
+    /// one (the Linear Delta's rails are unbounded: its study gives the region).
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] for an invalid design.
+    pub fn reach_region(&self) -> Result<Option<Region>, BuildError> {
+        Ok(match self {
+            Self::RotaryDelta(s) => {
+                let delta = rotary_delta(s)?;
+                let (radius, half_height) = delta.reach_cylinder();
+                let z0 = delta.motor_plane_z();
+                Some(Region::axial_cylinder(
+                    radius,
+                    z0 - half_height,
+                    z0 + half_height,
+                ))
+            }
+            Self::Tsai(s) => Some(Region::Hemisphere {
+                center: Vector3::zeros(),
+                radius: tsai(s)?.reach(),
+            }),
+            Self::LinearDelta(_) => None,
+        })
+    }
+
+    /// Builds the mechanism and its workspace under `constraints` and hands it to `visitor`.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] for an invalid design, [`BuildError::Constraint`] for a
+    /// constraint this mechanism cannot evaluate.
+    pub fn with_workspace<V: WorkspaceVisitor>(
+        &self,
+        constraints: &[WorkspaceConstraint],
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        match self {
+            Self::RotaryDelta(s) => {
+                let modes: Vec<ElbowMode> = s
+                    .elbow
+                    .iter()
+                    .map(|e| match e {
+                        ElbowSpec::Out => ElbowMode::Out,
+                        ElbowSpec::In => ElbowMode::In,
+                    })
+                    .collect();
+                visit(&rotary_delta(s)?, &modes, constraints, visitor)
+            }
+            Self::Tsai(s) => {
+                let modes: Vec<[Elbow; 3]> = s
+                    .modes
+                    .iter()
+                    .map(|m| {
+                        m.map(|e| match e {
+                            TsaiElbowSpec::Out => Elbow::Out,
+                            TsaiElbowSpec::In => Elbow::In,
+                        })
+                    })
+                    .collect();
+                visit(&tsai(s)?, &modes, constraints, visitor)
+            }
+            Self::LinearDelta(s) => {
+                let mode = LinearDeltaMode {
+                    leans_positive: s.leans_positive,
+                };
+                visit(&linear_delta(s)?, &[mode], constraints, visitor)
+            }
+        }
+    }
+}
+
+fn visit<M: ConstrainedWorkspace<3, 3> + Sync, V: WorkspaceVisitor>(
+    mechanism: &M,
+    modes: &[M::WorkingMode],
+    constraints: &[WorkspaceConstraint],
+    visitor: V,
+) -> Result<V::Output, BuildError> {
+    let workspace = Workspace::new(mechanism, modes, constraints)
+        .map_err(|e| BuildError::Constraint(e.to_string()))?;
+    Ok(visitor.visit(&workspace))
+}
+
+fn design_error(e: pkm_traits::DesignError) -> BuildError {
+    BuildError::Design(e.to_string())
+}
+
+fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
+    let placement = Placement {
+        motor_plane_z: s.motor_plane_z.0,
+        azimuth_motor_1: s.azimuth_motor_1_deg.radians(),
+    };
+    let delta = RotaryDelta::new(RotaryDeltaDesign {
+        base_radius: s.base_radius.0,
+        plate_offset: s.plate_offset.0,
+        arm: s.arm.0,
+        forearm: s.forearm.0,
+        alpha: s.alpha_deg.radians(),
+        beta: s.beta_deg.radians(),
+        placement,
+    })
+    .map_err(design_error)?;
+    Ok(if s.turned_plate_offsets {
+        delta.with_turned_plate_offsets()
+    } else {
+        delta
+    })
+}
+
+fn tsai(s: &TsaiSpec) -> Result<Tsai3Dof, BuildError> {
+    Tsai3Dof::new(TsaiDesign::from_deg(
+        s.a.0,
+        s.b.0,
+        s.d_plus_e.0,
+        s.c_minus_r.0,
+        s.phi2_deg.0,
+        s.phi3_deg.0,
+    ))
+    .map_err(design_error)
+}
+
+fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
+    let ratios = LinearDeltaRatios {
+        l1_over_yr: s.l1_over_yr.0,
+        ya_over_yr: s.ya_over_yr.0,
+        zr_over_yr: s.zr_over_yr.0,
+        l2_over_l1: s.l2_over_l1.0,
+    };
+    LinearDelta::new(LinearDeltaDesign { ratios, yr: s.yr.0 }).map_err(design_error)
+}
+
+impl From<BuildError> for CliError {
+    fn from(e: BuildError) -> Self {
+        Self::Invalid(e.to_string())
+    }
+}

@@ -1,0 +1,292 @@
+//! Every study kind end to end through the `pkm` binary, its numbers checked against the same
+//! computation done directly through the library.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod common;
+
+use common::{close, csv, run_study, study};
+use nalgebra::Vector3;
+use pkm::papers::miller2004::linear_delta::evaluation::{Eta1Memo, eta1, eta2};
+use pkm::papers::miller2004::linear_delta::table2;
+use pkm::papers::{Context, Mode};
+use pkm_mechanisms::{
+    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
+};
+use pkm_traits::{Silent, WorkspaceConstraint};
+use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
+
+/// Relative agreement of two evaluations of the same formula with the same inputs.
+const SAME: f64 = 1e-12;
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap()
+}
+
+#[test]
+fn nuwar_workspace_matches_the_library() {
+    let out = tempfile::tempdir().unwrap();
+    let results = run_study(
+        "workspace",
+        &study("nuwar_workspace_quick.toml"),
+        out.path(),
+        &[],
+    );
+    assert_eq!(results["schema"], "pkm-cli/results/v1");
+    assert!(
+        results["study"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("rotary_delta")
+    );
+
+    let placement = Placement {
+        motor_plane_z: 0.0,
+        azimuth_motor_1: 0.0,
+    };
+    let delta = RotaryDelta::new(RotaryDeltaDesign {
+        base_radius: 0.15,
+        plate_offset: 0.04,
+        arm: 0.2,
+        forearm: 0.45,
+        alpha: 35.264389682754654f64.to_radians(),
+        beta: 60f64.to_radians(),
+        placement,
+    })
+    .unwrap();
+    let limits = [
+        WorkspaceConstraint::below(0.0).unwrap(),
+        WorkspaceConstraint::joint_range((-40f64).to_radians(), 90f64.to_radians()).unwrap(),
+        WorkspaceConstraint::passive_cone(35f64.to_radians()).unwrap(),
+        WorkspaceConstraint::leg_clearance(0.03).unwrap(),
+    ];
+    let domain = Domain::new(Region::axial_cylinder(0.76, -0.65, 0.0))
+        .unwrap()
+        .with_sector(3, 0.0)
+        .unwrap();
+    let points = PointSet::new(domain, Sampler::Sobol { seed: 42 }, 4096, 4).unwrap();
+    let workspace = Workspace::new(&delta, &[ElbowMode::Out], &limits).unwrap();
+    let direct = workspace.volume_and_eta(&points, &Silent).unwrap();
+
+    let e = &results["result"]["estimate"];
+    assert!(direct.volume > 0.0 && direct.n_inside > 100);
+    assert_eq!(e["n_inside"].as_u64(), Some(direct.n_inside));
+    assert!(close(f(&e["volume"]), direct.volume, SAME));
+    assert!(close(f(&e["volume_se"]), direct.volume_se, SAME));
+    assert!(close(f(&e["eta"]), direct.eta.unwrap(), SAME));
+    assert!(close(f(&e["gci"]), direct.gci().unwrap(), SAME));
+
+    // The horizontal slice at z = -0.36 m: every cell is 1/κ at its centre, or outside.
+    let (header, rows) = csv(&out.path().join("slice-1-xy.csv"));
+    assert_eq!(header, ["x", "y", "inside", "inverse_condition"]);
+    assert_eq!(rows.len(), 32 * 32);
+    let mut inside = 0;
+    for row in &rows {
+        let (x, y): (f64, f64) = (row[0].parse().unwrap(), row[1].parse().unwrap());
+        let expected = workspace.inverse_condition(&Vector3::new(x, y, -0.36));
+        match expected {
+            Some(v) => {
+                inside += 1;
+                assert!(close(row[3].parse().unwrap(), v, SAME), "{row:?} vs {v}");
+            }
+            None => assert_eq!(row[2], "0"),
+        }
+    }
+    assert!(inside > 10, "the slice at z = -0.36 m cuts the workspace");
+    assert!(out.path().join("slice-2-yz.svg").exists());
+}
+
+#[test]
+fn tsai_sweep_matches_the_library_and_refines_upwards() {
+    let out = tempfile::tempdir().unwrap();
+    let results = run_study("sweep", &study("tsai_quick.toml"), out.path(), &[]);
+    let domain = Domain::new(Region::Hemisphere {
+        center: Vector3::zeros(),
+        radius: 1.5,
+    })
+    .unwrap();
+    let points = PointSet::new(domain, Sampler::Sobol { seed: 7 }, 2048, 2).unwrap();
+    let (header, rows) = csv(&out.path().join("landscape.csv"));
+    assert_eq!(
+        header,
+        [
+            "node",
+            "a",
+            "b",
+            "volume",
+            "eta",
+            "gci",
+            "utility",
+            "infeasible"
+        ]
+    );
+    assert_eq!(rows.len(), 9);
+    let mut best: Option<(usize, f64)> = None;
+    for (k, row) in rows.iter().enumerate() {
+        let (a, b): (f64, f64) = (row[1].parse().unwrap(), row[2].parse().unwrap());
+        let tsai = Tsai3Dof::new(TsaiDesign::from_deg(a, b, 0.0, 0.0, 120.0, 240.0)).unwrap();
+        let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
+        let e = ws.volume_and_eta(&points, &Silent).unwrap();
+        let gci = e.gci().unwrap();
+        assert!(close(row[3].parse().unwrap(), e.volume, SAME));
+        assert!(close(row[4].parse().unwrap(), e.eta.unwrap(), SAME));
+        assert!(close(row[5].parse().unwrap(), gci, SAME));
+        let u = gci + 0.5 * e.volume;
+        if best.is_none_or(|(_, b)| u > b) {
+            best = Some((k, u));
+        }
+    }
+    let (node, u) = best.unwrap();
+    let grid_optimum = &results["result"]["grid_optimum"];
+    assert_eq!(grid_optimum[0].as_u64(), Some(node as u64));
+    assert!(close(f(&grid_optimum[1]["utility"]), u, SAME));
+    let refined = f(&results["result"]["optimum"]["utility"]);
+    assert!(refined >= u, "refinement never loses: {refined} < {u}");
+    assert!(out.path().join("heatmap-a-b.svg").exists());
+}
+
+/// Table 2 row 4 of Miller 2004 from a study file alone: the same optimum as the
+/// `pkm::papers` experiment (quick rules in both).
+#[test]
+fn linear_delta_row4_study_gives_the_experiments_optimum() {
+    let out = tempfile::tempdir().unwrap();
+    let results = run_study(
+        "sweep",
+        &study("linear_delta_row4_quick.toml"),
+        out.path(),
+        &[],
+    );
+    let context = Context {
+        mode: Mode::Quick,
+        progress: &Silent,
+    };
+    let (_, experiment) = table2::row4(&context, &Eta1Memo::default()).unwrap();
+    let optimum = &results["result"]["optimum"];
+    let names = ["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1"];
+    for (name, expected) in names.iter().zip(experiment.design) {
+        let got = f(&optimum["design"][name]);
+        assert!(
+            close(got, expected, SAME),
+            "{name}: study {got}, experiment {expected}"
+        );
+    }
+    assert!(close(
+        f(&optimum["indices"]["eta1"]),
+        experiment.indices[0],
+        SAME
+    ));
+    assert!(close(
+        f(&optimum["indices"]["eta2"]),
+        experiment.indices[1],
+        SAME
+    ));
+    assert!(close(f(&optimum["utility"]), experiment.indices[2], SAME));
+}
+
+#[test]
+fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
+    let out = tempfile::tempdir().unwrap();
+    let results = run_study(
+        "pareto",
+        &study("linear_delta_pareto_quick.toml"),
+        out.path(),
+        &[],
+    );
+    let (header, rows) = csv(&out.path().join("landscape.csv"));
+    assert_eq!(header[1..4], ["l1_over_yr", "zr_over_yr", "l2_over_l1"]);
+    // (node, η1, η2) of every feasible node, straight from the library.
+    let nodes: Vec<(usize, f64, f64)> = rows
+        .iter()
+        .filter_map(|row| {
+            let v: Vec<f64> = row[1..4].iter().map(|c| c.parse().unwrap()).collect();
+            let design = [v[0], 0.0, v[1], v[2]];
+            let (Ok(e1), Ok(e2)) = (eta1(&design, 8), eta2(&design)) else {
+                assert!(
+                    row[4].is_empty(),
+                    "infeasible for the library, not for pkm: {row:?}"
+                );
+                return None;
+            };
+            assert!(
+                close(row[4].parse().unwrap(), e1, SAME)
+                    && close(row[5].parse().unwrap(), e2, SAME)
+            );
+            Some((row[0].parse().unwrap(), e1, e2))
+        })
+        .collect();
+    assert!(nodes.len() > 400);
+    let dominated = |&(_, a1, a2): &(usize, f64, f64)| {
+        nodes
+            .iter()
+            .any(|&(_, b1, b2)| b1 >= a1 && b2 >= a2 && (b1 > a1 || b2 > a2))
+    };
+    let expected: Vec<u64> = nodes
+        .iter()
+        .filter(|n| !dominated(n))
+        .map(|n| n.0 as u64)
+        .collect();
+    let front = results["result"]["front"].as_array().unwrap();
+    let got: Vec<u64> = front.iter().map(|p| p["node"].as_u64().unwrap()).collect();
+    assert_eq!(got, expected);
+    // Whichever design maximises w·η1 + (1 − w)·η2 has a weight range that holds w.
+    for k in 0..=40 {
+        let w = f64::from(k) / 40.0;
+        let u = |&(_, e1, e2): &(usize, f64, f64)| w * e1 + (1.0 - w) * e2;
+        let best = nodes.iter().max_by(|a, b| u(a).total_cmp(&u(b))).unwrap();
+        let p = front
+            .iter()
+            .find(|p| p["node"].as_u64() == Some(best.0 as u64))
+            .unwrap();
+        let range = &p["weight_range"];
+        assert!(
+            f(&range[0]) <= w + 1e-9 && w <= f(&range[1]) + 1e-9,
+            "w = {w}: node {} has range {range}",
+            best.0
+        );
+    }
+    // The weighting (1, 1) is the front's design at w = 1/2.
+    let equal = &results["result"]["weighted_optima"][0];
+    let node = equal["node"].as_u64().unwrap();
+    let p = front
+        .iter()
+        .find(|p| p["node"].as_u64() == Some(node))
+        .unwrap();
+    assert!(f(&p["weight_range"][0]) <= 0.5 && 0.5 <= f(&p["weight_range"][1]));
+    assert!(out.path().join("front.svg").exists());
+}
+
+#[test]
+fn linear_delta_workspace_matches_the_library() {
+    let out = tempfile::tempdir().unwrap();
+    let results = run_study(
+        "workspace",
+        &study("linear_delta_workspace_quick.toml"),
+        out.path(),
+        &[],
+    );
+    let ratios = LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]);
+    let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 0.2 }).unwrap();
+    let carriages = [WorkspaceConstraint::joint_range(-0.5, 0.5).unwrap()];
+    let region = Region::Box {
+        lower: Vector3::new(-1.2, -0.6, -0.6),
+        upper: Vector3::new(1.2, 0.6, 0.05),
+    };
+    let points = PointSet::new(
+        Domain::new(region).unwrap(),
+        Sampler::Sobol { seed: 1 },
+        4096,
+        4,
+    )
+    .unwrap();
+    let workspace = Workspace::new(&delta, &[LinearDeltaMode::PAPER], &carriages).unwrap();
+    let direct = workspace.volume_and_eta(&points, &Silent).unwrap();
+    let e = &results["result"]["estimate"];
+    assert!(direct.n_inside > 100);
+    assert_eq!(e["n_inside"].as_u64(), Some(direct.n_inside));
+    assert!(close(f(&e["volume"]), direct.volume, SAME));
+    assert!(close(f(&e["gci"]), direct.gci().unwrap(), SAME));
+    // Bounded by the cross-section area (YR² · A_W/YR²) times the carriage stroke.
+    let area =
+        pkm::papers::miller2004::linear_delta::evaluation::area(&[2.0, 0.0, 0.0, 0.63]).unwrap();
+    assert!(f(&e["volume"]) < 0.2 * 0.2 * area * 1.0);
+}

@@ -1,0 +1,136 @@
+//! `pkm-dynamics-hamilton`: trajectories, the extended model at one configuration, sampling and
+//! inverse dynamics, the forward forms' gains. An error at a sample of a trajectory carries the
+//! real, finite time of that sample (never a placeholder).
+
+use super::{all_finite, config, hostile_f64, hostile_vec3, judge};
+use nalgebra::Vector3;
+use pkm::dynamics_hamilton::forward::{AccelerationForm, HamiltonForm};
+use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
+use pkm::dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
+use pkm::dynamics_hamilton::{DynamicsError, ExtendedModel, MassParameters};
+use pkm::mechanisms::{Placement, RotaryDelta, presets};
+use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
+use proptest::prelude::*;
+
+fn nuwar() -> ExtendedModel {
+    let mechanism = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
+    ExtendedModel::new(mechanism, &MassParameters::miller2004()).unwrap()
+}
+
+/// The time an error names, if it names one: finite whenever present.
+fn time_is_real(e: &DynamicsError) -> bool {
+    match e {
+        DynamicsError::Unreachable { t, .. }
+        | DynamicsError::Singular { t, .. }
+        | DynamicsError::NonFinite { t, .. } => t.is_finite(),
+        _ => true,
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn one_configuration_is_checked(p in hostile_vec3(), v in hostile_vec3(), a in hostile_vec3()) {
+        let model = nuwar();
+        judge("ExtendedModel::joint_motion", || model.joint_motion(&p, &v, &a), |s| {
+            all_finite(s.q.iter()) && all_finite(s.qd.iter()) && all_finite(s.qdd.iter())
+                && model.constraints(&s.q).amax() < 1e-9
+        })?;
+        if let Ok(s) = model.joint_motion(&p, &Vector3::zeros(), &Vector3::zeros()) {
+            judge("inverse::lagrange_torques", || inverse::lagrange_torques(&model, &s.q, &s.qd, &s.qdd), |tau| all_finite(tau.iter()))?;
+        }
+    }
+
+    #[test]
+    fn trajectories_are_checked(
+        start in hostile_vec3(), end in hostile_vec3(), duration in hostile_f64(), cycle in hostile_f64(),
+        each_leg in prop::bool::ANY,
+    ) {
+        judge("Trajectory::new", || {
+            let path = Path::line(start, end)?;
+            Trajectory::new(vec![Segment { path, law: MotionLaw::Cycloidal, duration, reverse: false }])
+        }, |t| t.duration().is_finite() && t.duration() > 0.0)?;
+        let reading = if each_leg { CycleReading::EachLeg } else { CycleReading::RoundTrip };
+        judge("pick_and_place", || pick_and_place(cycle, reading), |t| {
+            t.duration().is_finite() && t.duration() > 0.0 && all_finite(t.sample(0.0).p.iter())
+        })?;
+    }
+
+    #[test]
+    fn sampling_and_inverse_dynamics_name_real_times(
+        dt in hostile_f64(), end in hostile_vec3(), kappa in hostile_f64(), omega in hostile_f64(),
+    ) {
+        let model = nuwar();
+        // From the middle of the workspace to a hostile end point: reachable, or unreachable
+        // at a named finite time.
+        let start = Vector3::new(0.0, 0.0, -0.75);
+        let Ok(path) = Path::line(start, end) else { return Ok(()) };
+        let Ok(trajectory) = Trajectory::new(vec![Segment { path, law: MotionLaw::Polynomial345, duration: 0.05, reverse: false }]) else {
+            return Ok(());
+        };
+        let sampled = inverse::sample(&model, &trajectory, dt);
+        if let Err(e) = &sampled {
+            prop_assert!(time_is_real(e), "{e:?}");
+        }
+        judge("inverse::sample", || sampled.clone(), |s| {
+            s.len() >= 3 && s.iter().all(|(t, x)| t.is_finite() && all_finite(x.q.iter()))
+        })?;
+        if let Ok(samples) = &sampled {
+            for differencing in [Differencing::Backward, Differencing::Central] {
+                let tau = inverse::hamilton(&model, samples, differencing);
+                if let Err(e) = &tau {
+                    prop_assert!(time_is_real(e), "{e:?}");
+                }
+                judge("inverse::hamilton", || tau, |tau| tau.iter().all(|t| all_finite(t.iter())))?;
+                let lagrange = inverse::lagrange(&model, samples, Accelerations::Differenced(differencing));
+                if let Err(e) = &lagrange {
+                    prop_assert!(time_is_real(e), "{e:?}");
+                }
+                judge("inverse::lagrange", || lagrange, |tau| tau.iter().all(|t| all_finite(t.iter())))?;
+            }
+        }
+        judge("HamiltonForm::new", || HamiltonForm::new(&model, |_| Vector3::zeros(), kappa).map(|f| f.kappa()), |k| {
+            k.is_finite() && *k >= 0.0
+        })?;
+        judge("AccelerationForm::new", || AccelerationForm::new(&model, |_| Vector3::zeros(), omega).map(|f| f.omega()), |w| {
+            w.is_finite() && *w >= 0.0
+        })?;
+    }
+}
+
+#[test]
+fn an_unreachable_trajectory_point_reports_its_real_time_and_leg() {
+    let model = nuwar();
+    // Straight away from motor 1 until leg 1 (index 0) cannot reach.
+    let radial = model.mechanism().legs()[0].plate_offset.normalize();
+    let start = Vector3::new(0.0, 0.0, -0.75);
+    let path = Path::line(start, start - radial).unwrap();
+    let segment = Segment {
+        path,
+        law: MotionLaw::Cycloidal,
+        duration: 1.0,
+        reverse: false,
+    };
+    let trajectory = Trajectory::new(vec![segment]).unwrap();
+    let dt = 1e-3;
+    let Err(DynamicsError::Unreachable { t, source }) = inverse::sample(&model, &trajectory, dt)
+    else {
+        panic!("the line leaves the workspace");
+    };
+    let pkm::traits::KinematicsError::Unreachable { leg, .. } = source else {
+        panic!("expected a leg that cannot reach, got {source:?}");
+    };
+    assert_eq!(leg, 0);
+    // The time is a grid time, the first out of reach.
+    let k = (t / dt).round();
+    assert!((t - k * dt).abs() < 1e-15 && t > 0.0 && t < 1.0, "t = {t}");
+    let at = |t: f64| {
+        let m = trajectory.sample(t);
+        model.joint_motion(&m.p, &m.v, &m.a)
+    };
+    assert!(at(t - dt).is_ok() && at(t).is_err());
+    // Attached by the sample loop: the model's own error has no time to carry.
+    let Err(bare) = at(t) else { unreachable!() };
+    assert_eq!(bare.at(t), DynamicsError::Unreachable { t, source });
+}
