@@ -2,11 +2,11 @@
 //! $1/\kappa$), and the rotary Delta kernel against the NumPy peer.
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{ElbowMode, JacobianLanes, Placement, RotaryDelta, Tsai3Dof, presets};
+use pkm_mechanisms::{Elbow, ElbowMode, JacobianLanes, Placement, RotaryDelta, Tsai3Dof, presets};
 use pkm_traits::{ClosedChain, InverseKinematics, Silent};
 use pkm_workspace_indices::{
-    Accumulator, LANES, Sampler, chunked_reduce, inverse_condition_number_3x3,
-    inverse_condition_number_3x3_lanes,
+    Accumulator, LANES, Sampler, chunked_reduce, inverse_condition_at,
+    inverse_condition_number_3x3, inverse_condition_number_3x3_lanes,
 };
 
 /// The paper's Delta in the frame of `shared/peers/numpy_delta_gci.py`: motors in the plane
@@ -37,7 +37,7 @@ fn delta_lanes<const N: usize>(m: &RotaryDelta, p: &[Vector3<f64>; N]) -> [Optio
 }
 
 fn tsai_scalar(m: &Tsai3Dof, p: &Vector3<f64>) -> Option<f64> {
-    m.jacobian_eq7(p).map(|j| inverse_condition_number_3x3(&j))
+    inverse_condition_at(m, p, [Elbow::Out; 3]).ok()
 }
 
 /// The peer's box, seeded points, every 97th replaced by a non-finite or huge one.
@@ -124,7 +124,7 @@ fn tsai_batch_kernel_equals_the_scalar_kernel_per_point() {
     let (reachable, loose) = compare(
         &points,
         |p| tsai_scalar(&m, p),
-        |p| masked(&m.jacobian_eq7_lanes(p)),
+        |p| masked(&m.velocity_jacobian_elbow_out_lanes(p)),
     );
     assert!(reachable > 10_000, "vacuous: {reachable} reachable");
     assert!(

@@ -24,6 +24,7 @@ mod stewart_task;
 mod three_upu;
 mod tsai3dof;
 mod workspace_models;
+mod wrench_system;
 
 pub use jacobian_lanes::JacobianLanes;
 pub use linear_delta::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
@@ -37,3 +38,4 @@ pub use stewart_layout::{AngleMode, JointLayout, Pairing};
 pub use stewart_task::{StewartDesignVariable, StewartTaskProblem};
 pub use three_upu::{ThreeUpu, ThreeUpuDesign, UJointAxes};
 pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof, TsaiDesign};
+pub use wrench_system::WrenchSystem;

@@ -174,12 +174,14 @@ impl LinearDelta {
     }
 
     /// The inverse-kinematic Jacobian $J = -J_q^{-1} J_x$ with rows
-    /// $[1,\ (y - A_{iy})/(s_i u_i),\ (z - A_{iz})/(s_i u_i)]$: it depends on $(y, z)$ only.
+    /// $[1,\ (y - A_{iy})/(s_i u_i),\ (z - A_{iz})/(s_i u_i)]$ wherever the arms reach $(y, z)$
+    /// (the three discs; the half-planes of the cross-section are not tested): it depends on
+    /// $(y, z)$ only. Public through [`InverseKinematics::velocity_jacobian_at`].
     ///
     /// # Errors
     /// [`KinematicsError::Unreachable`] outside a disc, [`KinematicsError::Singular`] on a disc
     /// boundary ($u_i = 0$, a serial singularity).
-    pub fn velocity_jacobian(
+    fn disc_velocity_jacobian(
         &self,
         y: f64,
         z: f64,
@@ -203,9 +205,10 @@ impl LinearDelta {
         Ok(j)
     }
 
-    /// [`LinearDelta::velocity_jacobian`] at the `N` points $(y, z_l)$ of one slice at once, in
-    /// [`Lanes`] (no branch, so the compiler vectorises it). Lane `l` is reachable exactly where
-    /// `velocity_jacobian(y, z[l], mode)` is `Ok` (every discriminant
+    /// The closed-form Jacobian of [`InverseKinematics::velocity_jacobian_at`] at the `N` points
+    /// $(y, z_l)$ of one slice at once, in [`Lanes`] (no branch, so the compiler vectorises
+    /// it), without the half-plane tests of the cross-section (callers sample inside it). Lane
+    /// `l` is reachable exactly where the arms reach $(y, z_l)$ (every discriminant
     /// $L_i^2 - (y - A_{iy})^2 - (z_l - A_{iz})^2 > 0$), and there its entries are the same
     /// floating-point operations, so bit-identical.
     pub fn velocity_jacobian_lanes<const N: usize>(
@@ -289,6 +292,39 @@ impl InverseKinematics<3, 3> for LinearDelta {
         }
         Ok(Joints::from_fn(|leg, _| x[0] - mode.sign(leg) * u[leg]))
     }
+
+    /// In closed form: rows $[1,\ (y - A_{iy})/(s_i u_i),\ (z - A_{iz})/(s_i u_i)]$ for
+    /// $(y, z)$ in the cross-section $W$ (the same membership as the inverse kinematics); it
+    /// depends on $(y, z)$ only.
+    fn velocity_jacobian_at(
+        &self,
+        x: &Task<3>,
+        mode: LinearDeltaMode,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        for (k, what) in ["x[0]", "x[1]", "x[2]"].into_iter().enumerate() {
+            if !x[k].is_finite() {
+                return Err(KinematicsError::NonFinite { what, value: x[k] });
+            }
+        }
+        let j = self.disc_velocity_jacobian(x[1], x[2], mode);
+        if let Some((leg, margin)) = outside_half_plane(&self.rails, x[1], x[2]) {
+            // Unreachable wins over a singular disc boundary, as in the inverse kinematics.
+            if !matches!(j, Err(KinematicsError::Unreachable { .. })) {
+                return Err(KinematicsError::Unreachable {
+                    leg,
+                    discriminant: margin,
+                });
+            }
+        }
+        match j {
+            // An arm reach u_i so small that (y - A_iy)/u_i overflows: numerically singular.
+            Ok(j) if !j.iter().all(|v| v.is_finite()) => Err(KinematicsError::Singular {
+                matrix: "J_q",
+                sigma_min: 0.0,
+            }),
+            j => j,
+        }
+    }
 }
 
 /// Newton's method on $\Phi$ (the default): the assembly mode follows the guess.
@@ -320,7 +356,7 @@ mod tests {
             }
             let batch = delta.velocity_jacobian_lanes(y, &z, mode);
             for (lane, &z) in z.iter().enumerate() {
-                prop_assert_eq!(batch.matrix(lane), delta.velocity_jacobian(y, z, mode).ok());
+                prop_assert_eq!(batch.matrix(lane), delta.disc_velocity_jacobian(y, z, mode).ok());
             }
         }
     }

@@ -8,7 +8,7 @@
 
 use crate::{
     ElbowMode, LegBranch, LinearDelta, LinearDeltaMode, RotaryDelta, StewartGough, ThreeUpu,
-    Tsai3Dof,
+    Tsai3Dof, WrenchSystem,
 };
 use nalgebra::{Isometry3, Point3, Vector3};
 use pkm_traits::{InverseKinematics, KinematicsError};

@@ -16,6 +16,7 @@
 //! $L_i = [s_i ; a_i \times s_i]$ with $a_i = p + R r_i$ and $s_i$ the unit leg direction, moments
 //! about the world origin.
 
+use crate::WrenchSystem;
 use crate::stewart_layout::JointLayout;
 use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, Unit, Vector3, Vector6};
 use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
@@ -146,26 +147,11 @@ impl StewartGough {
         Vector6::from_iterator(self.leg_vectors(pose).iter().map(|v| v.norm()))
     }
 
-    /// The $6 \times 6$ matrix $J^\top$ of eq. 10: row $i$ is the Plücker line of leg $i$,
-    /// $L_i = [s_i ; a_i \times s_i]$ (unit direction; moment about the world origin).
-    ///
-    /// # Errors
-    /// [`KinematicsError::Singular`] when a leg has (numerically) zero length or the pose is not
-    /// finite.
-    pub fn wrench_rows(&self, pose: &Isometry3<f64>) -> Result<Matrix6<f64>, KinematicsError> {
-        let a = self.platform_joints_world(pose);
-        let mut rows = Matrix6::zeros();
-        for (i, (b, a)) in self.base.iter().zip(&a).enumerate() {
-            rows.set_row(i, &leg_line(b, a)?.transpose());
-        }
-        Ok(rows)
-    }
-
     /// Leg-length rates $\dot l_i = L_i \wedge \chi = s_i \cdot (\bar x + x \times a_i)$ under the twist
     /// $\chi = [x ; \bar x]$ (eq. 5, 14).
     ///
     /// # Errors
-    /// As [`StewartGough::wrench_rows`].
+    /// As [`WrenchSystem::wrench_rows`].
     pub fn leg_rates(
         &self,
         pose: &Isometry3<f64>,
@@ -173,17 +159,19 @@ impl StewartGough {
     ) -> Result<Vector6<f64>, KinematicsError> {
         Ok(task_residuals(&self.wrench_rows(pose)?, twist))
     }
+}
 
-    /// The task objective of eq. 14, $F = \sum_i (L_i \wedge \chi)^2$.
-    ///
-    /// # Errors
-    /// As [`StewartGough::wrench_rows`].
-    pub fn task_objective(
-        &self,
-        pose: &Isometry3<f64>,
-        twist: &Twist,
-    ) -> Result<f64, KinematicsError> {
-        Ok(self.leg_rates(pose, twist)?.norm_squared())
+/// The six leg forces of eq. 10: row $i$ is the Plücker line of leg $i$,
+/// $L_i = [s_i ; a_i \times s_i]$ (unit direction; moment about the world origin), the matrix
+/// $J^\top$; the task objective is then the sum of the squared leg rates.
+impl WrenchSystem for StewartGough {
+    fn wrench_rows(&self, pose: &Isometry3<f64>) -> Result<Matrix6<f64>, KinematicsError> {
+        let a = self.platform_joints_world(pose);
+        let mut rows = Matrix6::zeros();
+        for (i, (b, a)) in self.base.iter().zip(&a).enumerate() {
+            rows.set_row(i, &leg_line(b, a)?.transpose());
+        }
+        Ok(rows)
     }
 }
 

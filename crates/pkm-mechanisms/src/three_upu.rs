@@ -4,12 +4,33 @@
 //! $r_i = b(\cos\theta_i, \sin\theta_i, 0)$ at azimuths $\theta_i$ (Park's: $-90°, 30°, 150°$); the
 //! platform pose is ${}^wR_p$ (eq. 8). The $6 \times 6$ matrix of eq. 18 stacks the three leg
 //! forces $[s_i ; a_i \times s_i]$ and the three constraint couples $[0 ; u_i]$ normal to the
-//! upper universal joint, $u_i = R\,(u_{1,i} \times u_{2,i}) / |u_{1,i} \times u_{2,i}|$.
+//! upper universal joint, $u_i = R\,(u_{1,i} \times u_{2,i}) / |u_{1,i} \times u_{2,i}|$
+//! ([`WrenchSystem`]).
+//!
+//! # Kinematics: a translational model
+//!
+//! For [`ClosedChain`], [`InverseKinematics`] and [`ForwardKinematics`] the task coordinates are
+//! the platform position $x = p$ at the **fixed** home orientation $R = I$, and the actuated
+//! coordinates are the leg lengths $q_i$: leg $i$ closes when
+//! $$ \Phi_i(x, q) = |x + r_i - b_i| - q_i = 0, \qquad J_x = [s_1\ s_2\ s_3]^\top,
+//!    \qquad J_q = -I, $$
+//! with $s_i$ the unit leg direction, so the velocity Jacobian is $J = J_x$ (the leg-force rows of
+//! eq. 18 without their moments). This is exact for a translational 3-UPU, whose constraint
+//! couples keep $R = I$ (Tsai's, with the two U joints of each leg parallel). It is only the
+//! fixed-orientation slice of a 3-UPU whose couples do not span the rotations, such as Park's
+//! (all three couples vertical at home, so the platform can tilt about horizontal axes, the A1
+//! and A2 twists of §4.4): there the model says which leg lengths hold the platform at $p$
+//! without tilting, not that it stays untilted; the six-row screw view is the full statement.
+//! One working mode (`()`): $q_i \ge 0$ is the distance itself; the mirror assembly
+//! $z \mapsto -z$ (base and platform joints lie in their planes) is reached by forward
+//! kinematics from a guess below the base.
 
+use crate::WrenchSystem;
 use crate::stewart_gough::leg_line;
-use nalgebra::{Isometry3, Matrix6, Point3, Vector3, Vector6};
-use pkm_screw_theory::{Twist, task_objective};
-use pkm_traits::{DesignError, KinematicsError};
+use nalgebra::{Isometry3, Matrix3, Matrix6, Point3, Vector3, Vector6};
+use pkm_traits::{
+    ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Task,
+};
 use serde::{Deserialize, Serialize};
 
 /// The two axes of an upper universal joint, in the platform frame.
@@ -52,7 +73,7 @@ pub struct ThreeUpuDesign {
 ///
 /// # Example
 /// ```
-/// use pkm_mechanisms::{ThreeUpu, presets};
+/// use pkm_mechanisms::{ThreeUpu, WrenchSystem, presets};
 /// use nalgebra::Isometry3;
 /// let upu = ThreeUpu::new(presets::park_3upu()).unwrap();
 /// let rows = upu.wrench_rows(&Isometry3::translation(0.0, 0.0, 50.0)).unwrap();
@@ -106,11 +127,15 @@ impl ThreeUpu {
         self.design
     }
 
-    /// The matrix of eq. 18: rows 0–2 the leg lines, rows 3–5 the constraint couples.
-    ///
-    /// # Errors
-    /// [`KinematicsError::Singular`] when a leg has (numerically) zero length.
-    pub fn wrench_rows(&self, pose: &Isometry3<f64>) -> Result<Matrix6<f64>, KinematicsError> {
+    /// Leg vectors $x + r_i - b_i$ at the platform position `x` (orientation $R = I$).
+    fn leg_vectors(&self, x: &Task<3>) -> [Vector3<f64>; 3] {
+        std::array::from_fn(|i| x + self.platform[i] - self.base[i])
+    }
+}
+
+/// The matrix of eq. 18: rows 0–2 the leg lines, rows 3–5 the constraint couples.
+impl WrenchSystem for ThreeUpu {
+    fn wrench_rows(&self, pose: &Isometry3<f64>) -> Result<Matrix6<f64>, KinematicsError> {
         let mut rows = Matrix6::zeros();
         for i in 0..3 {
             let a = (pose * Point3::from(self.platform[i])).coords;
@@ -123,16 +148,58 @@ impl ThreeUpu {
         }
         Ok(rows)
     }
+}
 
-    /// $F = \sum_i (L_i \wedge \chi)^2$ over the six rows of eq. 18.
-    ///
-    /// # Errors
-    /// As [`ThreeUpu::wrench_rows`].
-    pub fn task_objective(
-        &self,
-        pose: &Isometry3<f64>,
-        twist: &Twist,
-    ) -> Result<f64, KinematicsError> {
-        Ok(task_objective(&self.wrench_rows(pose)?, twist))
+/// The translational model of the module doc: $x = p$ at $R = I$, $q$ the leg lengths.
+impl ClosedChain<3, 3> for ThreeUpu {
+    /// $\Phi_i = |x + r_i - b_i| - q_i$.
+    fn closure(&self, x: &Task<3>, q: &Joints<3>) -> Joints<3> {
+        let legs = self.leg_vectors(x);
+        Joints::from_fn(|i, _| legs[i].norm() - q[i])
+    }
+
+    /// Row $i$: the unit leg direction $s_i^\top$.
+    fn jacobian_x(&self, x: &Task<3>, _q: &Joints<3>) -> Matrix3<f64> {
+        let legs = self.leg_vectors(x);
+        Matrix3::from_fn(|i, k| legs[i][k] / legs[i].norm())
+    }
+
+    /// $J_q = -I$.
+    fn jacobian_q(&self, _x: &Task<3>, _q: &Joints<3>) -> Matrix3<f64> {
+        -Matrix3::identity()
     }
 }
+
+impl InverseKinematics<3, 3> for ThreeUpu {
+    /// Prismatic legs have a single working mode.
+    type WorkingMode = ();
+
+    /// $q_i = |x + r_i - b_i|$.
+    ///
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] for a non-finite `x`; [`KinematicsError::Unreachable`]
+    /// for a leg of (numerically) zero length, where its direction is undefined, or one whose
+    /// length overflows.
+    fn inverse_kinematics(&self, x: &Task<3>, _mode: ()) -> Result<Joints<3>, KinematicsError> {
+        if let Some(value) = x.iter().copied().find(|v| !v.is_finite()) {
+            return Err(KinematicsError::NonFinite { what: "x", value });
+        }
+        let legs = self.leg_vectors(x);
+        let mut q = Joints::zeros();
+        for (leg, v) in legs.iter().enumerate() {
+            let length = v.norm();
+            if !(length > 1e-12 && length.is_finite()) {
+                return Err(KinematicsError::Unreachable {
+                    leg,
+                    discriminant: length,
+                });
+            }
+            q[leg] = length;
+        }
+        Ok(q)
+    }
+}
+
+/// Newton from the guess (the default); the assembly mode ($z$ above or below the base) is the
+/// guess's.
+impl ForwardKinematics<3> for ThreeUpu {}

@@ -8,7 +8,8 @@ use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{
     JointLayout, LinearDelta, LinearDeltaDesign, LinearDeltaRatios, Pairing, Placement,
     RotaryDelta, RotaryDeltaDesign, StewartDesign, StewartDesignVariable, StewartGough,
-    StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, presets,
+    StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, WrenchSystem,
+    presets,
 };
 use pkm_screw_theory::Twist;
 use pkm_traits::{Bounds, DesignError, Objective};

@@ -57,6 +57,7 @@ fn linear_delta_passes_the_conformance_kit() {
         testkit::check_closure(&d, mode, &poses, 1e-12).unwrap();
         testkit::check_jacobians_against_central_differences(&d, mode, &poses, 1e-6, 1e-7).unwrap();
         testkit::check_ik_fk_round_trip(&d, mode, &poses, 1e-3, 1e-9).unwrap();
+        testkit::check_velocity_jacobian_at(&d, mode, &poses, 1e-12).unwrap();
     }
 }
 
@@ -67,9 +68,7 @@ fn velocity_jacobian_is_minus_jq_inverse_jx() {
     for x in poses(&d) {
         let q = d.inverse_kinematics(&x, LinearDeltaMode::PAPER).unwrap();
         let j = d.jacobian(&x, &q).unwrap();
-        let j_yz = d
-            .velocity_jacobian(x[1], x[2], LinearDeltaMode::PAPER)
-            .unwrap();
+        let j_yz = d.velocity_jacobian_at(&x, LinearDeltaMode::PAPER).unwrap();
         assert!((j - j_yz).amax() < 1e-12);
     }
 }
@@ -222,5 +221,34 @@ proptest! {
         // Sampling misses at most (largest slope) × (half a sample spacing) near a corner.
         let slack = 0.02 * (e.y_max - e.y_min + e.z_max - e.z_min);
         prop_assert!(lo_min - e.z_min < slack && e.z_max - hi_max < slack);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// The closed form behind `velocity_jacobian_at` equals the trait default (IK, then
+    /// $-J_q^{-1}J_x$) to 1e-12 relative (largest entry) on random designs, modes and poses,
+    /// and fails exactly where the default fails.
+    #[test]
+    fn closed_form_velocity_jacobian_equals_the_trait_default(
+        design in (1.0..2.8f64, -0.9..0.9f64, -1.2..0.6f64, 0.2..2.0f64),
+        leans in prop::array::uniform3(any::<bool>()),
+        x in -1.0..1.0f64, u in -0.1..1.1f64, v in -0.1..1.1f64,
+    ) {
+        use pkm_traits::{ClosedChain, InverseKinematics};
+        let d = delta(design.0, design.1, design.2, design.3);
+        let mode = LinearDeltaMode { leans_positive: leans };
+        // Over the cross-section's extents, widened by a tenth on every side.
+        let e = d.cross_section().extents();
+        let p = Vector3::new(x, e.y_min + u * (e.y_max - e.y_min), e.z_min + v * (e.z_max - e.z_min));
+        let fast = d.velocity_jacobian_at(&p, mode);
+        let reference = d.inverse_kinematics(&p, mode).and_then(|q| d.jacobian(&p, &q));
+        prop_assert_eq!(fast.is_ok(), reference.is_ok());
+        prop_assume!(fast.is_ok());
+        if let (Ok(fast), Ok(reference)) = (fast, reference) {
+            let error = (fast - reference).amax() / reference.amax();
+            prop_assert!(error <= 1e-12, "{p}: relative error {error:e}");
+        }
     }
 }

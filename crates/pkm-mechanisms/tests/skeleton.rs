@@ -160,7 +160,7 @@ fn stewart_gough_legs_are_the_inverse_kinematics_lengths() {
 }
 
 #[test]
-fn three_upu_legs_are_the_closed_form_lengths() {
+fn three_upu_legs_are_the_closed_form_and_inverse_kinematics_lengths() {
     let park = presets::park_3upu();
     let other = ThreeUpuDesign {
         base_radius: 15.0,
@@ -187,6 +187,11 @@ fn three_upu_legs_are_the_closed_form_lengths() {
             &lengths(&s, LinkKind::Platform),
             &[side(b, 0, 1), side(b, 1, 2), side(b, 2, 0)],
         );
+        // At R = I the legs are the translational model's inverse kinematics.
+        let p = Vector3::new(-3.0, 1.5, 40.0);
+        let s = Skeleton::three_upu(&robot, &Isometry3::translation(p.x, p.y, p.z)).unwrap();
+        let q = robot.inverse_kinematics(&p, ()).unwrap();
+        assert_close(&lengths(&s, LinkKind::Actuated), q.as_slice());
         let nan = Isometry3::translation(0.0, f64::NAN, 50.0);
         assert!(Skeleton::three_upu(&robot, &nan).is_err());
     }

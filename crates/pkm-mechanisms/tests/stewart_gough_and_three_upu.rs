@@ -4,14 +4,14 @@
 use nalgebra::{Isometry3, Vector3};
 use pkm_mechanisms::{
     StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, ThreeUpu,
-    ThreeUpuDesign, UJointAxes, platform_pose, pose_from_task, presets,
+    ThreeUpuDesign, UJointAxes, WrenchSystem, platform_pose, pose_from_task, presets,
 };
-use pkm_screw_theory::{PluckerLine, Twist};
+use pkm_screw_theory::{PluckerLine, Twist, reciprocal_product_vectors};
 use pkm_traits::testkit::{
     check_closure, check_ik_fk_round_trip, check_jacobians_against_central_differences,
-    check_traits,
+    check_traits, check_velocity_jacobian_at,
 };
-use pkm_traits::{Bounds, Objective, Residuals, Task};
+use pkm_traits::{Bounds, InverseKinematics, Objective, Residuals, Task};
 use proptest::prelude::*;
 
 fn poses() -> Vec<Task<6>> {
@@ -259,4 +259,110 @@ fn park_design_is_singular_for_a2_too() {
     // Off the apex height the legs miss A2 and F is positive.
     let off = Isometry3::translation(0.0, 0.0, 0.9 * point.z * (a - b) / a);
     assert!(park.task_objective(&off, &a2).unwrap() > 1e-3);
+}
+
+fn park_upu() -> ThreeUpu {
+    ThreeUpu::new(presets::park_3upu()).unwrap()
+}
+
+/// Platform positions above the base, around Park's home $p = (0, 0, 50)$.
+fn upu_positions() -> Vec<Task<3>> {
+    (0..12)
+        .map(|k| {
+            let t = f64::from(k);
+            Task::<3>::new(
+                6.0 * (0.7 * t).sin(),
+                -5.0 * (1.3 * t).cos(),
+                50.0 + 15.0 * (0.4 * t).sin(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn three_upu_passes_the_conformance_kit() {
+    check_traits::<ThreeUpu>();
+    let upu = park_upu();
+    let poses = upu_positions();
+    let closure = check_closure(&upu, (), &poses, 1e-12).unwrap();
+    let jacobians =
+        check_jacobians_against_central_differences(&upu, (), &poses, 1e-6, 1e-7).unwrap();
+    let round_trip = check_ik_fk_round_trip(&upu, (), &poses, 1e-3, 1e-9).unwrap();
+    let velocity = check_velocity_jacobian_at(&upu, (), &poses, 1e-15).unwrap();
+    for report in [closure, jacobians, round_trip, velocity] {
+        assert_eq!(report.checked, poses.len());
+    }
+}
+
+/// The kinematic model is the screw view at $R = I$: the rows of $J = -J_q^{-1}J_x$ are the
+/// directions of the leg-force rows of eq. 18, and $\dot q = J\dot p$ are the leg rates
+/// $L_i \wedge \chi$ of the pure translation $\chi = [0 ; \dot p]$.
+#[test]
+fn three_upu_velocity_jacobian_is_the_leg_rows_of_eq_18() {
+    let upu = park_upu();
+    let velocity = Vector3::new(0.3, -1.2, 0.7);
+    for p in upu_positions() {
+        let j = upu.velocity_jacobian_at(&p, ()).unwrap();
+        let rows = upu
+            .wrench_rows(&Isometry3::translation(p.x, p.y, p.z))
+            .unwrap();
+        for i in 0..3 {
+            let direction = Vector3::new(rows[(i, 0)], rows[(i, 1)], rows[(i, 2)]);
+            assert!((j.row(i).transpose() - direction).amax() < 1e-15);
+        }
+        let twist = Twist::new(Vector3::zeros(), velocity);
+        let rates = pkm_screw_theory::task_residuals(&rows, &twist);
+        let q_dot = j * velocity;
+        for i in 0..3 {
+            assert!((q_dot[i] - rates[i]).abs() < 1e-12, "{q_dot} vs {rates}");
+        }
+    }
+}
+
+#[test]
+fn three_upu_kinematics_reject_degenerate_poses() {
+    use pkm_traits::KinematicsError;
+    let upu = park_upu();
+    // Platform joint 0 on base joint 0: r_0 - b_0 = (0, 10, 0) at azimuth -90°.
+    let on_joint = Task::<3>::new(0.0, -10.0, 0.0);
+    assert!(matches!(
+        upu.inverse_kinematics(&on_joint, ()),
+        Err(KinematicsError::Unreachable { leg: 0, .. })
+    ));
+    assert!(matches!(
+        upu.inverse_kinematics(&Task::<3>::new(f64::NAN, 0.0, 1.0), ()),
+        Err(KinematicsError::NonFinite { .. })
+    ));
+    assert!(upu.velocity_jacobian_at(&on_joint, ()).is_err());
+}
+
+/// Both mechanisms answer through the one trait, with the objective the sum of squared row
+/// powers (for the Stewart–Gough platform, the squared leg rates).
+#[test]
+fn wrench_systems_share_the_task_objective() {
+    let sg = StewartGough::new(StewartDesign::from_deg(12.0, 8.0, 8.0, 8.0)).unwrap();
+    let upu = park_upu();
+    let pose = platform_pose(
+        Vector3::new(1.0, -2.0, 40.0),
+        Vector3::new(0.2, 0.1, 1.0),
+        0.2,
+    )
+    .unwrap();
+    let twist = Twist::new(Vector3::new(0.1, -0.3, 0.2), Vector3::new(0.5, 0.4, -1.0));
+    let systems: [&dyn WrenchSystem; 2] = [&sg, &upu];
+    for m in systems {
+        let rows = m.wrench_rows(&pose).unwrap();
+        let by_hand: f64 = rows
+            .row_iter()
+            .map(|r| reciprocal_product_vectors(&r.transpose(), twist.as_vector()).powi(2))
+            .sum();
+        let f = m.task_objective(&pose, &twist).unwrap();
+        assert!((f - by_hand).abs() <= 1e-12 * by_hand, "{f} vs {by_hand}");
+        assert!(f > 0.0);
+    }
+    let rates = sg.leg_rates(&pose, &twist).unwrap();
+    assert_eq!(
+        rates.norm_squared().to_bits(),
+        sg.task_objective(&pose, &twist).unwrap().to_bits()
+    );
 }

@@ -77,6 +77,27 @@ pub trait InverseKinematics<const NX: usize, const NQ: usize>: ClosedChain<NX, N
         x: &Task<NX>,
         mode: Self::WorkingMode,
     ) -> Result<Joints<NQ>, KinematicsError>;
+
+    /// The velocity Jacobian $J = -J_q^{-1} J_x$ at the pose `x` assembled in `mode`, so that
+    /// $\dot q = J \dot x$: the one entry point of every index that needs $J$ at a pose.
+    ///
+    /// The default solves the inverse kinematics and calls [`ClosedChain::jacobian`]; a
+    /// mechanism with a closed form of $J$ (no $J_q^{-1}$, fewer square roots) overrides it,
+    /// and its tests check the override against this default.
+    ///
+    /// # Errors
+    /// As [`InverseKinematics::inverse_kinematics`] where `x` does not assemble in `mode`
+    /// ([`KinematicsError::Unreachable`], [`KinematicsError::NonFinite`]);
+    /// [`KinematicsError::Singular`] where it assembles but $J$ is not defined (an
+    /// inverse-kinematic singularity: $J_q$ singular or $J$ not finite).
+    fn velocity_jacobian_at(
+        &self,
+        x: &Task<NX>,
+        mode: Self::WorkingMode,
+    ) -> Result<SMatrix<f64, NQ, NX>, KinematicsError> {
+        let q = self.inverse_kinematics(x, mode)?;
+        self.jacobian(x, &q)
+    }
 }
 
 /// Forward kinematics of a non-redundant mechanism ($NX = NQ$): the task coordinates that close

@@ -1,4 +1,5 @@
-//! Conformance checks that every mechanism's tests call (feature `testkit`).
+//! Conformance checks that every mechanism's tests call (feature `testkit`): closure, Jacobians
+//! against central differences, the velocity Jacobian against its default, IK → FK round trip.
 //!
 //! Each check runs over a sample of poses, skips the poses the mechanism reports as unreachable,
 //! and refuses to pass when fewer than [`MIN_SAMPLES`] poses were actually checked (non-vacuity
@@ -185,6 +186,39 @@ where
         let scale = 1.0_f64.max(j_x.amax()).max(j_q.amax());
         Some((j_x - j_x_fd).amax().max((j_q - j_q_fd).amax()) / scale)
     })
+}
+
+/// [`InverseKinematics::velocity_jacobian_at`] (a mechanism's closed form, where it overrides
+/// it) equals its default, $-J_q^{-1}J_x$ at $q = \mathrm{IK}(x)$, to a relative error
+/// `rel_tol` measured as $\max|J - J_{\text{default}}| / \max(1, \max|J_{\text{default}}|)$, and
+/// fails exactly where the default fails. Poses where both fail are skipped.
+///
+/// # Errors
+/// [`ConformanceFailure`] when the two disagree or the check is vacuous.
+pub fn check_velocity_jacobian_at<M, const NX: usize, const NQ: usize>(
+    mechanism: &M,
+    mode: M::WorkingMode,
+    poses: &[Task<NX>],
+    rel_tol: f64,
+) -> Result<ConformanceReport, ConformanceFailure>
+where
+    M: InverseKinematics<NX, NQ>,
+{
+    run_check(
+        "velocity_jacobian_at vs -J_q⁻¹J_x",
+        poses,
+        rel_tol,
+        |x| {
+            let reference = mechanism
+                .inverse_kinematics(x, mode)
+                .and_then(|q| mechanism.jacobian(x, &q));
+            match (mechanism.velocity_jacobian_at(x, mode), reference) {
+                (Ok(j), Ok(r)) => Some((j - r).amax() / 1.0_f64.max(r.amax())),
+                (Err(_), Err(_)) => None,
+                _ => Some(f64::INFINITY),
+            }
+        },
+    )
 }
 
 /// Forward kinematics started from a perturbed pose recovers $x$ from $q = \mathrm{IK}(x)$:

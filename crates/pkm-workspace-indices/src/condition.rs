@@ -6,7 +6,8 @@ use nalgebra::{SMatrix, SVector};
 #[derive(Debug, Clone, Copy)]
 pub struct Dim<const N: usize>;
 
-/// Singular values of a fixed-size square matrix.
+/// Singular values of a fixed-size square matrix, and the fastest accurate $1/\kappa$ of that
+/// size.
 ///
 /// nalgebra's `singular_values` needs type-level bounds that do not compile in code generic over
 /// `const N`; this helper trait, implemented for the sizes pkm uses, keeps one readable bound in
@@ -14,6 +15,11 @@ pub struct Dim<const N: usize>;
 pub trait FixedSvd<const N: usize> {
     /// The singular values of `m`, in no particular order.
     fn singular_values(m: &SMatrix<f64, N, N>) -> SVector<f64, N>;
+
+    /// $1/\kappa(m) \in [0, 1]$ by the fastest routine of this size: the closed form
+    /// [`crate::inverse_condition_number_3x3`] for $3 \times 3$ (the kernel of the workspace
+    /// studies), the SVD of [`inverse_condition_number`] otherwise.
+    fn inverse_condition(m: &SMatrix<f64, N, N>) -> f64;
 }
 
 macro_rules! impl_fixed_svd {
@@ -22,10 +28,24 @@ macro_rules! impl_fixed_svd {
             fn singular_values(m: &SMatrix<f64, $n, $n>) -> SVector<f64, $n> {
                 m.singular_values()
             }
+
+            fn inverse_condition(m: &SMatrix<f64, $n, $n>) -> f64 {
+                inverse_condition_number(m)
+            }
         }
     )*};
 }
-impl_fixed_svd!(1, 2, 3, 4, 5, 6);
+impl_fixed_svd!(1, 2, 4, 5, 6);
+
+impl FixedSvd<3> for Dim<3> {
+    fn singular_values(m: &SMatrix<f64, 3, 3>) -> SVector<f64, 3> {
+        m.singular_values()
+    }
+
+    fn inverse_condition(m: &SMatrix<f64, 3, 3>) -> f64 {
+        crate::inverse_condition_number_3x3(m)
+    }
+}
 
 /// $1/\kappa = \sigma_{\min} / \sigma_{\max} \in [0, 1]$ of a square Jacobian.
 ///

@@ -1,6 +1,38 @@
 //! Workspace and performance indices of parallel mechanisms: samplers, workspace volume with its
 //! standard error, local and global condition indices, manipulability and space utilisation.
 //!
+//! # Generic entry points over the kinematics traits
+//!
+//! Every index reaches a mechanism through [`pkm_traits::InverseKinematics`] and its velocity
+//! Jacobian [`velocity_jacobian_at`](pkm_traits::InverseKinematics::velocity_jacobian_at)
+//! (a closed form where the mechanism has one), so the path mechanism → Jacobian → $1/\kappa$ →
+//! estimator is written once:
+//!
+//! | question | entry point |
+//! |---|---|
+//! | $1/\kappa$ at a pose | [`inverse_condition_at`] |
+//! | $1/\kappa$, $\sigma_{\min}$, $\sigma_{\max}$, manipulability $\sqrt{\det JJ^\top}$ at a pose | [`local_indices`] |
+//! | volume $W$, $\eta = \int 1/\kappa\,dW$ and GCI $= \eta/W$ over a [`Domain`] | [`Workspace::volume`], [`Workspace::volume_and_eta`], [`VolumeEstimate::gci`] |
+//! | the same on unit points scaled per design (Stamper's hemisphere) | [`Workspace::hemisphere_estimate`], [`HemisphereEstimate::gci`] |
+//! | $1/\kappa$ on a plane $z = z_0$ | [`Workspace::inverse_condition_slice`] |
+//!
+//! ```
+//! use nalgebra::Vector3;
+//! use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
+//! use pkm_traits::Silent;
+//! use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, local_indices};
+//! let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
+//! let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[])?;
+//! let hemisphere = Region::Hemisphere { center: Vector3::zeros(), radius: tsai.reach() };
+//! let points = PointSet::new(Domain::new(hemisphere)?, Sampler::Sobol { seed: 7 }, 4096, 4)?;
+//! let e = ws.volume_and_eta(&points, &Silent)?;
+//! let gci = e.gci().unwrap(); // η / W, the mean of 1/κ over the workspace
+//! assert!(gci > 0.0 && gci < 1.0 && e.eta.unwrap() < e.volume);
+//! let centre = local_indices(&tsai, &Vector3::new(0.0, 0.0, 0.5), [Elbow::Out; 3])?;
+//! assert!((centre.inverse_condition - 0.803344).abs() < 1e-6); // spec §1 closed form
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! The workspace-volume estimator works for any translational mechanism with closed-form
 //! inverse kinematics: a bounding [`Region`] (box, cylinder, hemisphere, ball; optionally one
 //! sector of an $n$-fold symmetric robot) as a [`Domain`], a [`Sampler`] (midpoint grid,
@@ -27,6 +59,7 @@ mod cross_section_indices;
 mod error;
 mod estimator;
 mod gauss_legendre;
+mod local;
 mod parallel;
 mod points;
 mod region;
@@ -48,6 +81,7 @@ pub use cross_section_indices::{
 pub use error::IndexError;
 pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volume_and_eta};
 pub use gauss_legendre::GaussLegendre;
+pub use local::{LocalIndices, inverse_condition_at, local_indices};
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
 pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
 pub use region::{Domain, Region};

@@ -1,4 +1,4 @@
-//! Monte Carlo workspace volume (eq. 3) and global condition index (eqs. 4, 8) over the
+//! Monte Carlo workspace volume (eq. 3) and condition integral $\eta$ (eqs. 4, 8; GCI = η/W) over the
 //! hemisphere of radius $R$ (Stamper, Tsai & Walsh 1997): the general estimator
 //! ([`crate::workspace_volume_and_eta`]) on a [`crate::Region::Hemisphere`] whose unit points are
 //! scaled by each design's radius,
@@ -24,10 +24,19 @@ pub struct HemisphereEstimate {
     pub volume: f64,
     /// Standard error of $W$.
     pub volume_se: f64,
-    /// Global index $\eta = \int f\, dW$ (eq. 8; volume units, not divided by $W$).
-    pub gci: f64,
+    /// The condition integral $\eta = \int f\, dW$ (eq. 8, Stamper's "global condition index";
+    /// volume units, not divided by $W$: see [`HemisphereEstimate::gci`]).
+    pub eta: f64,
     /// Standard error of $\eta$.
-    pub gci_se: f64,
+    pub eta_se: f64,
+}
+
+impl HemisphereEstimate {
+    /// The global condition index of Gosselin & Angeles, $\mathrm{GCI} = \eta / W$ (the mean
+    /// of $f$ over the workspace); `None` for an empty workspace.
+    pub fn gci(&self) -> Option<f64> {
+        (self.volume > 0.0).then(|| self.eta / self.volume)
+    }
 }
 
 /// Estimates $W$ and $\eta$ from `unit_points` (in the unit hemisphere, see
@@ -38,7 +47,7 @@ pub struct HemisphereEstimate {
 ///
 /// # Errors
 /// [`IndexError::EmptySample`] for no points, [`IndexError::Invalid`] for a radius that is
-/// not finite and positive, [`IndexError::Cancelled`].
+/// not finite and positive or whose hemisphere's volume overflows, [`IndexError::Cancelled`].
 ///
 /// # Example
 /// ```
@@ -69,13 +78,20 @@ where
         });
     }
     let v_h = 2.0 * PI * radius.powi(3) / 3.0;
+    if !v_h.is_finite() {
+        return Err(IndexError::Invalid {
+            what: "radius",
+            value: radius,
+            requirement: "the hemisphere's volume 2πR³/3 must be finite",
+        });
+    }
     let e = integrate_slice(unit_points, 1, v_h, progress, |p| local(&(p * radius)))?;
     Ok(HemisphereEstimate {
         n: e.n_points,
         n_inside: e.n_inside,
         volume: e.volume,
         volume_se: e.volume_se,
-        gci: e.eta.unwrap_or(0.0),
-        gci_se: e.eta_se.unwrap_or(0.0),
+        eta: e.eta.unwrap_or(0.0),
+        eta_se: e.eta_se.unwrap_or(0.0),
     })
 }

@@ -1,14 +1,21 @@
 //! The workspace of any translational mechanism with closed-form inverse kinematics: the
 //! positions at which one of the allowed working modes assembles and every
-//! [`WorkspaceConstraint`] holds; its volume and $\eta = \int 1/\kappa\, dW$ over a [`PointSet`].
+//! [`WorkspaceConstraint`] holds; its volume $W$, the condition integral
+//! $\eta = \int 1/\kappa\, dW$ and the global condition index $\mathrm{GCI} = \eta / W$ over a
+//! [`PointSet`] of any [`crate::Domain`] ([`Workspace::volume_and_eta`]) or over unit points
+//! scaled per design ([`Workspace::hemisphere_estimate`]), and planar sections of $1/\kappa$
+//! ([`Workspace::inverse_condition_slice`]). This is the one path from a mechanism to its
+//! workspace indices: mechanism → velocity Jacobian → $1/\kappa$ → estimator.
 //!
-//! The local index is $1/\kappa(J)$ of the velocity Jacobian $J = -J_q^{-1} J_x$
-//! ([`pkm_traits::ClosedChain::jacobian`], which a mechanism may override with a closed form), 0 at an
-//! inverse-kinematic singularity.
+//! The local index is $1/\kappa(J)$ of the velocity Jacobian $J = -J_q^{-1} J_x$ at the first
+//! mode that assembles ([`crate::inverse_condition_at`], through
+//! [`pkm_traits::InverseKinematics::velocity_jacobian_at`], which a mechanism may override with
+//! a closed form), 0 at an inverse-kinematic singularity. With constraints on the joints the
+//! Jacobian is [`pkm_traits::ClosedChain::jacobian`] at the joints that satisfy them.
 
 use crate::{
-    IndexError, PointSet, VolumeEstimate, inverse_condition_number_3x3, workspace_volume,
-    workspace_volume_and_eta,
+    HemisphereEstimate, IndexError, PointSet, Slice, VolumeEstimate, hemisphere_estimate,
+    inverse_condition_at, inverse_condition_number_3x3, workspace_volume, workspace_volume_and_eta,
 };
 use nalgebra::Vector3;
 use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
@@ -113,7 +120,16 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
 
     /// $1/\kappa(J)$ at `x` (0 at a singular $J_q$), `None` outside the workspace.
     pub fn inverse_condition(&self, x: &Vector3<f64>) -> Option<f64> {
-        let q = self.assembly(x)?;
+        if !self.position_allowed(x) {
+            return None;
+        }
+        if self.on_joints.is_empty() {
+            return self
+                .modes
+                .iter()
+                .find_map(|mode| inverse_condition_at(self.mechanism, x, *mode).ok());
+        }
+        let q = self.assemble(x)?;
         Some(
             self.mechanism
                 .jacobian(x, &q)
@@ -144,5 +160,51 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
         progress: &dyn Progress,
     ) -> Result<VolumeEstimate, IndexError> {
         workspace_volume_and_eta(points, progress, |x| self.inverse_condition(x))
+    }
+
+    /// $W$ and $\eta = \int 1/\kappa\, dW$ over the hemisphere of `radius` about the origin,
+    /// from `unit_points` in the unit hemisphere scaled by `radius`
+    /// ([`crate::hemisphere_estimate`]): the common random points of a study whose designs
+    /// differ in reach (Stamper, Tsai & Walsh 1997). GCI = η/W by [`HemisphereEstimate::gci`].
+    ///
+    /// # Errors
+    /// As [`crate::hemisphere_estimate`].
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_traits::Silent;
+    /// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
+    /// use pkm_workspace_indices::{Sampler, Workspace};
+    /// let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
+    /// let unit = Sampler::Sobol { seed: 7 }.unit_hemisphere_points(20_000)?;
+    /// let e = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[])?
+    ///     .hemisphere_estimate(&unit, tsai.reach(), &Silent)?;
+    /// let gci = e.gci().unwrap();
+    /// assert!(e.volume > 0.0 && gci > 0.0 && gci < 1.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn hemisphere_estimate(
+        &self,
+        unit_points: &[Vector3<f64>],
+        radius: f64,
+        progress: &dyn Progress,
+    ) -> Result<HemisphereEstimate, IndexError> {
+        hemisphere_estimate(unit_points, radius, progress, |x| self.inverse_condition(x))
+    }
+
+    /// $1/\kappa$ on the `n × n` cell centres of $[-h, h]^2$ in the plane $z$ = `z`
+    /// ([`Slice::square`]), `None` outside the workspace.
+    ///
+    /// # Errors
+    /// As [`Slice::square`].
+    pub fn inverse_condition_slice(
+        &self,
+        z: f64,
+        half_width: f64,
+        n: usize,
+    ) -> Result<Slice, IndexError> {
+        Slice::square(z, half_width, n, |x, y, z| {
+            self.inverse_condition(&Vector3::new(x, y, z))
+        })
     }
 }

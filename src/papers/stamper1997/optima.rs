@@ -328,7 +328,7 @@ impl Improvement {
             Criterion::Volume { .. } => {
                 (ours.volume, paper.volume, ours.volume_se, paper.volume_se)
             }
-            Criterion::Gci => (ours.gci, paper.gci, ours.gci_se, paper.gci_se),
+            Criterion::Gci => (ours.eta, paper.eta, ours.eta_se, paper.eta_se),
         };
         Self {
             difference: o - p,
@@ -361,8 +361,9 @@ fn estimate_rows(source: &Source, prefix: &str, e: &HemisphereEstimate) -> Vec<C
     [
         ("volume", e.volume),
         ("volume_se", e.volume_se),
-        ("gci", e.gci),
-        ("gci_se", e.gci_se),
+        // Stamper's "GCI" of eq. 8 is the condition integral η (volume units).
+        ("gci", e.eta),
+        ("gci_se", e.eta_se),
     ]
     .into_iter()
     .map(|(q, v)| source.info(&format!("{prefix}{q}"), "R^3", v))

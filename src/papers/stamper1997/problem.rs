@@ -4,11 +4,9 @@
 //! $\phi_3 \le 355$) and non-negative lengths (bounds; $c - r \ge 0$, spec §4 A4).
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{Tsai3Dof, TsaiDesign};
+use pkm_mechanisms::{Elbow, Tsai3Dof, TsaiDesign};
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
-use pkm_workspace_indices::{
-    HemisphereEstimate, hemisphere_estimate, inverse_condition_number_3x3,
-};
+use pkm_workspace_indices::{HemisphereEstimate, Workspace};
 
 /// What is maximised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,16 +37,17 @@ pub(super) fn design(x: &[f64]) -> Result<Tsai3Dof, ObjectiveError> {
     ))?)
 }
 
-/// $W$ and $\eta$ of `design` on the unit-hemisphere `points` (one pass).
+/// $W$ and $\eta$ of `design` (elbow out, no further constraint) on the unit-hemisphere
+/// `points` scaled by its reach $R$ (one pass).
 pub(super) fn estimate(
     design: &Tsai3Dof,
     points: &[Vector3<f64>],
 ) -> Result<HemisphereEstimate, pkm_workspace_indices::IndexError> {
-    hemisphere_estimate(points, design.reach(), &Silent, |p| {
-        design
-            .jacobian_eq7(p)
-            .map(|j| inverse_condition_number_3x3(&j))
-    })
+    Workspace::new(design, &[[Elbow::Out; 3]], &[])?.hemisphere_estimate(
+        points,
+        design.reach(),
+        &Silent,
+    )
 }
 
 /// The screening objective uses this fraction of the points (GCI) or of the columns per axis
@@ -105,7 +104,7 @@ impl Objective for StamperProblem<'_> {
             Criterion::Volume { ngrid } => Ok(d.column_volume(ngrid)?),
             Criterion::Gci => {
                 estimate(&d, self.points)
-                    .map(|e| e.gci)
+                    .map(|e| e.eta)
                     .map_err(|e| ObjectiveError::Infeasible {
                         reason: e.to_string(),
                     })

@@ -6,7 +6,8 @@ use crate::papers::{
     Context, ExperimentError, Figure, FigureKind, Heatmap, LinePlot, LineSeries, Outcome, Paper,
     SeriesStyle, Source,
 };
-use pkm_workspace_indices::{Sampler, Slice, inverse_condition_number_3x3};
+use pkm_mechanisms::Elbow;
+use pkm_workspace_indices::{Sampler, Workspace};
 
 /// The paper's maximum-volume design (sec. 5).
 pub(super) const MAX_VOLUME_DESIGN: [f64; 6] = [0.4, 0.6, 0.0, 0.0, 5.0, 355.0];
@@ -64,10 +65,8 @@ pub(super) fn run_slice(
 ) -> Result<Outcome, ExperimentError> {
     let d = design(&paper_design)?;
     let n = ctx.mode.pick(60, 240);
-    let slice = Slice::square(0.5, d.reach(), n, |x, y, z| {
-        d.jacobian_eq7(&nalgebra::Vector3::new(x, y, z))
-            .map(|j| inverse_condition_number_3x3(&j))
-    })?;
+    let slice =
+        Workspace::new(&d, &[[Elbow::Out; 3]], &[])?.inverse_condition_slice(0.5, d.reach(), n)?;
     let (max, x, y) = slice.max().unwrap_or((0.0, f64::NAN, f64::NAN));
     let source = Source::new(id, Paper::Stamper1997, figure);
     let row = source

@@ -6,7 +6,7 @@ use super::pose_report::{
     section_4_1_twist,
 };
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
-use pkm_mechanisms::{StewartGough, presets};
+use pkm_mechanisms::{StewartGough, WrenchSystem, presets};
 
 /// The paper's printed λ = 1 optimum: n = z, α = −13.5°, p = (−10, −10, 50) cm.
 const PAPER_POSE_LAMBDA1: PaperPose = PaperPose {

@@ -7,7 +7,8 @@ use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Ve
 use nalgebra::{Isometry3, Vector3};
 use pkm_draw::{Axis, Scene};
 use pkm_mechanisms::{
-    Skeleton, StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, presets,
+    Skeleton, StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, WrenchSystem,
+    presets,
 };
 use pkm_optimizers::{
     LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,

@@ -6,7 +6,7 @@ use super::pose_report::{
     section_4_1_twist,
 };
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source};
-use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartGough, presets};
+use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartGough, WrenchSystem, presets};
 use pkm_traits::Bounds;
 
 /// Runs §4.3.

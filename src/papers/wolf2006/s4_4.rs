@@ -8,7 +8,7 @@ use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
 use pkm_draw::{Axis, Scene};
-use pkm_mechanisms::{Skeleton, ThreeUpu, ThreeUpuDesign, UJointAxes, presets};
+use pkm_mechanisms::{Skeleton, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, presets};
 use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};

@@ -1,12 +1,18 @@
 //! `pkm-workspace-indices` outside `volume.rs`, `sampler.rs` and `sobol.rs`: condition numbers,
-//! quadrature, cross-section means, slices and space utilisation.
+//! local indices at a pose, quadrature, cross-section means, slices, the generic workspace entry
+//! points and space utilisation.
 
-use super::{config, hostile_count, hostile_f64, judge, judge_err, judge_value};
-use nalgebra::{Matrix3, Matrix6};
-use pkm_traits::{Extents, SlicedRegion};
+use super::{config, hostile_count, hostile_f64, hostile_vec3, judge, judge_err, judge_value};
+use nalgebra::{Matrix3, Matrix6, Vector3};
+use pkm_mechanisms::{
+    Elbow, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios, ThreeUpu,
+    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, presets,
+};
+use pkm_traits::{Extents, Silent, SlicedRegion};
 use pkm_workspace_indices::{
-    GaussLegendre, GridRule, Slice, condition_number, inverse_condition_number,
-    inverse_condition_number_3x3, mean_by_grid, mean_by_quadrature, space_utilization,
+    GaussLegendre, GridRule, LocalIndices, Slice, Workspace, condition_number,
+    inverse_condition_at, inverse_condition_number, inverse_condition_number_3x3, local_indices,
+    mean_by_grid, mean_by_quadrature, space_utilization,
 };
 use proptest::prelude::*;
 
@@ -87,6 +93,91 @@ proptest! {
     }
 }
 
+/// What every `local_indices` answer must satisfy: finite, ordered, 1/κ a ratio, and
+/// $\sigma_{\min}^N \le w \le \sigma_{\max}^N$.
+fn local_indices_hold(l: &LocalIndices) -> bool {
+    let finite = [
+        l.inverse_condition,
+        l.sigma_min,
+        l.sigma_max,
+        l.manipulability,
+    ]
+    .iter()
+    .all(|v| v.is_finite());
+    finite
+        && ratio(&l.inverse_condition)
+        && 0.0 <= l.sigma_min
+        && l.sigma_min <= l.sigma_max
+        && l.manipulability <= l.sigma_max.powi(3) * (1.0 + 1e-12)
+}
+
+fn tsai() -> Tsai3Dof {
+    Tsai3Dof::new(presets::stamper_max_gci()).unwrap()
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Local indices and the generic workspace entry points of three mechanisms at hostile
+    /// poses and settings (NaN, ±∞, 1e±300; singular poses of the Tsai platform: `|p_v| = b`).
+    #[test]
+    fn local_indices_and_workspace_entry_points(
+        x in hostile_vec3(), scale in hostile_f64(), z in hostile_f64(), n in 0..12usize,
+        radius in hostile_f64(), design in (hostile_f64(), hostile_f64()),
+    ) {
+        let tsai = tsai();
+        let singular = Vector3::new(0.1, tsai.b(), 0.3);
+        for p in [x, x * scale, singular] {
+            judge("inverse_condition_at (Tsai3Dof)", || inverse_condition_at(&tsai, &p, [Elbow::Out; 3]), ratio)?;
+            judge("inverse_condition_at (Tsai3Dof, elbows mixed)", || inverse_condition_at(&tsai, &p, [Elbow::Out, Elbow::In, Elbow::Out]), ratio)?;
+            judge("local_indices (Tsai3Dof)", || local_indices(&tsai, &p, [Elbow::Out; 3]), local_indices_hold)?;
+        }
+        let ratios = LinearDeltaRatios { l1_over_yr: 2.0, ya_over_yr: 0.0, zr_over_yr: 0.0, l2_over_l1: 0.63 };
+        let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
+        judge("inverse_condition_at (LinearDelta)", || inverse_condition_at(&delta, &x, LinearDeltaMode::PAPER), ratio)?;
+        judge("local_indices (LinearDelta)", || local_indices(&delta, &x, LinearDeltaMode::PAPER), local_indices_hold)?;
+        if let Ok(upu) = ThreeUpu::new(ThreeUpuDesign { upper: [UJointAxes::park(0.3); 3], ..presets::park_3upu() }) {
+            judge("inverse_condition_at (ThreeUpu)", || inverse_condition_at(&upu, &(x * scale), ()), ratio)?;
+            judge("local_indices (ThreeUpu)", || local_indices(&upu, &(x * scale), ()), local_indices_hold)?;
+        }
+        // A design with hostile lengths, when valid, and hostile slice and hemisphere settings.
+        if let Ok(d) = Tsai3Dof::new(TsaiDesign::from_deg(design.0, design.1, 0.0, 0.0, 120.0, 240.0)) {
+            judge("local_indices (hostile Tsai3Dof)", || local_indices(&d, &x, [Elbow::Out; 3]), local_indices_hold)?;
+        }
+        let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
+        judge("Workspace::inverse_condition_slice", || ws.inverse_condition_slice(z, radius, n), |s| {
+            s.values.len() == n * n && s.values.iter().flatten().all(ratio)
+        })?;
+        let unit = [Vector3::new(0.1, 0.2, 0.3), Vector3::new(0.0, 0.0, 0.5), x];
+        judge("Workspace::hemisphere_estimate", || ws.hemisphere_estimate(&unit, radius, &Silent), |e| {
+            e.volume.is_finite() && e.eta.is_finite() && e.eta <= e.volume && e.gci().is_none_or(|g| ratio(&g))
+        })?;
+    }
+}
+
+/// A Jacobian with entries near 1e300 (arm length 1e-300): its σ and product overflow, a typed
+/// error; and a tiny one (lengths 1e300): 1/κ is scale-invariant and the product underflows to
+/// a finite 0 or more.
+#[test]
+fn local_indices_of_extreme_scales_are_typed_or_finite() {
+    for a in [1e-300, 1e-150, 1e150, 1e300] {
+        let Ok(d) = Tsai3Dof::new(TsaiDesign::from_deg(a, a * 1.3, 0.0, 0.0, 120.0, 240.0)) else {
+            continue;
+        };
+        let p = Vector3::new(0.0, 0.0, 1.5 * a);
+        super::expect(judge(
+            "local_indices (extreme scale)",
+            || local_indices(&d, &p, [Elbow::Out; 3]),
+            local_indices_hold,
+        ));
+        super::expect(judge(
+            "inverse_condition_at (extreme scale)",
+            || inverse_condition_at(&d, &p, [Elbow::Out; 3]),
+            ratio,
+        ));
+    }
+}
+
 #[test]
 fn huge_counts_are_refused_before_allocating() {
     for n in [usize::MAX, 1 << 40, 1 << 33] {
@@ -107,5 +198,11 @@ fn huge_counts_are_refused_before_allocating() {
         super::expect(judge_err("GaussLegendre::new (huge)", || {
             GaussLegendre::new(n)
         }));
+        let tsai = tsai();
+        let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
+        super::expect(judge_err(
+            "Workspace::inverse_condition_slice (huge)",
+            || ws.inverse_condition_slice(0.5, 1.0, n),
+        ));
     }
 }

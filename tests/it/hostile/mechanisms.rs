@@ -8,7 +8,7 @@ use pkm_mechanisms::{
     Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
     LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
     StewartDesignVariable, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
-    TsaiDesign, UJointAxes, platform_pose, pose_from_task, presets,
+    TsaiDesign, UJointAxes, WrenchSystem, platform_pose, pose_from_task, presets,
 };
 use pkm_screw_theory::Twist;
 use pkm_traits::{
@@ -41,6 +41,11 @@ where
     judge(
         "ClosedChain::jacobian",
         || m.jacobian(x, &q),
+        |j| all_finite(j.iter()),
+    )?;
+    judge(
+        "InverseKinematics::velocity_jacobian_at",
+        || m.velocity_jacobian_at(x, mode),
         |j| all_finite(j.iter()),
     )?;
     let settings = NewtonSettings {
@@ -88,7 +93,6 @@ proptest! {
         judge("TsaiDesign::from_deg", || Tsai3Dof::new(TsaiDesign::from_deg(a, b, d_plus_e, c_minus_r, phi2, phi3)), |d| d.reach().is_finite())?;
         if let Ok(d) = Tsai3Dof::new(design) {
             kinematics("Tsai3Dof::inverse_kinematics", &d, &p, [Elbow::Out; 3], &guess)?;
-            judge_value("Tsai3Dof::jacobian_eq7", || d.jacobian_eq7(&p), |j| j.is_none_or(|j| all_finite(j.iter())))?;
         }
     }
 
@@ -119,7 +123,7 @@ proptest! {
         })?;
         if let Ok(d) = LinearDelta::new(design) {
             judge("LinearDelta::arm_reaches", || d.arm_reaches(y, z), |q| all_finite(q.iter()))?;
-            judge("LinearDelta::velocity_jacobian", || d.velocity_jacobian(y, z, LinearDeltaMode::PAPER), |j| all_finite(j.iter()))?;
+            judge("LinearDelta::velocity_jacobian_at", || d.velocity_jacobian_at(&Vector3::new(0.0, y, z), LinearDeltaMode::PAPER), |j| all_finite(j.iter()))?;
             let section = d.cross_section();
             judge_value("CrossSection::area", || section.area(), |a| a.is_finite() && *a >= 0.0)?;
             judge_value("CrossSection::slice", || section.slice(y), |s| s.is_none_or(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo <= hi))?;
@@ -167,7 +171,7 @@ proptest! {
     #[test]
     fn three_upu_constructor_and_wrenches(
         a in hostile_f64(), b in hostile_f64(), u1 in hostile_vec3(), u2 in hostile_vec3(),
-        theta in hostile_f64(), p in hostile_vec3(),
+        theta in hostile_f64(), p in hostile_vec3(), guess in hostile_vec3(),
     ) {
         let axes = UJointAxes { u1, u2 };
         let design = ThreeUpuDesign {
@@ -183,6 +187,7 @@ proptest! {
             let twist = Twist::new(Vector3::new(0.0, 0.0, 1.0), Vector3::zeros());
             judge("ThreeUpu::wrench_rows", || m.wrench_rows(&pose), |r| all_finite(r.iter()))?;
             judge("ThreeUpu::task_objective", || m.task_objective(&pose, &twist), |f| f.is_finite())?;
+            kinematics("ThreeUpu::inverse_kinematics", &m, &p, (), &guess)?;
         }
     }
 

@@ -79,4 +79,12 @@ subcommands! {
     Pareto => pareto,
     /// Joins the outputs of `--shard 1/N … N/N` into the result of a single run.
     Merge => merge,
+    /// Multistart constrained optimisation of a design, with first- and second-order checks.
+    Optimize => optimize,
+    /// Task-based synthesis (Wolf & Shoham): pose and geometry for weighted task twists, and
+    /// the 3-UPU singularity search.
+    Task => task,
+    /// Inverse dynamics (Hamilton and Lagrange) of a rotary Delta along a trajectory, and the
+    /// forward retrace with its constraint drift.
+    Dynamics => dynamics,
 }

@@ -486,7 +486,11 @@ fn design_error(e: pkm_traits::DesignError) -> BuildError {
     BuildError::Design(e.to_string())
 }
 
-fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
+/// The rotary Delta of a `[mechanism.rotary_delta]` table.
+///
+/// # Errors
+/// [`BuildError::Design`] with the library's reason for an invalid design.
+pub fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
     let placement = Placement {
         motor_plane_z: s.motor_plane_z.0,
         azimuth_motor_1: s.azimuth_motor_1_deg.radians(),

@@ -1,4 +1,5 @@
-//! [`Tsai3Dof::jacobian_eq7`] on `N` points at once, in [`Lanes`] so that the compiler
+//! The closed-form elbow-out velocity Jacobian of
+//! [`pkm_traits::InverseKinematics::velocity_jacobian_at`] (eq. 7) on `N` points at once, in [`Lanes`] so that the compiler
 //! vectorises it: the same trigonometry-free formulas, with every early return replaced by a
 //! mask bit and $\rho = \sqrt{p_u^2 + p_w^2}$ instead of `hypot` (a library call, which would
 //! not vectorise). Lanes are independent: NaN or infinity in one lane stays in that lane.
@@ -9,24 +10,27 @@ use nalgebra::Vector3;
 use pkm_traits::Lanes;
 
 impl Tsai3Dof {
-    /// Eq. 7 at each of the `N` points on the principal, elbow-out branch (see
-    /// [`Tsai3Dof::jacobian_eq7`] for the formulas), lane-parallel. A lane is reachable exactly
-    /// where `jacobian_eq7` returns `Some` (up to rounding at the workspace boundary), with the
-    /// same matrix to rounding; like `jacobian_eq7` it may hold infinite entries where eq. 7
-    /// is singular ($\sin\theta_3 = 0$ or $\sin(\theta_1 - \theta_2) = 0$).
+    /// Eq. 7 at each of the `N` points on the principal, elbow-out branch, lane-parallel: the
+    /// formulas of `velocity_jacobian_at(p, [Elbow::Out; 3])` (see
+    /// [`pkm_traits::InverseKinematics::velocity_jacobian_at`]). A lane is reachable exactly
+    /// where that scalar kernel does not report the point unreachable (up to rounding at the
+    /// workspace boundary), with the same matrix to rounding; where the scalar kernel reports
+    /// a singular Jacobian ($\sin\theta_3 = 0$ or $\sin(\theta_1 - \theta_2) = 0$) the lane is
+    /// reachable and holds infinite entries.
     ///
     /// # Example
     /// ```
     /// use nalgebra::Vector3;
-    /// use pkm_mechanisms::{Tsai3Dof, presets};
+    /// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
+    /// use pkm_traits::InverseKinematics;
     /// let design = Tsai3Dof::new(presets::stamper_max_gci()).unwrap();
     /// let p = Vector3::new(0.1, -0.2, 0.5);
-    /// let lanes = design.jacobian_eq7_lanes(&[p, Vector3::new(0.0, 0.0, 5.0)]);
-    /// let scalar = design.jacobian_eq7(&p).unwrap();
+    /// let lanes = design.velocity_jacobian_elbow_out_lanes(&[p, Vector3::new(0.0, 0.0, 5.0)]);
+    /// let scalar = design.velocity_jacobian_at(&p, [Elbow::Out; 3]).unwrap();
     /// assert!((lanes.matrix(0).unwrap() - scalar).norm() < 1e-13 * scalar.norm());
     /// assert_eq!(lanes.reachable, [true, false]);
     /// ```
-    pub fn jacobian_eq7_lanes<const N: usize>(
+    pub fn velocity_jacobian_elbow_out_lanes<const N: usize>(
         &self,
         points: &[Vector3<f64>; N],
     ) -> JacobianLanes<N> {
@@ -36,7 +40,7 @@ impl Tsai3Dof {
             reachable: [true; N],
         };
         for leg in 0..3 {
-            let (row, reachable) = self.eq7_row(leg, &p);
+            let (row, reachable) = self.elbow_out_row(leg, &p);
             for (k, value) in row.into_iter().enumerate() {
                 out.jacobian[3 * leg + k] = value.0;
             }
@@ -48,10 +52,14 @@ impl Tsai3Dof {
     }
 
     /// Row `leg` of eq. 7 at the points `p` (coordinates in lanes) and which lanes that leg
-    /// reaches: [`Tsai3Dof::jacobian_eq7`]'s formulas with divisions by $b$, $\rho$, $2a$ and
+    /// reaches: the scalar elbow-out kernel's formulas with divisions by $b$, $\rho$, $2a$ and
     /// $L$ turned into products with reciprocals computed once (a lane division is slow).
     #[inline(always)]
-    fn eq7_row<const N: usize>(&self, leg: usize, p: &[Lanes<N>; 3]) -> ([Lanes<N>; 3], [bool; N]) {
+    fn elbow_out_row<const N: usize>(
+        &self,
+        leg: usize,
+        p: &[Lanes<N>; 3],
+    ) -> ([Lanes<N>; 3], [bool; N]) {
         let (cp, sp) = self.trig[leg];
         let a = self.a;
         let (pu, pv, pw) = (p[0] * cp + p[1] * sp + self.h, p[1] * cp - p[0] * sp, p[2]);
@@ -85,8 +93,20 @@ impl Tsai3Dof {
 mod tests {
     #![allow(clippy::unwrap_used, clippy::float_cmp)]
     use super::*;
-    use crate::{TsaiDesign, presets};
+    use crate::{Elbow, TsaiDesign, presets};
+    use nalgebra::Matrix3;
+    use pkm_traits::{InverseKinematics, KinematicsError};
     use proptest::prelude::*;
+
+    /// The scalar kernel as reachability and matrix: `Some(None)` where `p` is reachable but
+    /// eq. 7 is not finite there.
+    fn scalar(m: &Tsai3Dof, p: &Vector3<f64>) -> Option<Option<Matrix3<f64>>> {
+        match m.velocity_jacobian_at(p, [Elbow::Out; 3]) {
+            Ok(j) => Some(Some(j)),
+            Err(KinematicsError::Singular { .. }) => Some(None),
+            Err(_) => None,
+        }
+    }
 
     fn designs() -> [Tsai3Dof; 2] {
         [
@@ -112,13 +132,13 @@ mod tests {
 
     fn check_lanes(points: &[Vector3<f64>; 4]) -> Result<(), TestCaseError> {
         for m in designs() {
-            let lanes = m.jacobian_eq7_lanes(points);
+            let lanes = m.velocity_jacobian_elbow_out_lanes(points);
             for (lane, p) in points.iter().enumerate() {
-                let want = m.jacobian_eq7(p);
+                let want = scalar(&m, p);
                 let got = lanes.matrix(lane);
                 let margin = margin(&m, p);
                 match (got, want) {
-                    (Some(g), Some(w)) if w.iter().all(|v| v.is_finite()) => {
+                    (Some(g), Some(Some(w))) => {
                         // sqrt(1 - k²) and sqrt(1 - c3²) amplify rounding near the boundary.
                         let tol = 1e-14 / margin.max(1e-300) + 1e-13;
                         for i in 0..3 {
@@ -129,7 +149,7 @@ mod tests {
                             );
                         }
                     }
-                    (Some(_), Some(_)) | (None, None) => {}
+                    (Some(_), Some(None)) | (None, None) => {}
                     _ => prop_assert!(
                         !(margin.abs() > 1e-12),
                         "{p}: batch {got:?} scalar {want:?}"
@@ -173,7 +193,7 @@ mod tests {
                     Vector3::new(0.1 * ix as f64, 0.1 * iy as f64, 0.1 + 0.2 * k as f64)
                 });
                 check_lanes(&pts).unwrap();
-                let lanes = designs()[0].jacobian_eq7_lanes(&pts);
+                let lanes = designs()[0].velocity_jacobian_elbow_out_lanes(&pts);
                 reachable += lanes.reachable.iter().filter(|r| **r).count();
                 total += 4;
             }

@@ -1,4 +1,5 @@
-//! Loop closure, the Jacobian of eq. 7 and the allocation-free kernel of the workspace studies.
+//! Loop closure, the velocity Jacobian in closed form (eq. 7) and the allocation-free kernel of
+//! the workspace studies.
 //!
 //! With $\theta_2, \theta_3$ eliminated (principal $\theta_3$), leg $i$ closes when
 //! $$ \Phi_i = (p_u - a\cos\theta_1)^2 + (p_w - a\sin\theta_1)^2
@@ -73,6 +74,22 @@ impl InverseKinematics<3, 3> for Tsai3Dof {
         }
         Ok(q)
     }
+
+    /// Eq. 7 in closed form, without trigonometric functions, on the elbow-out branch of every
+    /// leg (`[Elbow::Out; 3]`, the branch of the workspace and GCI studies); the default
+    /// (IK, then $-J_q^{-1}J_x$) for any other mode.
+    fn velocity_jacobian_at(
+        &self,
+        x: &Task<3>,
+        mode: [Elbow; 3],
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        if mode == [Elbow::Out; 3] {
+            self.velocity_jacobian_elbow_out(x)
+        } else {
+            let q = self.inverse_kinematics(x, mode)?;
+            self.jacobian(x, &q)
+        }
+    }
 }
 
 impl ForwardKinematics<3> for Tsai3Dof {}
@@ -81,24 +98,40 @@ impl Tsai3Dof {
     /// Eq. 7 at `p` on the principal, elbow-out branch of every leg, computed without
     /// trigonometric functions: $\theta_1 = \alpha - \operatorname{sgn}(p_w)\beta$ with
     /// $\alpha = \operatorname{atan2}(p_w, p_u)$, $\cos\beta = (\rho^2 + a^2 - L^2)/(2a\rho)$.
+    /// Reached through [`InverseKinematics::velocity_jacobian_at`] with `[Elbow::Out; 3]`.
     ///
-    /// `None` when `p` lies outside the workspace (some leg has $|p_v| > b$ or
-    /// $|\cos\beta| > 1$) or on a set where eq. 7 is undefined ($\rho = 0$, $L = 0$).
-    pub fn jacobian_eq7(&self, p: &Vector3<f64>) -> Option<Matrix3<f64>> {
+    /// # Errors
+    /// [`KinematicsError::NonFinite`] for a non-finite `p`; [`KinematicsError::Unreachable`]
+    /// when `p` lies outside the workspace (some leg has $|p_v| > b$ or $|\cos\beta| > 1$);
+    /// [`KinematicsError::Singular`] where eq. 7 is not finite ($\sin\theta_3 = 0$,
+    /// $\sin(\theta_1 - \theta_2) = 0$, $\rho = 0$ or $L = 0$).
+    fn velocity_jacobian_elbow_out(
+        &self,
+        p: &Vector3<f64>,
+    ) -> Result<Matrix3<f64>, KinematicsError> {
+        if let Some(value) = p.iter().copied().find(|v| !v.is_finite()) {
+            return Err(KinematicsError::NonFinite { what: "p", value });
+        }
         let mut j = Matrix3::zeros();
         for i in 0..3 {
             let (pu, pv, pw) = self.leg_coordinates(i, p);
             let c3 = pv / self.b;
             let s3_sq = 1.0 - c3 * c3;
             if !(s3_sq >= 0.0) {
-                return None;
+                return Err(KinematicsError::Unreachable {
+                    leg: i,
+                    discriminant: s3_sq,
+                });
             }
             let s3 = s3_sq.sqrt();
             let l = self.s + self.b * s3;
             let rho = pu.hypot(pw);
             let k = (rho * rho + self.a * self.a - l * l) / (2.0 * self.a * rho);
             if !(k.abs() <= 1.0) {
-                return None;
+                return Err(KinematicsError::Unreachable {
+                    leg: i,
+                    discriminant: 1.0 - k.abs(),
+                });
             }
             let sb = (1.0 - k * k).sqrt();
             let (ca, sa) = (pu / rho, pw / rho);
@@ -113,7 +146,14 @@ impl Tsai3Dof {
             j[(i, 1)] = (-c3 * cp - c2 * sp * s3) / den;
             j[(i, 2)] = -s2 / (self.a * sin12);
         }
-        Some(j)
+        if j.iter().all(|v| v.is_finite()) {
+            Ok(j)
+        } else {
+            Err(KinematicsError::Singular {
+                matrix: "J_q",
+                sigma_min: 0.0,
+            })
+        }
     }
 
     /// Whether `p` is in the workspace: every leg has real $\theta_3$ (principal) and $\theta_1$

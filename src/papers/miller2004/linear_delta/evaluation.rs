@@ -1,12 +1,13 @@
 //! The Linear Delta's performance indices for one design, and the weighted utility (Miller 2004,
 //! eqs. 1–4) as an [`Objective`] for the exhaustive search.
 
+use nalgebra::Vector3;
 use pkm_mechanisms::{
     CrossSection, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
 };
 use pkm_traits::{Bounds, Objective, ObjectiveError, SlicedRegion};
 use pkm_workspace_indices::{
-    GaussLegendre, GridMean, GridRule, IndexError, LANES, inverse_condition_number_3x3,
+    GaussLegendre, GridMean, GridRule, IndexError, LANES, inverse_condition_at,
     inverse_condition_number_3x3_lanes, mean_by_grid_lanes, mean_by_quadrature_lanes,
     space_utilization,
 };
@@ -25,11 +26,10 @@ pub fn linear_delta(design: &[f64; 4]) -> Result<LinearDelta, ObjectiveError> {
     })?)
 }
 
-/// $1/\kappa(J)$ at $(y, z)$, 0 outside the discs and on their boundaries (serial singularities).
+/// $1/\kappa(J)$ at $(y, z)$ ([`inverse_condition_at`], $J$ independent of $x$), 0 outside
+/// the cross-section and on the discs' boundaries (serial singularities).
 pub fn inverse_condition(delta: &LinearDelta, y: f64, z: f64) -> f64 {
-    delta
-        .velocity_jacobian(y, z, LinearDeltaMode::PAPER)
-        .map_or(0.0, |j| inverse_condition_number_3x3(&j))
+    inverse_condition_at(delta, &Vector3::new(0.0, y, z), LinearDeltaMode::PAPER).unwrap_or(0.0)
 }
 
 /// [`inverse_condition`] at the [`LANES`] points $(y, z_l)$: the batch Jacobian

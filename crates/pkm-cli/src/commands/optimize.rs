@@ -1,0 +1,868 @@
+//! `pkm optimize FILE`: multistart constrained optimisation of the Tsai platform's workspace
+//! volume or global condition index (Stamper, Tsai & Walsh 1997, §5) over any of its design
+//! variables $(a, b, d + e, c - r, \phi_2, \phi_3)$, with linear inequality constraints
+//! $\sum_j c_j x_j \le u$, by the augmented Lagrangian from seeded uniform starts, and the
+//! first- and second-order checks at the optimum.
+//!
+//! The checks use the Lagrangian $\mathcal L = f + \sum_i \mu_i g_i$ of the minimised
+//! $f = -W$ (or $-\mathrm{GCI}$) and $g_i = c_i \cdot x - u_i$:
+//! - *first order*: the projected gradient of $\mathcal L$ with the solver's multipliers
+//!   (central differences; on a lower bound only $\min(0, \partial_j\mathcal L)$ counts, on an
+//!   upper bound only $\max(0, \partial_j\mathcal L)$), and the stationarity residual
+//!   $\nabla f + \sum_{active} \mu_i \nabla g_i$ with least-squares multipliers, over the
+//!   variables off their bounds; each entry times the variable's range;
+//! - *second order*: the eigenvalues of the finite-difference Hessian of $\mathcal L$ over the
+//!   free variables (more than one difference step from both bounds), and of that Hessian on
+//!   the null space of the active constraints' gradients: all $\ge 0$ at a minimum of $f$, up
+//!   to finite-difference noise.
+
+use super::{Context, Report, Run};
+use crate::CliError;
+use crate::output::{Output, StudyEcho};
+use crate::plot::{self, Marker, Scatter};
+use crate::study::mechanism::{MechanismSpec, TsaiSpec};
+use crate::study::{self, StudyFile};
+use nalgebra::{DMatrix, DVector, Vector3};
+use pkm_mechanisms::{Tsai3Dof, TsaiDesign};
+use pkm_optimizers::{
+    AugmentedLagrangianSettings, ConstrainedResult, OptimizeError, Sense, augmented_lagrangian,
+    run_multistart, uniform_start_points,
+};
+use pkm_traits::{Bounds, CancelOnly, Constraints, Objective, ObjectiveError, Progress, Silent};
+use pkm_workspace_indices::{Sampler, hemisphere_estimate, inverse_condition_number_3x3};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Arguments of `pkm optimize`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The study file (TOML).
+    pub file: PathBuf,
+}
+
+/// The study of `pkm optimize`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimizeStudy {
+    /// Free text.
+    pub title: Option<String>,
+    /// The nominal design (its values hold for the variables that are not optimised).
+    pub mechanism: toml::Spanned<MechanismSpec>,
+    /// What is optimised and how.
+    pub optimize: OptimizeSection,
+}
+
+/// The `[optimize]` section.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimizeSection {
+    /// What is maximised.
+    pub objective: TsaiObjective,
+    /// Volume: columns per axis of the column quadrature (default 128).
+    #[serde(default = "default_columns")]
+    pub columns: usize,
+    /// GCI: Monte Carlo points in the unit hemisphere, common to every design (default 3000).
+    #[serde(default = "default_points")]
+    pub points: u64,
+    /// GCI: seed of the points (default 999).
+    #[serde(default = "default_points_seed")]
+    pub points_seed: u64,
+    /// The optimised variables and their ranges `[lower, upper]`, in the unit of the key.
+    pub variables: toml::Spanned<BTreeMap<String, [f64; 2]>>,
+    /// Linear inequalities.
+    #[serde(default)]
+    pub constraints: Vec<toml::Spanned<LinearConstraint>>,
+    /// The multistart.
+    pub starts: Starts,
+    /// Augmented-Lagrangian settings.
+    #[serde(default)]
+    pub solver: SolverSettings,
+    /// Finite-difference step of the optimality checks, relative to each variable's range
+    /// (default 1e-2).
+    #[serde(default = "default_check_step")]
+    pub check_step: f64,
+}
+
+fn default_columns() -> usize {
+    128
+}
+fn default_points() -> u64 {
+    3000
+}
+fn default_points_seed() -> u64 {
+    999
+}
+fn default_check_step() -> f64 {
+    1e-2
+}
+
+/// What is maximised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TsaiObjective {
+    /// Workspace volume $W$ inside the hemisphere of radius $a + b + d + e$ (eq. 3), m³.
+    Volume,
+    /// Global condition index $\eta / W$ (eq. 8), dimensionless.
+    Gci,
+}
+
+impl TsaiObjective {
+    /// Name in the report.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Volume => "volume",
+            Self::Gci => "gci",
+        }
+    }
+}
+
+/// $\sum_j c_j x_j \le u$ over the design variables (fixed ones contribute their value).
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinearConstraint {
+    /// A label for the report.
+    pub name: String,
+    /// $c_j$ by variable name (unit: 1 / the variable's unit); missing variables have 0.
+    pub coefficients: BTreeMap<String, f64>,
+    /// $u$.
+    pub at_most: f64,
+}
+
+/// Seeded uniform starts in the box, after the explicit ones.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Starts {
+    /// Number of uniform starts.
+    pub count: usize,
+    /// Their seed.
+    pub seed: u64,
+    /// Starts given explicitly, each a vector of the optimised variables in the order the
+    /// command lists them; run first.
+    #[serde(default)]
+    pub extra: Vec<Vec<f64>>,
+}
+
+/// [`AugmentedLagrangianSettings`] as read from the file (defaults: the library's).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SolverSettings {
+    /// Relative finite-difference step (times each range).
+    pub fd_step: f64,
+    /// Inner stopping tolerance, in ranges.
+    pub tolerance: f64,
+    /// Largest admissible constraint violation.
+    pub feasibility: f64,
+    /// Outer (multiplier) iterations.
+    pub max_outer: usize,
+    /// Inner iterations per outer one.
+    pub max_inner: usize,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        let d = AugmentedLagrangianSettings::default();
+        Self {
+            fd_step: d.fd_step,
+            tolerance: d.tolerance,
+            feasibility: d.feasibility,
+            max_outer: d.max_outer,
+            max_inner: d.max_inner,
+        }
+    }
+}
+
+impl SolverSettings {
+    /// The library's settings (the one place to adapt when they change).
+    pub fn to_library(self) -> AugmentedLagrangianSettings {
+        AugmentedLagrangianSettings {
+            fd_step: self.fd_step,
+            tolerance: self.tolerance,
+            feasibility: self.feasibility,
+            max_outer: self.max_outer,
+            max_inner: self.max_inner,
+        }
+    }
+}
+
+/// The Tsai design variables in design-vector order, as named in `[mechanism.tsai]`.
+pub const TSAI_VARIABLES: [&str; 6] = ["a", "b", "d_plus_e", "c_minus_r", "phi2_deg", "phi3_deg"];
+
+/// The six values of a `[mechanism.tsai]` table, in [`TSAI_VARIABLES`] order.
+pub fn tsai_values(spec: &TsaiSpec) -> [f64; 6] {
+    [
+        spec.a.0,
+        spec.b.0,
+        spec.d_plus_e.0,
+        spec.c_minus_r.0,
+        spec.phi2_deg.0,
+        spec.phi3_deg.0,
+    ]
+}
+
+/// $W$ by columns, or the GCI on the common unit-hemisphere points, of a design.
+///
+/// # Errors
+/// [`ObjectiveError`] for an invalid design or quadrature setting.
+pub fn tsai_objective(
+    design: &Tsai3Dof,
+    objective: TsaiObjective,
+    columns: usize,
+    points: &[Vector3<f64>],
+) -> Result<f64, ObjectiveError> {
+    match objective {
+        TsaiObjective::Volume => Ok(design.column_volume(columns)?),
+        TsaiObjective::Gci => hemisphere_estimate(points, design.reach(), &Silent, |p| {
+            design
+                .jacobian_eq7(p)
+                .map(|j| inverse_condition_number_3x3(&j))
+        })
+        .map(|e| e.gci)
+        .map_err(|e| ObjectiveError::Infeasible {
+            reason: e.to_string(),
+        }),
+    }
+}
+
+/// The problem of a study: $f = -W$ or $-\mathrm{GCI}$ over the free variables, $g = Cx - u$.
+#[derive(Debug)]
+pub struct TsaiProblem {
+    nominal: [f64; 6],
+    free: Vec<usize>,
+    bounds: Vec<Bounds>,
+    objective: TsaiObjective,
+    columns: usize,
+    points: Vec<Vector3<f64>>,
+    rows: Vec<[f64; 6]>,
+    limits: Vec<f64>,
+}
+
+impl TsaiProblem {
+    /// The six design values at the free-variable vector `x`.
+    pub fn design_values(&self, x: &[f64]) -> [f64; 6] {
+        let mut all = self.nominal;
+        for (k, v) in self.free.iter().zip(x) {
+            all[*k] = *v;
+        }
+        all
+    }
+
+    /// Names of the free variables, in design-vector order.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.free.iter().map(|&k| TSAI_VARIABLES[k]).collect()
+    }
+}
+
+impl Objective for TsaiProblem {
+    fn dimension(&self) -> usize {
+        self.free.len()
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.bounds
+    }
+    fn value(&self, x: &[f64]) -> Result<f64, ObjectiveError> {
+        self.check_dimension(x)?;
+        let [a, b, s, h, p2, p3] = self.design_values(x);
+        let design = Tsai3Dof::new(TsaiDesign::from_deg(a, b, s, h, p2, p3))?;
+        tsai_objective(&design, self.objective, self.columns, &self.points).map(|v| -v)
+    }
+}
+
+impl Constraints for TsaiProblem {
+    fn n_constraints(&self) -> usize {
+        self.rows.len()
+    }
+    fn inequalities(&self, x: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError> {
+        self.check_dimension(x)?;
+        let all = self.design_values(x);
+        for ((gi, row), limit) in g.iter_mut().zip(&self.rows).zip(&self.limits) {
+            *gi = row.iter().zip(&all).map(|(c, v)| c * v).sum::<f64>() - limit;
+        }
+        Ok(())
+    }
+}
+
+/// Builds the problem of `file`, each error at the line of the offending entry.
+///
+/// # Errors
+/// [`CliError::Study`] for a mechanism other than the Tsai platform, an unknown variable, an
+/// invalid range or constraint; [`CliError::Index`] for an invalid point count.
+pub fn problem_of(file: &StudyFile<OptimizeStudy>) -> Result<TsaiProblem, CliError> {
+    let study = &file.study;
+    let MechanismSpec::Tsai(spec) = study.mechanism.get_ref() else {
+        return Err(file.error_at(
+            study.mechanism.span(),
+            "pkm optimize optimises the Tsai platform: expected a [mechanism.tsai] table",
+        ));
+    };
+    let o = &study.optimize;
+    let position = |name: &str| TSAI_VARIABLES.iter().position(|n| *n == name);
+    let unknown = |name: &str| {
+        format!(
+            "unknown design variable `{name}`: expected one of {} (lengths in m, *_deg in \
+             degrees)",
+            TSAI_VARIABLES.join(", ")
+        )
+    };
+    let mut chosen = Vec::new();
+    for (name, [lo, hi]) in o.variables.get_ref() {
+        let k = position(name).ok_or_else(|| file.error_at(o.variables.span(), unknown(name)))?;
+        let bounds = Bounds::new(*lo, *hi).map_err(|e| {
+            file.error_at(
+                o.variables.span(),
+                format!("{name} = [{lo}, {hi}]: expected [lower, upper] with lower <= upper ({e})"),
+            )
+        })?;
+        chosen.push((k, bounds));
+    }
+    chosen.sort_by_key(|(k, _)| *k);
+    if chosen.is_empty() {
+        return Err(file.error_at(o.variables.span(), "no variable to optimise"));
+    }
+    let mut rows = Vec::new();
+    let mut limits = Vec::new();
+    for c in &o.constraints {
+        let mut row = [0.0; 6];
+        for (name, value) in &c.get_ref().coefficients {
+            let k = position(name).ok_or_else(|| file.error_at(c.span(), unknown(name)))?;
+            row[k] = *value;
+        }
+        if !(row.iter().all(|v| v.is_finite()) && c.get_ref().at_most.is_finite()) {
+            return Err(file.error_at(c.span(), "coefficients and at_most must be finite"));
+        }
+        rows.push(row);
+        limits.push(c.get_ref().at_most);
+    }
+    let points = match o.objective {
+        TsaiObjective::Gci => Sampler::MonteCarlo {
+            seed: o.points_seed,
+        }
+        .unit_hemisphere_points(o.points)?,
+        TsaiObjective::Volume => Vec::new(),
+    };
+    Ok(TsaiProblem {
+        nominal: tsai_values(spec),
+        free: chosen.iter().map(|(k, _)| *k).collect(),
+        bounds: chosen.iter().map(|(_, b)| *b).collect(),
+        objective: o.objective,
+        columns: o.columns,
+        points,
+        rows,
+        limits,
+    })
+}
+
+/// The start points: the explicit ones, then `count` seeded uniform ones.
+///
+/// # Errors
+/// [`CliError::Invalid`] for an explicit start of the wrong length; [`CliError::Optimize`] for
+/// too many starts.
+pub fn start_points(starts: &Starts, bounds: &[Bounds]) -> Result<Vec<Vec<f64>>, CliError> {
+    if let Some(bad) = starts.extra.iter().find(|s| s.len() != bounds.len()) {
+        return Err(CliError::Invalid(format!(
+            "starts.extra: a start has {} values, expected {} (one per optimised variable)",
+            bad.len(),
+            bounds.len()
+        )));
+    }
+    let mut all = starts.extra.clone();
+    all.extend(uniform_start_points(bounds, starts.count, starts.seed)?);
+    Ok(all)
+}
+
+/// `local` at every start, in start order, in blocks of one start per thread, so that the
+/// progress bar advances and Ctrl-C stops between blocks.
+///
+/// # Errors
+/// [`CliError::Cancelled`].
+pub fn run_blocks<R: Send>(
+    starts: &[Vec<f64>],
+    label: &str,
+    progress: &dyn Progress,
+    local: impl Fn(&[f64]) -> R + Sync,
+) -> Result<Vec<R>, CliError> {
+    let block = rayon::current_num_threads().max(1);
+    progress.start(label, starts.len() as u64);
+    let mut outcomes = Vec::with_capacity(starts.len());
+    for chunk in starts.chunks(block) {
+        progress.check()?;
+        outcomes.extend(run_multistart(chunk, &local));
+        progress.advance(chunk.len() as u64);
+    }
+    progress.finish();
+    Ok(outcomes)
+}
+
+/// The best outcome: smallest value, the earlier start on ties.
+pub fn best_outcome(
+    outcomes: &[Result<ConstrainedResult, OptimizeError>],
+) -> Option<(usize, &ConstrainedResult)> {
+    let mut best: Option<(usize, &ConstrainedResult)> = None;
+    for (k, outcome) in outcomes.iter().enumerate() {
+        if let Ok(r) = outcome
+            && best.is_none_or(|(_, b)| r.value < b.value)
+        {
+            best = Some((k, r));
+        }
+    }
+    best
+}
+
+/// Where a variable sits at the optimum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// On its lower bound.
+    Lower,
+    /// On its upper bound.
+    Upper,
+    /// Inside, but within one difference step of a bound (left out of the Hessian).
+    NearBound,
+    /// Inside.
+    Free,
+}
+
+/// The first- and second-order checks (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OptimalityCheck {
+    /// $\nabla\mathcal L$ with the solver's multipliers (central differences, one-sided at a
+    /// bound), per optimised variable.
+    pub lagrangian_gradient: Vec<f64>,
+    /// Each optimised variable's status.
+    pub status: Vec<Status>,
+    /// Largest |projected entry of $\nabla\mathcal L$| × range.
+    pub projected_gradient_max: f64,
+    /// Indices of the active constraints ($\mu_i > 0$ or $g_i \ge -$feasibility).
+    pub active_constraints: Vec<usize>,
+    /// Multipliers of the active constraints that best cancel $\nabla f$ on the variables off
+    /// their bounds (least squares).
+    pub least_squares_multipliers: Vec<f64>,
+    /// Largest |entry| × range of $\nabla f + \sum_{active}\mu_i\nabla g_i$ with those
+    /// multipliers, over the variables off their bounds (0 at a KKT point).
+    pub stationarity_residual: f64,
+    /// Eigenvalues (ascending) of the Hessian of $\mathcal L$ on the free variables.
+    pub hessian_eigenvalues: Vec<f64>,
+    /// Eigenvalues (ascending) of that Hessian on the null space of the active constraints.
+    pub reduced_hessian_eigenvalues: Vec<f64>,
+}
+
+/// Relative distance to a bound (of the range) within which a variable is on it.
+const ON_BOUND: f64 = 1e-9;
+
+fn status_of(b: &Bounds, x: f64, h: f64) -> Status {
+    let tol = ON_BOUND * b.width();
+    if !(x > b.lower() + tol) {
+        Status::Lower
+    } else if !(x < b.upper() - tol) {
+        Status::Upper
+    } else if x - h <= b.lower() || x + h >= b.upper() {
+        Status::NearBound
+    } else {
+        Status::Free
+    }
+}
+
+fn lagrangian<P: Constraints>(
+    problem: &P,
+    multipliers: &[f64],
+    x: &[f64],
+) -> Result<f64, ObjectiveError> {
+    let mut g = vec![0.0; problem.n_constraints()];
+    problem.inequalities(x, &mut g)?;
+    let penalty: f64 = g.iter().zip(multipliers).map(|(g, m)| g * m).sum();
+    Ok(problem.value(x)? + penalty)
+}
+
+/// The checks of the module docs at `result` with relative step `step`; the constraint
+/// gradients by central differences too, so that any [`Constraints`] problem can be checked.
+///
+/// # Errors
+/// A failed evaluation.
+pub fn optimality_check<P: Constraints>(
+    problem: &P,
+    result: &ConstrainedResult,
+    step: f64,
+    feasibility: f64,
+) -> Result<OptimalityCheck, ObjectiveError> {
+    let (x, bounds, mu) = (&result.design, problem.bounds(), &result.multipliers);
+    let (n, m) = (x.len(), problem.n_constraints());
+    let l = |p: &[f64]| lagrangian(problem, mu, p);
+    let steps: Vec<f64> = bounds.iter().map(|b| step * b.width()).collect();
+    let status: Vec<Status> = (0..n)
+        .map(|j| status_of(&bounds[j], x[j], steps[j]))
+        .collect();
+    let mut gradient = vec![0.0; n];
+    let mut jacobian = DMatrix::zeros(m, n);
+    for j in 0..n {
+        let (hi, lo) = bounds[j].difference_points(x[j], step);
+        if !(hi > lo) {
+            continue;
+        }
+        let (mut xp, mut xm) = (x.clone(), x.clone());
+        xp[j] = hi;
+        xm[j] = lo;
+        gradient[j] = (l(&xp)? - l(&xm)?) / (hi - lo);
+        let (mut gp, mut gm) = (vec![0.0; m], vec![0.0; m]);
+        problem.inequalities(&xp, &mut gp)?;
+        problem.inequalities(&xm, &mut gm)?;
+        for i in 0..m {
+            jacobian[(i, j)] = (gp[i] - gm[i]) / (hi - lo);
+        }
+    }
+    let projected_gradient_max = (0..n)
+        .map(|j| {
+            let g = gradient[j];
+            let projected = match status[j] {
+                Status::Lower => g.min(0.0),
+                Status::Upper => g.max(0.0),
+                Status::NearBound | Status::Free => g,
+            };
+            (projected * bounds[j].width()).abs()
+        })
+        .fold(0.0, f64::max);
+    let active: Vec<usize> = (0..m)
+        .filter(|&i| mu[i] > 0.0 || result.constraints[i] >= -feasibility)
+        .collect();
+    let (least_squares_multipliers, stationarity_residual) =
+        least_squares_stationarity(&gradient, &jacobian, mu, &active, &status, bounds);
+    let free: Vec<usize> = (0..n).filter(|&j| status[j] == Status::Free).collect();
+    let hessian = hessian_on(&l, x, &free, &steps)?;
+    let active_gradients =
+        DMatrix::from_fn(active.len(), free.len(), |r, c| jacobian[(active[r], free[c])]);
+    let basis = null_space(&active_gradients);
+    let reduced = basis.transpose() * &hessian * &basis;
+    Ok(OptimalityCheck {
+        lagrangian_gradient: gradient,
+        status,
+        projected_gradient_max,
+        active_constraints: active,
+        least_squares_multipliers,
+        stationarity_residual,
+        hessian_eigenvalues: ascending_eigenvalues(hessian),
+        reduced_hessian_eigenvalues: ascending_eigenvalues(reduced),
+    })
+}
+
+/// $\nabla f = \nabla\mathcal L - J^\top\mu$ on the variables off their bounds, the
+/// least-squares multipliers of the active constraints there, and the scaled residual.
+fn least_squares_stationarity(
+    lagrangian_gradient: &[f64],
+    jacobian: &DMatrix<f64>,
+    mu: &[f64],
+    active: &[usize],
+    status: &[Status],
+    bounds: &[Bounds],
+) -> (Vec<f64>, f64) {
+    let off: Vec<usize> = (0..status.len())
+        .filter(|&j| matches!(status[j], Status::Free | Status::NearBound))
+        .collect();
+    let grad_f = DVector::from_iterator(
+        off.len(),
+        off.iter().map(|&j| {
+            let correction: f64 = (0..mu.len()).map(|i| jacobian[(i, j)] * mu[i]).sum();
+            lagrangian_gradient[j] - correction
+        }),
+    );
+    let a_t = DMatrix::from_fn(off.len(), active.len(), |r, c| jacobian[(active[c], off[r])]);
+    let multipliers = if active.is_empty() || off.is_empty() {
+        DVector::zeros(active.len())
+    } else {
+        a_t.clone()
+            .svd(true, true)
+            .solve(&(-&grad_f), 1e-12)
+            .unwrap_or_else(|_| DVector::zeros(active.len()))
+    };
+    let residual = grad_f + &a_t * &multipliers;
+    let scaled = off
+        .iter()
+        .zip(residual.iter())
+        .map(|(&j, r)| (r * bounds[j].width()).abs())
+        .fold(0.0, f64::max);
+    (multipliers.as_slice().to_vec(), scaled)
+}
+
+fn ascending_eigenvalues(m: DMatrix<f64>) -> Vec<f64> {
+    if m.nrows() == 0 {
+        return Vec::new();
+    }
+    let mut v = m.symmetric_eigenvalues().as_slice().to_vec();
+    v.sort_by(f64::total_cmp);
+    v
+}
+
+/// The central-difference Hessian of `f` at `x` over the variables `free` with steps `steps`:
+/// $H_{jj} = [f(x + h_j e_j) - 2 f(x) + f(x - h_j e_j)] / h_j^2$ and
+/// $H_{jk} = [f(x + h_j e_j + h_k e_k) - f(x + h_j e_j - h_k e_k) - f(x - h_j e_j + h_k e_k)
+/// + f(x - h_j e_j - h_k e_k)] / (4 h_j h_k)$.
+fn hessian_on(
+    f: &dyn Fn(&[f64]) -> Result<f64, ObjectiveError>,
+    x: &[f64],
+    free: &[usize],
+    steps: &[f64],
+) -> Result<DMatrix<f64>, ObjectiveError> {
+    let k = free.len();
+    let mut h = DMatrix::zeros(k, k);
+    let f0 = f(x)?;
+    let at = |moves: &[(usize, f64)]| {
+        let mut p = x.to_vec();
+        for &(j, d) in moves {
+            p[j] += d;
+        }
+        f(&p)
+    };
+    for a in 0..k {
+        let (j, hj) = (free[a], steps[free[a]]);
+        h[(a, a)] = (at(&[(j, hj)])? - 2.0 * f0 + at(&[(j, -hj)])?) / (hj * hj);
+        for b in 0..a {
+            let (i, hi) = (free[b], steps[free[b]]);
+            let v = (at(&[(j, hj), (i, hi)])? - at(&[(j, hj), (i, -hi)])?
+                - at(&[(j, -hj), (i, hi)])?
+                + at(&[(j, -hj), (i, -hi)])?)
+                / (4.0 * hj * hi);
+            h[(a, b)] = v;
+            h[(b, a)] = v;
+        }
+    }
+    Ok(h)
+}
+
+/// An orthonormal basis (columns) of the null space of `a`: the eigenvectors of $A^\top A$
+/// whose eigenvalues are below $10^{-10}$ of the largest.
+fn null_space(a: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = a.ncols();
+    if a.nrows() == 0 {
+        return DMatrix::identity(n, n);
+    }
+    let eig = (a.transpose() * a).symmetric_eigen();
+    let largest = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let keep: Vec<usize> = (0..n)
+        .filter(|&k| eig.eigenvalues[k].abs() <= 1e-10 * largest)
+        .collect();
+    DMatrix::from_fn(n, keep.len(), |r, c| eig.eigenvectors[(r, keep[c])])
+}
+
+/// One constraint at the optimum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConstraintValue {
+    /// Its label.
+    pub name: String,
+    /// $g_i = c_i \cdot x - u_i$ ($\le 0$ when satisfied).
+    pub g: f64,
+    /// The solver's multiplier $\mu_i \ge 0$.
+    pub multiplier: f64,
+}
+
+/// How the starts ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StartCounts {
+    /// Starts run.
+    pub total: usize,
+    /// Feasible and converged.
+    pub converged: usize,
+    /// Feasible at the iteration limit.
+    pub at_iteration_limit: usize,
+    /// No feasible design (or another failure).
+    pub failed: usize,
+}
+
+/// The `result` of `results.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OptimizeResult {
+    /// The study's title.
+    pub title: Option<String>,
+    /// `volume` (m³) or `gci` (1).
+    pub objective: String,
+    /// Its largest value found.
+    pub maximum: f64,
+    /// The optimised variables, in order.
+    pub variables: Vec<String>,
+    /// The optimum of every design variable (the unit of its key).
+    pub design: BTreeMap<String, f64>,
+    /// The start the optimum came from (from 0).
+    pub best_start: usize,
+    /// Why the augmented Lagrangian stopped there.
+    pub termination: String,
+    /// The constraints there.
+    pub constraints: Vec<ConstraintValue>,
+    /// How the starts ended.
+    pub starts: StartCounts,
+    /// The first- and second-order checks.
+    pub optimality: OptimalityCheck,
+}
+
+impl Run for Args {
+    fn run(&self, context: &Context) -> Result<Report, CliError> {
+        let file: StudyFile<OptimizeStudy> = study::load(&self.file)?;
+        let (result, report, out) = compute(&file, context)?;
+        out.finish(
+            "optimize",
+            StudyEcho {
+                file: self.file.display().to_string(),
+                text: file.text.clone(),
+            },
+            result,
+        )?;
+        Ok(report)
+    }
+}
+
+/// Runs the study in `file`, writing the starts table and figure to `context.out`.
+///
+/// # Errors
+/// Study errors at their line, no feasible start, I/O errors, [`CliError::Cancelled`].
+pub fn compute(
+    file: &StudyFile<OptimizeStudy>,
+    context: &Context,
+) -> Result<(OptimizeResult, Report, Output), CliError> {
+    let o = &file.study.optimize;
+    let problem = problem_of(file)?;
+    let settings = o.solver.to_library();
+    let starts = start_points(&o.starts, problem.bounds())?;
+    let outcomes = run_blocks(&starts, "augmented Lagrangian starts", &context.progress, |s| {
+        augmented_lagrangian(&problem, Sense::Minimise, s, &settings, &CancelOnly(&context.progress))
+    })?;
+    let Some((best_start, best)) = best_outcome(&outcomes) else {
+        let last = outcomes.iter().rev().find_map(|o| o.as_ref().err());
+        return Err(CliError::Invalid(format!(
+            "no start reached a feasible design ({} starts); last reason: {}",
+            starts.len(),
+            last.map_or_else(|| "none".to_owned(), ToString::to_string)
+        )));
+    };
+    context.progress.phase("optimality checks");
+    let optimality = optimality_check(&problem, best, o.check_step, settings.feasibility)
+        .map_err(|e| CliError::Optimize(e.into()))?;
+    let names = problem.names();
+    let quantity = o.objective.name();
+    let design: BTreeMap<String, f64> = TSAI_VARIABLES
+        .iter()
+        .zip(problem.design_values(&best.design))
+        .map(|(n, v)| ((*n).to_owned(), v))
+        .collect();
+    let constraints = o
+        .constraints
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ConstraintValue {
+            name: c.get_ref().name.clone(),
+            g: best.constraints[i],
+            multiplier: best.multipliers[i],
+        })
+        .collect();
+    let count = |f: &dyn Fn(&Result<ConstrainedResult, OptimizeError>) -> bool| {
+        outcomes.iter().filter(|&o| f(o)).count()
+    };
+    let start_counts = StartCounts {
+        total: starts.len(),
+        converged: count(&|o| o.as_ref().is_ok_and(|r| r.termination.converged())),
+        at_iteration_limit: count(&|o| o.as_ref().is_ok_and(|r| !r.termination.converged())),
+        failed: count(&|o| o.is_err()),
+    };
+    let mut out = Output::create(&context.out)?;
+    write_starts(&mut out, &names, quantity, &starts, &outcomes, best_start)?;
+    let mut report = Report::default();
+    report.line(format!(
+        "max {quantity} = {:.6} from start {best_start} of {} ({}): {}",
+        -best.value,
+        starts.len(),
+        best.termination,
+        names
+            .iter()
+            .zip(&best.design)
+            .map(|(n, v)| format!("{n} = {v:.5}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    report.line(format!(
+        "first order: projected gradient {:.2e} (solver multipliers), stationarity {:.2e} \
+         (least-squares multipliers); second order: reduced Hessian eigenvalues [{}]",
+        optimality.projected_gradient_max,
+        optimality.stationarity_residual,
+        optimality
+            .reduced_hessian_eigenvalues
+            .iter()
+            .map(|v| format!("{v:.3e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    report.line(format!("wrote {}", out.dir().join("results.json").display()));
+    let result = OptimizeResult {
+        title: file.study.title.clone(),
+        objective: quantity.to_owned(),
+        maximum: -best.value,
+        variables: names.iter().map(|n| (*n).to_owned()).collect(),
+        design,
+        best_start,
+        termination: best.termination.to_string(),
+        constraints,
+        starts: start_counts,
+        optimality,
+    };
+    Ok((result, report, out))
+}
+
+/// `starts.csv` (each start and where it ended) and `starts.svg` (the values reached, best
+/// first).
+fn write_starts(
+    out: &mut Output,
+    names: &[&str],
+    quantity: &str,
+    starts: &[Vec<f64>],
+    outcomes: &[Result<ConstrainedResult, OptimizeError>],
+    best_start: usize,
+) -> Result<(), CliError> {
+    let mut header: Vec<String> = vec!["start".into()];
+    header.extend(names.iter().map(|n| format!("start_{n}")));
+    header.extend(names.iter().map(|n| (*n).to_owned()));
+    header.extend([quantity.into(), "max_violation".into(), "termination".into()]);
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let rows = outcomes.iter().enumerate().map(|(k, o)| {
+        let mut row = vec![k.to_string()];
+        row.extend(starts[k].iter().map(|v| format!("{v}")));
+        match o {
+            Ok(r) => {
+                row.extend(r.design.iter().map(|v| format!("{v}")));
+                row.push(format!("{}", -r.value));
+                let violation = r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g));
+                row.push(format!("{violation}"));
+                row.push(format!("\"{}\"", r.termination));
+            }
+            Err(e) => {
+                row.extend(std::iter::repeat_n(String::new(), names.len() + 2));
+                row.push(format!("\"{}\"", e.to_string().replace('"', "'")));
+            }
+        }
+        row
+    });
+    out.write_csv("starts.csv", &header, rows)?;
+    let mut reached: Vec<(usize, f64)> = outcomes
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| o.as_ref().ok().map(|r| (k, -r.value)))
+        .collect();
+    reached.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let front: Vec<(f64, f64)> = reached
+        .iter()
+        .enumerate()
+        .map(|(rank, (_, v))| (rank as f64 + 1.0, *v))
+        .collect();
+    let markers = front
+        .first()
+        .map(|&(x, y)| Marker {
+            x,
+            y,
+            label: format!("start {best_start}"),
+        })
+        .into_iter()
+        .collect();
+    let figure = Scatter {
+        title: format!("{quantity} reached from each start"),
+        x_label: "rank".into(),
+        y_label: quantity.into(),
+        background: front,
+        front: Vec::new(),
+        markers,
+    };
+    out.write_svg("starts.svg", |path| plot::scatter(&figure, path))?;
+    Ok(())
+}
