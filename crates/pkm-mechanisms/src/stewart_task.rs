@@ -16,10 +16,6 @@ use pkm_traits::{
 };
 use std::borrow::Cow;
 
-/// Finite-difference step of the design columns of [`Residuals::residual_jacobian`], relative to
-/// each interval width: `pkm_optimizers::LmSettings::default().fd_step`.
-const DESIGN_FD_STEP: f64 = 1e-6;
-
 /// A design parameter of a [`StewartDesign`] that a [`StewartTaskProblem`] can free, named with
 /// the unit of its optimisation variable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -278,7 +274,7 @@ impl StewartTaskProblem {
     }
 
     /// Central differences of the residuals in variable `j` (a design variable), step
-    /// [`DESIGN_FD_STEP`] of its interval width clamped into the box (one-sided on a bound), as
+    /// [`Bounds::DEFAULT_RELATIVE_STEP`] of its interval width clamped into the box (one-sided on a bound), as
     /// the optimiser's own finite differences; written into column `j` of the row-major
     /// `jacobian`.
     fn design_column(
@@ -288,7 +284,7 @@ impl StewartTaskProblem {
         jacobian: &mut [f64],
     ) -> Result<(), ObjectiveError> {
         let n = v.len();
-        let (hi, lo) = self.bounds[j].difference_points(v[j], DESIGN_FD_STEP);
+        let (hi, lo) = self.bounds[j].difference_points(v[j], Bounds::DEFAULT_RELATIVE_STEP);
         let mut q = v.to_vec();
         let (mut rp, mut rm) = ([0.0; 6], [0.0; 6]);
         q[j] = hi;

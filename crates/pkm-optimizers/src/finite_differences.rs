@@ -18,10 +18,8 @@
 use pkm_traits::{Bounds, ObjectiveError};
 
 /// Default relative step $\epsilon$ of first differences ([`crate::LmSettings::fd_step`],
-/// [`crate::AugmentedLagrangianSettings::fd_step`]), of the order of
-/// $\varepsilon_{\mathrm{mach}}^{1/3} \approx 6\cdot10^{-6}$, where the $O(h^2)$ truncation
-/// and the $O(\varepsilon_{\mathrm{mach}}/h)$ rounding of a central difference balance.
-pub const RELATIVE_STEP: f64 = 1e-6;
+/// [`crate::AugmentedLagrangianSettings::fd_step`]): [`Bounds::DEFAULT_RELATIVE_STEP`].
+pub const RELATIVE_STEP: f64 = Bounds::DEFAULT_RELATIVE_STEP;
 
 /// Relative step of the central second differences, of the order of
 /// $\varepsilon_{\mathrm{mach}}^{1/4} \approx 10^{-4}$, where the $O(h^2)$ truncation and the
@@ -29,8 +27,8 @@ pub const RELATIVE_STEP: f64 = 1e-6;
 pub const HESSIAN_RELATIVE_STEP: f64 = 1e-4;
 
 /// Smallest interval width used to scale a step, so that a zero-width interval still gets a
-/// positive step (the floor of [`Bounds::difference_points`]).
-pub const MIN_WIDTH: f64 = 1e-8;
+/// positive step: [`Bounds::MIN_DIFFERENCE_WIDTH`], the floor of [`Bounds::difference_points`].
+pub const MIN_WIDTH: f64 = Bounds::MIN_DIFFERENCE_WIDTH;
 
 /// The step $h = \epsilon\,\max(w, w_{\min})$ of one variable.
 ///

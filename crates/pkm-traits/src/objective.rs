@@ -74,8 +74,18 @@ impl Bounds {
         (self.lower..=self.upper).contains(&value)
     }
 
+    /// Default relative step $\epsilon$ of a first central difference, of the order of
+    /// $\varepsilon_{\mathrm{mach}}^{1/3} \approx 6\cdot10^{-6}$, where the $O(h^2)$ truncation
+    /// and the $O(\varepsilon_{\mathrm{mach}}/h)$ rounding balance. The one default of every
+    /// finite difference in pkm (`pkm_optimizers::finite_differences::RELATIVE_STEP`).
+    pub const DEFAULT_RELATIVE_STEP: f64 = 1e-6;
+
+    /// Smallest width used to scale a step, so that a zero-width interval still gets a positive
+    /// step.
+    pub const MIN_DIFFERENCE_WIDTH: f64 = 1e-8;
+
     /// The two points `(x + h, x − h)` of a central difference at `x`, with
-    /// $h$ = `relative_step` × max(width, 1e-8), each clamped into the interval: one-sided at a
+    /// $h$ = `relative_step` × max(width, [`Bounds::MIN_DIFFERENCE_WIDTH`]), each clamped into the interval: one-sided at a
     /// bound, and equal for a variable fixed by `lower = upper` (whose difference is then 0).
     ///
     /// ```
@@ -85,7 +95,7 @@ impl Bounds {
     /// assert_eq!(b.difference_points(2.0, 0.25), (2.0, 1.5));
     /// ```
     pub fn difference_points(&self, x: f64, relative_step: f64) -> (f64, f64) {
-        let h = relative_step * self.width().max(1e-8);
+        let h = relative_step * self.width().max(Self::MIN_DIFFERENCE_WIDTH);
         (self.clamp(x + h), self.clamp(x - h))
     }
 }
