@@ -803,7 +803,12 @@ pub fn compute(
     };
     let mut report = Report::default();
     let scene = drawing::trajectory_scene(file.study.mechanism.get_ref(), &torques.commanded);
-    drawing::write(&mut out, &mut report, "rotary Delta at t = 0 on its trajectory", scene)?;
+    drawing::write(
+        &mut out,
+        &mut report,
+        "rotary Delta at t = 0 on its trajectory",
+        scene,
+    )?;
     report.line(format!(
         "{} samples every {:.4} s: max |tau| Hamilton {:.4} N m, Lagrange {:.4} N m, largest \
          difference {:.3e} N m",

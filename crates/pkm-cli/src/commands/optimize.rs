@@ -795,9 +795,17 @@ pub fn compute(
     ));
     let scene = drawing::optimum_scene(
         file.study.mechanism.get_ref(),
-        TSAI_VARIABLES.iter().copied().zip(problem.design_values(&best.design)),
+        TSAI_VARIABLES
+            .iter()
+            .copied()
+            .zip(problem.design_values(&best.design)),
     );
-    drawing::write(&mut out, &mut report, &format!("tsai: the {quantity} optimum"), scene)?;
+    drawing::write(
+        &mut out,
+        &mut report,
+        &format!("tsai: the {quantity} optimum"),
+        scene,
+    )?;
     report.line(format!("wrote {}", out.dir().join("results.json").display()));
     let result = OptimizeResult {
         title: file.study.title.clone(),

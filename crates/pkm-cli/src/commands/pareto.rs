@@ -363,7 +363,10 @@ pub fn finish(
     match result.weighted_optima.first() {
         Some(o) => {
             let scene = drawing::grid_design_scene(file, prepared, &grid.design(o.node));
-            let caption = format!("{}: the weighted optimum (node {})", result.mechanism, o.node);
+            let caption = format!(
+                "{}: the weighted optimum (node {})",
+                result.mechanism, o.node
+            );
             drawing::write(&mut out, &mut report, &caption, scene)?;
         }
         None => report.line("warning: no drawing of the robot: the study gives no weights"),

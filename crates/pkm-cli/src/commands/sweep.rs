@@ -465,7 +465,11 @@ pub fn finish(
         optimum,
         refinement_evaluations: evaluations,
     };
-    let optimum_values: Vec<f64> = grid.names.iter().filter_map(|n| result.optimum.design.get(n).copied()).collect();
+    let optimum_values: Vec<f64> = grid
+        .names
+        .iter()
+        .filter_map(|n| result.optimum.design.get(n).copied())
+        .collect();
     let scene = drawing::grid_design_scene(file, prepared, &optimum_values);
     let caption = format!("{}: the sweep's optimum", result.mechanism);
     drawing::write(&mut out, &mut report, &caption, scene)?;

@@ -20,14 +20,14 @@ use crate::study::{self, StudyFile};
 use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3, Vector6};
 use pkm::screw_theory::{Twist, line_set_rank, task_residuals};
 use pkm_mechanisms::{
-    AngleMode, JointLayout, Pairing, StewartDesign, StewartDesignVariable, StewartGough,
+    AngleMode, JointLayout, Pairing, Skeleton, StewartDesign, StewartDesignVariable, StewartGough,
     StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task,
-    presets, Skeleton,
+    presets,
 };
+use pkm_draw::Scene;
 use pkm_optimizers::{
     ActiveBound, LmSettings, LocalOptimum, OptimizeError, Sense, levenberg_marquardt,
 };
-use pkm_draw::Scene;
 use pkm_traits::{Bounds, CancelOnly, Objective, ObjectiveError, Residuals, Task};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -1066,7 +1066,12 @@ fn stewart(
         optimality: Optimality::from(best),
         starts: starts.len(),
     };
-    let scene = drawing::task_scene(Skeleton::stewart_gough(&mechanism, &pose), &pose, twists, None);
+    let scene = drawing::task_scene(
+        Skeleton::stewart_gough(&mechanism, &pose),
+        &pose,
+        twists,
+        None,
+    );
     Ok(Found {
         names,
         best_start,
@@ -1148,7 +1153,12 @@ fn upu(
         starts: starts.len(),
     };
     let reciprocal = most_reciprocal_twist(&rows);
-    let scene = drawing::task_scene(Skeleton::three_upu(&mechanism, &pose), &pose, twists, reciprocal);
+    let scene = drawing::task_scene(
+        Skeleton::three_upu(&mechanism, &pose),
+        &pose,
+        twists,
+        reciprocal,
+    );
     Ok(Found {
         names,
         best_start,
