@@ -164,54 +164,36 @@ pub fn grid_design_scene(
 /// # Errors
 /// An invalid design; no mode reaches `p`.
 pub fn skeleton_at(spec: &MechanismSpec, p: &Vector3<f64>) -> Result<Skeleton, String> {
-    let unreachable = |e: Option<KinematicsError>| {
-        let at = format!("[{}, {}, {}]", short(p.x), short(p.y), short(p.z));
-        e.map_or_else(
-            || format!("no working mode of the study can be drawn at p = {at} m"),
-            |e| format!("the skeleton at p = {at} m: {e}"),
-        )
-    };
-    let first_of = |mut tries: Vec<Result<Skeleton, KinematicsError>>| {
-        let found = tries.iter().position(Result::is_ok);
-        match found {
-            Some(k) => tries.swap_remove(k).map_err(|e| unreachable(Some(e))),
-            None => Err(unreachable(tries.pop().and_then(Result::err))),
-        }
-    };
     match spec {
         MechanismSpec::RotaryDelta(s) => {
             let robot = rotary_delta(s).map_err(|e| e.to_string())?;
-            first_of(
-                s.elbow
-                    .iter()
-                    .map(|e| {
-                        let mode = match e {
-                            ElbowSpec::Out => ElbowMode::Out,
-                            ElbowSpec::In => ElbowMode::In,
-                        };
-                        Skeleton::rotary_delta(&robot, p, mode)
-                    })
-                    .collect(),
+            first_drawable(
+                p,
+                s.elbow.iter().map(|e| {
+                    let mode = match e {
+                        ElbowSpec::Out => ElbowMode::Out,
+                        ElbowSpec::In => ElbowMode::In,
+                    };
+                    Skeleton::rotary_delta(&robot, p, mode)
+                }),
             )
         }
         MechanismSpec::Tsai(s) => {
             let robot = tsai(s).map_err(|e| e.to_string())?;
-            first_of(
-                s.modes
-                    .iter()
-                    .filter(|m| m.iter().all(|e| *e == m[0]))
-                    .map(|m| {
-                        let elbow = match m[0] {
-                            TsaiElbowSpec::Out => Elbow::Out,
-                            TsaiElbowSpec::In => Elbow::In,
-                        };
-                        let branch = LegBranch {
-                            principal_theta3: true,
-                            elbow,
-                        };
-                        Skeleton::tsai(&robot, p, branch)
-                    })
-                    .collect(),
+            let uniform = s.modes.iter().filter(|m| m.iter().all(|e| *e == m[0]));
+            first_drawable(
+                p,
+                uniform.map(|m| {
+                    let elbow = match m[0] {
+                        TsaiElbowSpec::Out => Elbow::Out,
+                        TsaiElbowSpec::In => Elbow::In,
+                    };
+                    let branch = LegBranch {
+                        principal_theta3: true,
+                        elbow,
+                    };
+                    Skeleton::tsai(&robot, p, branch)
+                }),
             )
         }
         MechanismSpec::LinearDelta(s) => {
@@ -219,9 +201,28 @@ pub fn skeleton_at(spec: &MechanismSpec, p: &Vector3<f64>) -> Result<Skeleton, S
             let mode = LinearDeltaMode {
                 leans_positive: s.leans_positive,
             };
-            first_of(vec![Skeleton::linear_delta(&robot, p, mode)])
+            first_drawable(p, [Skeleton::linear_delta(&robot, p, mode)])
         }
     }
+}
+
+/// The first skeleton of `tries` that could be built, or why none could (the last error).
+fn first_drawable(
+    p: &Vector3<f64>,
+    tries: impl IntoIterator<Item = Result<Skeleton, KinematicsError>>,
+) -> Result<Skeleton, String> {
+    let mut last = None;
+    for attempt in tries {
+        match attempt {
+            Ok(skeleton) => return Ok(skeleton),
+            Err(e) => last = Some(e),
+        }
+    }
+    let at = format!("[{}, {}, {}]", short(p.x), short(p.y), short(p.z));
+    Err(last.map_or_else(
+        || format!("no working mode of the study can be drawn at p = {at} m"),
+        |e| format!("the skeleton at p = {at} m: {e}"),
+    ))
 }
 
 /// Where to look for a pose when the study gives no region: the mechanism's reach region, or
@@ -315,7 +316,7 @@ pub fn trajectory_scene(spec: &MechanismSpec, commanded: &[Vector3<f64>]) -> Res
     };
     let step = commanded.len().div_ceil(MAX_PATH_POINTS).max(1);
     let mut path: Vec<Vector3<f64>> = commanded.iter().step_by(step).copied().collect();
-    if (commanded.len() - 1) % step != 0 {
+    if !(commanded.len() - 1).is_multiple_of(step) {
         path.push(*last);
     }
     Ok(Scene::new(skeleton_at(spec, start)?).with_path("trajectory", PathKind::Trajectory, path))
