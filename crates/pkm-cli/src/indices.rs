@@ -164,6 +164,11 @@ impl Evaluator {
         Ok(spec)
     }
 
+    /// The study's workspace constraints.
+    pub fn constraints(&self) -> &[WorkspaceConstraint] {
+        &self.constraints
+    }
+
     /// The values of `indices` (in that order) at `design` with `settings`.
     ///
     /// # Errors

@@ -13,6 +13,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
+use crate::drawing;
 use crate::output::{Output, StudyEcho};
 use crate::study::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
@@ -801,6 +802,13 @@ pub fn compute(
         forward: forward.map(|(r, _)| r),
     };
     let mut report = Report::default();
+    let scene = drawing::trajectory_scene(file.study.mechanism.get_ref(), &torques.commanded);
+    drawing::write(
+        &mut out,
+        &mut report,
+        "rotary Delta at t = 0 on its trajectory",
+        scene,
+    )?;
     report.line(format!(
         "{} samples every {:.4} s: max |tau| Hamilton {:.4} N m, Lagrange {:.4} N m, largest \
          difference {:.3e} N m",

@@ -18,6 +18,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
+use crate::drawing;
 use crate::output::{Output, StudyEcho};
 use crate::plot::{self, Marker, Scatter};
 use crate::study::mechanism::{MechanismSpec, TsaiSpec};
@@ -792,6 +793,19 @@ pub fn compute(
             .collect::<Vec<_>>()
             .join(", ")
     ));
+    let scene = drawing::optimum_scene(
+        file.study.mechanism.get_ref(),
+        TSAI_VARIABLES
+            .iter()
+            .copied()
+            .zip(problem.design_values(&best.design)),
+    );
+    drawing::write(
+        &mut out,
+        &mut report,
+        &format!("tsai: the {quantity} optimum"),
+        scene,
+    )?;
     report.line(format!("wrote {}", out.dir().join("results.json").display()));
     let result = OptimizeResult {
         title: file.study.title.clone(),

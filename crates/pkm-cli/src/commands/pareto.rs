@@ -8,6 +8,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
+use crate::drawing;
 use crate::grid::{GridOutcome, self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows};
 use crate::indices::IndexName;
 use crate::output::{Output, StudyEcho, short};
@@ -359,6 +360,17 @@ pub fn finish(
         front,
         weighted_optima,
     };
+    match result.weighted_optima.first() {
+        Some(o) => {
+            let scene = drawing::grid_design_scene(file, prepared, &grid.design(o.node));
+            let caption = format!(
+                "{}: the weighted optimum (node {})",
+                result.mechanism, o.node
+            );
+            drawing::write(&mut out, &mut report, &caption, scene)?;
+        }
+        None => report.line("warning: no drawing of the robot: the study gives no weights"),
+    }
     let path = out.finish("pareto", echo, result)?;
     report.line(format!("wrote {}", path.display()));
     Ok(report)

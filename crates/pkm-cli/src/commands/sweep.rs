@@ -11,6 +11,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
+use crate::drawing;
 use crate::grid::{GridOutcome, 
     self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows,
 };
@@ -464,6 +465,14 @@ pub fn finish(
         optimum,
         refinement_evaluations: evaluations,
     };
+    let optimum_values: Vec<f64> = grid
+        .names
+        .iter()
+        .filter_map(|n| result.optimum.design.get(n).copied())
+        .collect();
+    let scene = drawing::grid_design_scene(file, prepared, &optimum_values);
+    let caption = format!("{}: the sweep's optimum", result.mechanism);
+    drawing::write(&mut out, &mut report, &caption, scene)?;
     let path = out.finish("sweep", echo, result)?;
     report.line(format!("wrote {}", path.display()));
     Ok(report)

@@ -12,6 +12,7 @@
 use super::optimize::{Starts, run_blocks, start_points};
 use super::{Context, Report, Run};
 use crate::CliError;
+use crate::drawing;
 use crate::output::{Output, StudyEcho};
 use crate::plot::{self, Marker, Scatter};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
@@ -19,10 +20,11 @@ use crate::study::{self, StudyFile};
 use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3, Vector6};
 use pkm::screw_theory::{Twist, line_set_rank, task_residuals};
 use pkm_mechanisms::{
-    AngleMode, JointLayout, Pairing, StewartDesign, StewartDesignVariable, StewartGough,
+    AngleMode, JointLayout, Pairing, Skeleton, StewartDesign, StewartDesignVariable, StewartGough,
     StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task,
     presets,
 };
+use pkm_draw::Scene;
 use pkm_optimizers::{
     ActiveBound, LmSettings, LocalOptimum, OptimizeError, Sense, levenberg_marquardt,
 };
@@ -929,6 +931,8 @@ struct Found {
     outcomes: Vec<Result<LocalOptimum, OptimizeError>>,
     best_start: usize,
     result: TaskResult,
+    /// The robot at the optimal pose with the task twists' axes.
+    scene: Result<Scene, String>,
 }
 
 /// Runs the study in `file`, writing the starts table and figure to `context.out`.
@@ -995,6 +999,8 @@ pub fn compute(
             .collect::<Vec<_>>()
             .join(", ")
     ));
+    let caption = format!("{}: the optimal pose", r.mechanism);
+    drawing::write(&mut out, &mut report, &caption, found.scene)?;
     report.line(format!("wrote {}", out.dir().join("results.json").display()));
     Ok((found.result, report, out))
 }
@@ -1060,12 +1066,19 @@ fn stewart(
         optimality: Optimality::from(best),
         starts: starts.len(),
     };
+    let scene = drawing::task_scene(
+        Skeleton::stewart_gough(&mechanism, &pose),
+        &pose,
+        twists,
+        None,
+    );
     Ok(Found {
         names,
         best_start,
         starts,
         outcomes,
         result,
+        scene,
     })
 }
 
@@ -1139,12 +1152,20 @@ fn upu(
         optimality: Optimality::from(best),
         starts: starts.len(),
     };
+    let reciprocal = most_reciprocal_twist(&rows);
+    let scene = drawing::task_scene(
+        Skeleton::three_upu(&mechanism, &pose),
+        &pose,
+        twists,
+        reciprocal,
+    );
     Ok(Found {
         names,
         best_start,
         starts,
         outcomes,
         result,
+        scene,
     })
 }
 

@@ -4,6 +4,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
+use crate::drawing;
 use crate::output::{Output, StudyEcho, cell};
 use crate::plot::{self, Heatmap};
 use crate::study::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
@@ -371,6 +372,9 @@ pub fn compute(
         estimate.error_model,
         domain.volume()
     ));
+    let scene = drawing::design_scene(&study.mechanism, &constraints, Some(domain.region()));
+    let caption = format!("{} in its workspace", study.mechanism.kind());
+    drawing::write(&mut out, &mut report, &caption, scene)?;
     let result = WorkspaceResult {
         title: study.title.clone(),
         mechanism: study.mechanism.kind().into(),

@@ -512,7 +512,11 @@ pub fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
     })
 }
 
-fn tsai(s: &TsaiSpec) -> Result<Tsai3Dof, BuildError> {
+/// The Tsai platform of a `[mechanism.tsai]` table.
+///
+/// # Errors
+/// [`BuildError::Design`] with the library's reason for an invalid design.
+pub fn tsai(s: &TsaiSpec) -> Result<Tsai3Dof, BuildError> {
     Tsai3Dof::new(TsaiDesign::from_deg(
         s.a.0,
         s.b.0,
@@ -524,7 +528,11 @@ fn tsai(s: &TsaiSpec) -> Result<Tsai3Dof, BuildError> {
     .map_err(design_error)
 }
 
-fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
+/// The Linear Delta of a `[mechanism.linear_delta]` table.
+///
+/// # Errors
+/// [`BuildError::Design`] with the library's reason for an invalid design.
+pub fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
     let ratios = LinearDeltaRatios {
         l1_over_yr: s.l1_over_yr.0,
         ya_over_yr: s.ya_over_yr.0,

@@ -1,0 +1,339 @@
+//! The picture of the robot a study studied: every command writes [`ROBOT_SVG`] (the robot's
+//! skeleton in front, side, top and 3-D views, drawn by `pkm-draw`) and [`ROBOT_CSV`] (the
+//! data behind it, [`Scene::to_csv`]) to `--out`.
+//!
+//! This module is the one place where a study's result becomes a [`Skeleton`] and a
+//! [`Scene`]: the design at a representative pose with a cross-section of its workspace
+//! (`workspace`, `sweep`, `pareto`, `optimize`), the optimal pose with the task twists' axes
+//! (`task`), the robot at the start of its trajectory with the path (`dynamics`).
+//!
+//! A drawing never fails a study: a pose that cannot be drawn (no member point on the
+//! cross-section, an inverse kinematics that fails) becomes a warning line of the report and no
+//! drawing is written. Everything here is a function of the study alone (the cross-section is
+//! evaluated in parallel but collected in order), so the files are the same bytes for any
+//! `--threads`, and `pkm merge` writes the same drawing as a single run.
+
+use crate::commands::Report;
+use crate::commands::workspace::bounding_box;
+use crate::grid::{GridStudy, Prepared};
+use crate::output::Output;
+use crate::study::StudyFile;
+use crate::study::mechanism::{
+    ElbowSpec, MechanismSpec, TsaiElbowSpec, WorkspaceVisitor, linear_delta, rotary_delta, tsai,
+};
+use crate::{CliError, output::short};
+use nalgebra::{Isometry3, Vector3};
+use pkm::screw_theory::Twist;
+use pkm_draw::{Axis, DrawOptions, PathKind, Scene, render_svg};
+use pkm_mechanisms::{Elbow, ElbowMode, LegBranch, LinearDeltaMode, Skeleton};
+use pkm_traits::{ConstrainedWorkspace, KinematicsError, WorkspaceConstraint};
+use pkm_workspace_indices::{Region, Workspace};
+use rayon::prelude::*;
+
+/// The drawing of the robot.
+pub const ROBOT_SVG: &str = "robot.svg";
+/// The data behind [`ROBOT_SVG`]: one row per point of the skeleton, link end, axis point and
+/// path point (`element,index,label,kind,x,y,z`).
+pub const ROBOT_CSV: &str = "robot.csv";
+
+/// Cells per side of the workspace cross-section drawn with a design (48² = 2304 points at
+/// most), fine enough to show its shape and light enough for every study.
+pub const SECTION_CELLS: usize = 48;
+
+/// Most points of a drawn trajectory; longer histories are thinned evenly.
+pub const MAX_PATH_POINTS: usize = 2000;
+
+/// Renders `scene` with the caption `title` and writes [`ROBOT_SVG`] and [`ROBOT_CSV`]; a
+/// scene that could not be built or drawn becomes a warning line of `report` instead.
+///
+/// # Errors
+/// [`CliError::Io`] only: a failed drawing is a warning, not an error.
+pub fn write(
+    out: &mut Output,
+    report: &mut Report,
+    title: &str,
+    scene: Result<Scene, String>,
+) -> Result<(), CliError> {
+    let drawn = scene.and_then(|scene| {
+        let svg = render_svg(&scene, &DrawOptions::titled(title)).map_err(|e| e.to_string())?;
+        Ok((scene, svg))
+    });
+    match drawn {
+        Ok((scene, svg)) => {
+            out.write(ROBOT_SVG, svg.as_bytes())?;
+            out.write(ROBOT_CSV, scene.to_csv().as_bytes())?;
+        }
+        Err(reason) => report.line(format!("warning: no drawing of the robot: {reason}")),
+    }
+    Ok(())
+}
+
+/// A design drawn at a representative pose of its workspace under `constraints`, with the
+/// workspace's members among the [`SECTION_CELLS`]² cell centres of a vertical cross-section
+/// through the centre of `region`'s bounding box (the plane $y = y_c$; $x = x_c$ for the Linear
+/// Delta, whose rails run along $x$) as a [`PathKind::WorkspacePoints`] path. The pose is the
+/// member nearest the box's centre (the first of equally near ones); without a `region`, the
+/// mechanism's reach region, or for the Linear Delta a box around its rails.
+///
+/// # Errors
+/// Why there is no drawing: an invalid design, no member on the cross-section, a pose the
+/// skeleton cannot be built at.
+pub fn design_scene(
+    spec: &MechanismSpec,
+    constraints: &[WorkspaceConstraint],
+    region: Option<Region>,
+) -> Result<Scene, String> {
+    let region = match region {
+        Some(region) => region,
+        None => drawing_region(spec)?,
+    };
+    let (lower, upper) = bounding_box(&region);
+    let centre = (lower + upper) / 2.0;
+    let (a, b, normal) = match spec {
+        MechanismSpec::LinearDelta(_) => (1, 2, 0),
+        _ => (0, 2, 1),
+    };
+    let cell = |axis: usize, k: usize| {
+        lower[axis] + (k as f64 + 0.5) * (upper[axis] - lower[axis]) / SECTION_CELLS as f64
+    };
+    let points: Vec<Vector3<f64>> = (0..SECTION_CELLS * SECTION_CELLS)
+        .map(|k| {
+            let mut p = centre;
+            p[a] = cell(a, k % SECTION_CELLS);
+            p[b] = cell(b, k / SECTION_CELLS);
+            p
+        })
+        .collect();
+    let inside = spec
+        .with_workspace(constraints, Members { points: &points })
+        .map_err(|e| e.to_string())?;
+    let members: Vec<Vector3<f64>> = points
+        .iter()
+        .zip(inside)
+        .filter_map(|(p, inside)| inside.then_some(*p))
+        .collect();
+    let pose = members
+        .iter()
+        .fold(None, |best: Option<(f64, Vector3<f64>)>, p| {
+            let d = (p - centre).norm_squared();
+            match best {
+                Some((nearest, _)) if !(d < nearest) => best,
+                _ => Some((d, *p)),
+            }
+        })
+        .map(|(_, p)| p)
+        .ok_or_else(|| {
+            format!(
+                "no point of the cross-section {} = {} m lies in the workspace",
+                ["x", "y", "z"][normal],
+                short(centre[normal])
+            )
+        })?;
+    let label = format!(
+        "workspace on {} = {} m",
+        ["x", "y", "z"][normal],
+        short(centre[normal])
+    );
+    Ok(Scene::new(skeleton_at(spec, &pose)?).with_path(label, PathKind::WorkspacePoints, members))
+}
+
+/// [`design_scene`] of the grid study's design `values` (in the order of its variables),
+/// under the study's constraints, in its sampling region if it gives one.
+///
+/// # Errors
+/// As [`design_scene`].
+pub fn grid_design_scene(
+    file: &StudyFile<GridStudy>,
+    prepared: &Prepared,
+    values: &[f64],
+) -> Result<Scene, String> {
+    let spec = prepared.evaluator.mechanism_at(values)?;
+    let region = file
+        .study
+        .sampling
+        .as_ref()
+        .and_then(|s| s.get_ref().region)
+        .map(|r| r.region());
+    design_scene(&spec, prepared.evaluator.constraints(), region)
+}
+
+/// The skeleton of `spec` with its platform at `p`, in the first of the study's working modes
+/// whose inverse kinematics succeeds (for the Tsai platform: the modes with every leg on one
+/// elbow, θ3 principal, the branch [`Skeleton::tsai`] draws).
+///
+/// # Errors
+/// An invalid design; no mode reaches `p`.
+pub fn skeleton_at(spec: &MechanismSpec, p: &Vector3<f64>) -> Result<Skeleton, String> {
+    match spec {
+        MechanismSpec::RotaryDelta(s) => {
+            let robot = rotary_delta(s).map_err(|e| e.to_string())?;
+            first_drawable(
+                p,
+                s.elbow.iter().map(|e| {
+                    let mode = match e {
+                        ElbowSpec::Out => ElbowMode::Out,
+                        ElbowSpec::In => ElbowMode::In,
+                    };
+                    Skeleton::rotary_delta(&robot, p, mode)
+                }),
+            )
+        }
+        MechanismSpec::Tsai(s) => {
+            let robot = tsai(s).map_err(|e| e.to_string())?;
+            let uniform = s.modes.iter().filter(|m| m.iter().all(|e| *e == m[0]));
+            first_drawable(
+                p,
+                uniform.map(|m| {
+                    let elbow = match m[0] {
+                        TsaiElbowSpec::Out => Elbow::Out,
+                        TsaiElbowSpec::In => Elbow::In,
+                    };
+                    let branch = LegBranch {
+                        principal_theta3: true,
+                        elbow,
+                    };
+                    Skeleton::tsai(&robot, p, branch)
+                }),
+            )
+        }
+        MechanismSpec::LinearDelta(s) => {
+            let robot = linear_delta(s).map_err(|e| e.to_string())?;
+            let mode = LinearDeltaMode {
+                leans_positive: s.leans_positive,
+            };
+            first_drawable(p, [Skeleton::linear_delta(&robot, p, mode)])
+        }
+    }
+}
+
+/// The first skeleton of `tries` that could be built, or why none could (the last error).
+fn first_drawable(
+    p: &Vector3<f64>,
+    tries: impl IntoIterator<Item = Result<Skeleton, KinematicsError>>,
+) -> Result<Skeleton, String> {
+    let mut last = None;
+    for attempt in tries {
+        match attempt {
+            Ok(skeleton) => return Ok(skeleton),
+            Err(e) => last = Some(e),
+        }
+    }
+    let at = format!("[{}, {}, {}]", short(p.x), short(p.y), short(p.z));
+    Err(last.map_or_else(
+        || format!("no working mode of the study can be drawn at p = {at} m"),
+        |e| format!("the skeleton at p = {at} m: {e}"),
+    ))
+}
+
+/// Where to look for a pose when the study gives no region: the mechanism's reach region, or
+/// for the Linear Delta (unbounded along its rails) the box $|x| \le L$ around the rails
+/// widened by the longest arm $L$ in $y$ and $z$.
+fn drawing_region(spec: &MechanismSpec) -> Result<Region, String> {
+    if let Some(region) = spec.reach_region().map_err(|e| e.to_string())? {
+        return Ok(region);
+    }
+    match spec {
+        MechanismSpec::LinearDelta(s) => {
+            let robot = linear_delta(s).map_err(|e| e.to_string())?;
+            let reach = robot.arm_lengths().into_iter().fold(0.0, f64::max);
+            let rails = robot.rails();
+            let (mut lower, mut upper) = (
+                Vector3::new(-reach, 0.0, 0.0),
+                Vector3::new(reach, 0.0, 0.0),
+            );
+            for axis in [1, 2] {
+                let along = rails.iter().map(|r| r[axis - 1]);
+                lower[axis] = along.clone().fold(f64::INFINITY, f64::min) - reach;
+                upper[axis] = along.fold(f64::NEG_INFINITY, f64::max) + reach;
+            }
+            Ok(Region::Box { lower, upper })
+        }
+        other => Err(format!("{} has no region to draw a pose in", other.kind())),
+    }
+}
+
+/// Whether each point belongs to the workspace (in parallel, in order).
+struct Members<'a> {
+    points: &'a [Vector3<f64>],
+}
+
+impl WorkspaceVisitor for Members<'_> {
+    type Output = Vec<bool>;
+
+    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(
+        self,
+        workspace: &Workspace<'_, M>,
+    ) -> Vec<bool> {
+        self.points
+            .par_iter()
+            .map(|p| workspace.contains(p))
+            .collect()
+    }
+}
+
+/// A spatial robot at its optimal `pose` with the axis of every task twist (the point of the
+/// axis nearest the origin, Wolf & Shoham eq. 3; a pure translation through the platform
+/// centre); without task twists (a singularity search) the axis of `reciprocal`, the twist the
+/// legs' wrenches resist least.
+///
+/// # Errors
+/// The skeleton's [`KinematicsError`] (a leg of zero length), a zero twist.
+pub fn task_scene(
+    skeleton: Result<Skeleton, KinematicsError>,
+    pose: &Isometry3<f64>,
+    twists: &[(f64, Twist)],
+    reciprocal: Option<Twist>,
+) -> Result<Scene, String> {
+    let mut scene = Scene::new(skeleton.map_err(|e| format!("the skeleton at the optimum: {e}"))?);
+    let centre = pose.translation.vector;
+    let labelled: Vec<(String, Twist)> = if twists.is_empty() {
+        reciprocal
+            .map(|t| ("least-constrained twist".to_owned(), t))
+            .into_iter()
+            .collect()
+    } else {
+        twists
+            .iter()
+            .enumerate()
+            .map(|(k, (w, t))| (format!("task twist {} (weight {})", k + 1, short(*w)), *t))
+            .collect()
+    };
+    for (label, twist) in labelled {
+        scene = scene.with_axis(Axis::of_twist(label, &twist, centre).map_err(|e| e.to_string())?);
+    }
+    Ok(scene)
+}
+
+/// The rotary Delta of a dynamics study at the first commanded position (elbows out, the
+/// branch of the dynamics), with the commanded positions as a [`PathKind::Trajectory`]
+/// (every k-th sample and the last, at most [`MAX_PATH_POINTS`] + 1).
+///
+/// # Errors
+/// An invalid design, an empty trajectory, an unreachable start.
+pub fn trajectory_scene(spec: &MechanismSpec, commanded: &[Vector3<f64>]) -> Result<Scene, String> {
+    let (Some(start), Some(last)) = (commanded.first(), commanded.last()) else {
+        return Err("the trajectory has no samples".to_owned());
+    };
+    let step = commanded.len().div_ceil(MAX_PATH_POINTS).max(1);
+    let mut path: Vec<Vector3<f64>> = commanded.iter().step_by(step).copied().collect();
+    if !(commanded.len() - 1).is_multiple_of(step) {
+        path.push(*last);
+    }
+    Ok(Scene::new(skeleton_at(spec, start)?).with_path("trajectory", PathKind::Trajectory, path))
+}
+
+/// [`design_scene`] of `base` with the design variables `values` set, without constraints (the
+/// workspace of `pkm optimize`'s objectives) in the mechanism's reach region.
+///
+/// # Errors
+/// An unknown variable; as [`design_scene`].
+pub fn optimum_scene<'a>(
+    base: &MechanismSpec,
+    values: impl IntoIterator<Item = (&'a str, f64)>,
+) -> Result<Scene, String> {
+    let mut spec = base.clone();
+    for (name, value) in values {
+        spec.set(name, value)?;
+    }
+    design_scene(&spec, &[], None)
+}
