@@ -6,8 +6,8 @@ use pkm::papers::wolf2006::eq15_as_printed;
 use pkm_optimizers::{
     AugmentedLagrangianSettings, GridAxis, GridSearch, LatticeLevel, LmSettings, Multistart,
     RefinementSettings, Sense, augmented_lagrangian, grid_search, lattice_refine_from,
-    lattice_refined_search,
-    levenberg_marquardt, multistart_levenberg_marquardt, refined_grid_search, weighted_combination,
+    lattice_refined_search, levenberg_marquardt, multistart_levenberg_marquardt,
+    refined_grid_search, weighted_combination,
 };
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent};
 use proptest::prelude::*;
