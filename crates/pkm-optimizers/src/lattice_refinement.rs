@@ -18,11 +18,13 @@ pub struct LatticeLevel {
 }
 
 /// Exhaustive search on `coarse`, then on every level a window of `2·half_width + 1` lattice
-/// nodes per axis around the incumbent; a level is repeated (at most `max_repeats` times) while
+/// nodes per axis around the incumbent; a level is repeated (at most eight times) while
 /// its optimum lies on the window's edge but not on a bound, so that the reported optimum is a
 /// local optimum of the finest lattice. Axes with a single coarse node stay fixed.
 ///
-/// The landscape, if `coarse` keeps it, is the coarse one.
+/// This is [`grid_search`] on `coarse` followed by [`lattice_refine_from`] from its optimum;
+/// evaluations and infeasible designs are summed over both. The landscape, if `coarse` keeps
+/// it, is the coarse one.
 ///
 /// # Errors
 /// As [`grid_search`]; [`OptimizeError::InvalidSetting`] for a step that is not positive.
@@ -33,18 +35,93 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
     levels: &[LatticeLevel],
     progress: &dyn Progress,
 ) -> Result<GridResult, OptimizeError> {
-    let mut result = grid_search(objective, sense, coarse, progress)?;
-    let coarse = coarse.axes();
+    let GridResult {
+        best,
+        best_value,
+        evaluations,
+        infeasible,
+        landscape,
+        ..
+    } = grid_search(objective, sense, coarse, progress)?;
+    let refined = lattice_refine_from(
+        objective,
+        sense,
+        coarse.axes(),
+        (best, best_value),
+        levels,
+        progress,
+    )?;
+    Ok(GridResult {
+        evaluations: evaluations + refined.evaluations,
+        infeasible: infeasible + refined.infeasible,
+        landscape,
+        ..refined
+    })
+}
+
+/// The refinement of [`lattice_refined_search`] from a known optimum `start = (x₀, f(x₀))` of
+/// the grid `coarse` (e.g. a coarse grid already evaluated for its landscape or in shards).
+///
+/// Level ℓ, of step $h_\ell$ and half-width $w_\ell$, searches exhaustively the window
+/// $W_\ell(c) = \prod_k \{c_k + i\,h_\ell : -b_k \le i \le a_k\}$ around the incumbent
+/// $c$, where $b_k = \min(w_\ell, \lfloor (c_k - l_k)/h_\ell \rfloor)$ and
+/// $a_k = \min(w_\ell, \lfloor (u_k - c_k)/h_\ell \rfloor)$ clip it to the bounds
+/// $[l_k, u_k]$ ([`lattice_window`]); axes of `coarse` with a single node keep it. The window's
+/// best node $x^\ast$ becomes the incumbent when $f(x^\ast)$ is at least as good as $f(c)$ (a
+/// tie moves to the window's first best node, in row-major order), and the level is repeated
+/// around it, at most 8 times, while $f(x^\ast)$ strictly improves and $x^\ast$ lies on an
+/// edge of the window that the bounds leave room to pass. The levels run in order, each from
+/// the incumbent of the one before.
+///
+/// The result holds the final incumbent, the evaluations and infeasible designs of the windows
+/// only (not those of `coarse`), no landscape, and [`Termination::Converged`] with criterion
+/// `"optimum inside every window"`, or [`Termination::MaxIterations`] when some level's window
+/// still moved after its last repeat. Without levels it is `start`, with no evaluation.
+///
+/// # Errors
+/// [`OptimizeError::InvalidSetting`] when `coarse` or `start.0` does not have one entry per
+/// design variable, `start.0` or `start.1` is not finite, or for a level as in
+/// [`lattice_window`]; otherwise as [`grid_search`] on a window.
+pub fn lattice_refine_from<O: Objective + ?Sized>(
+    objective: &O,
+    sense: Sense,
+    coarse: &[GridAxis],
+    (best, best_value): (Vec<f64>, f64),
+    levels: &[LatticeLevel],
+    progress: &dyn Progress,
+) -> Result<GridResult, OptimizeError> {
+    let dimension = objective.dimension();
+    if coarse.len() != dimension {
+        return Err(invalid(
+            "axes",
+            coarse.len() as f64,
+            "one axis per design variable",
+        ));
+    }
+    if best.len() != dimension {
+        return Err(invalid(
+            "start",
+            best.len() as f64,
+            "one value per design variable",
+        ));
+    }
+    if let Some(&x) = best.iter().find(|x| !x.is_finite()) {
+        return Err(invalid("start", x, "must be finite"));
+    }
+    if !best_value.is_finite() {
+        return Err(invalid("start value", best_value, "must be finite"));
+    }
+    let mut result = GridResult {
+        best,
+        best_value,
+        evaluations: 0,
+        infeasible: 0,
+        landscape: None,
+        termination: Termination::MaxIterations,
+    };
     // Whether some level's window still moved after its last repeat.
     let mut exhausted = false;
     for level in levels {
-        if !(level.step > 0.0 && level.step.is_finite()) {
-            return Err(OptimizeError::InvalidSetting {
-                setting: "step",
-                value: level.step,
-                requirement: "must be finite and > 0",
-            });
-        }
         let mut window_moved = false;
         for _ in 0..MAX_REPEATS {
             let axes = lattice_window(objective.bounds(), coarse, &result.best, level)?;
@@ -130,4 +207,108 @@ fn on_open_edge(axes: &[GridAxis], best: &[f64], bounds: &[Bounds], step: f64) -
             && ((near(x, axis.lower()) && x - step >= b.lower() - 1e-12)
                 || (near(x, axis.upper()) && x + step <= b.upper() + 1e-12))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+    use pkm_traits::{ObjectiveError, Silent};
+
+    /// A tilted bowl $\sum_k (x_k - c_k)^2 + 0.3\,x_0 x_1$ on $[-1, 1]^2 \times \{0.25\}$,
+    /// infeasible for $x_0 + x_1 > 1.05$ (so that windows count infeasible nodes).
+    struct TiltedBowl([Bounds; 3]);
+
+    impl Objective for TiltedBowl {
+        fn dimension(&self) -> usize {
+            3
+        }
+        fn bounds(&self) -> &[Bounds] {
+            &self.0
+        }
+        fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+            if p[0] + p[1] > 1.05 {
+                return Err(ObjectiveError::Infeasible {
+                    reason: "x0 + x1 > 1.05".into(),
+                });
+            }
+            Ok((p[0] - 0.713).powi(2) + (p[1] - 0.437).powi(2) + 0.3 * p[0] * p[1] + p[2])
+        }
+    }
+
+    #[test]
+    fn lattice_refined_search_is_grid_search_then_lattice_refine_from_bit_for_bit() {
+        let unit = Bounds::new(-1.0, 1.0).unwrap();
+        let objective = TiltedBowl([unit, unit, Bounds::new(0.25, 0.25).unwrap()]);
+        let axes = vec![
+            GridAxis::new(-1.0, 1.0, 5).unwrap(),
+            GridAxis::new(-1.0, 1.0, 5).unwrap(),
+            GridAxis::new(0.25, 0.25, 1).unwrap(),
+        ];
+        let coarse = GridSearch::new(axes).unwrap().keeping_landscape();
+        // Half-width 1 at 0.1 must re-centre to walk from the coarse node (0.5, 0.5).
+        let levels = [
+            LatticeLevel {
+                step: 0.1,
+                half_width: 1,
+            },
+            LatticeLevel {
+                step: 0.01,
+                half_width: 3,
+            },
+        ];
+        for sense in [Sense::Minimise, Sense::Maximise] {
+            let whole =
+                lattice_refined_search(&objective, sense, &coarse, &levels, &Silent).unwrap();
+            let grid = grid_search(&objective, sense, &coarse, &Silent).unwrap();
+            let start = (grid.best.clone(), grid.best_value);
+            let refined =
+                lattice_refine_from(&objective, sense, coarse.axes(), start, &levels, &Silent)
+                    .unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&whole.best), bits(&refined.best));
+            assert_eq!(whole.best_value.to_bits(), refined.best_value.to_bits());
+            assert_eq!(whole.evaluations, grid.evaluations + refined.evaluations);
+            assert_eq!(whole.infeasible, grid.infeasible + refined.infeasible);
+            assert_eq!(whole.termination, refined.termination);
+            assert_eq!(whole.landscape, grid.landscape);
+            assert!(refined.landscape.is_none());
+            // Minimising, the refinement did work: more than one 3×3 window at 0.1 and, near
+            // the minimum (0.66, 0.34), infeasible nodes; maximising, it stays in the corner
+            // (−1, −1).
+            if sense == Sense::Minimise {
+                assert!(refined.evaluations > 9 + 49, "{}", refined.evaluations);
+                assert!(refined.infeasible > 0, "{refined:?}");
+            } else {
+                assert!(
+                    refined.best[..2]
+                        .iter()
+                        .all(|x| x.to_bits() == (-1.0f64).to_bits())
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lattice_refine_from_without_levels_returns_the_start() {
+        let unit = Bounds::new(-1.0, 1.0).unwrap();
+        let objective = TiltedBowl([unit, unit, Bounds::new(0.25, 0.25).unwrap()]);
+        let axes = [GridAxis::new(-1.0, 1.0, 5).unwrap(); 3];
+        let start = (vec![0.5, 0.5, 0.25], 1.5);
+        let result = lattice_refine_from(
+            &objective,
+            Sense::Minimise,
+            &axes,
+            start.clone(),
+            &[],
+            &Silent,
+        )
+        .unwrap();
+        assert_eq!(
+            (result.best, result.best_value.to_bits()),
+            (start.0, start.1.to_bits())
+        );
+        assert_eq!(result.evaluations, 0);
+    }
 }

@@ -53,7 +53,9 @@ pub use grid_search::{
     GridAxis, GridResult, GridSearch, Landscape, MAX_GRID_NODES, RefinementSettings, grid_search,
     refined_grid_search,
 };
-pub use lattice_refinement::{LatticeLevel, lattice_refined_search, lattice_window};
+pub use lattice_refinement::{
+    LatticeLevel, lattice_refine_from, lattice_refined_search, lattice_window,
+};
 pub use levenberg_marquardt::{
     ActiveBound, BOUND_TOLERANCE, DAMPING_DECREASE, DAMPING_INCREASE, INITIAL_DAMPING_SCALE,
     LmSettings, LocalOptimum, MAX_DAMPING, MIN_NORMAL_DIAGONAL, Multistart, MultistartOptimum,

@@ -5,8 +5,9 @@ use super::{all_finite, config, hostile_count, hostile_f64, judge, judge_err};
 use pkm::papers::wolf2006::eq15_as_printed;
 use pkm_optimizers::{
     AugmentedLagrangianSettings, GridAxis, GridSearch, LatticeLevel, LmSettings, Multistart,
-    RefinementSettings, Sense, augmented_lagrangian, grid_search, lattice_refined_search,
-    levenberg_marquardt, multistart_levenberg_marquardt, refined_grid_search, weighted_combination,
+    RefinementSettings, Sense, augmented_lagrangian, grid_search, lattice_refine_from,
+    lattice_refined_search, levenberg_marquardt, multistart_levenberg_marquardt,
+    refined_grid_search, weighted_combination,
 };
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent};
 use proptest::prelude::*;
@@ -131,6 +132,24 @@ proptest! {
         let levels = [LatticeLevel { step, half_width }];
         judge("lattice_refined_search", || lattice_refined_search(&bowl, Sense::Minimise, &coarse, &levels, &Silent), |r| {
             r.best_value.is_finite() && design_inside(bowl.bounds(), &r.best)
+        })?;
+    }
+
+    #[test]
+    fn lattice_refinement_from_hostile_starts(
+        start in prop::collection::vec(hostile_f64(), 0..4), value in hostile_f64(), n_axes in 0..4usize,
+        step in hostile_f64(), half_width in hostile_count(), maximise in prop::bool::ANY,
+    ) {
+        let bowl = Bowl::new(2);
+        let coarse = vec![GridAxis::new(-2.0, 2.0, 5).unwrap(); n_axes];
+        let levels = [LatticeLevel { step, half_width }];
+        let sense = sense(maximise);
+        // Accepted only for one axis and one finite coordinate per variable and a finite value;
+        // the incumbent never gets worse than the start.
+        judge("lattice_refine_from", || lattice_refine_from(&bowl, sense, &coarse, (start.clone(), value), &levels, &Silent), |r| {
+            n_axes == 2 && start.len() == 2 && all_finite(start.iter()) && value.is_finite()
+                && r.best_value.is_finite() && r.best.len() == 2 && all_finite(r.best.iter())
+                && sense.at_least_as_good(r.best_value, value)
         })?;
     }
 

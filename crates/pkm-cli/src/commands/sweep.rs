@@ -2,9 +2,10 @@
 //! U = Σ wᵢ ηᵢ of any indices (maximised), lattice refinement around the optimum, the landscape
 //! as CSV and heat maps of pairs of variables through the optimum.
 //!
-//! Refinement follows `pkm_optimizers::lattice_refined_search`: each `[[sweep.refine]]` level
-//! searches a window of ±`half_width` steps of `step` around the optimum so far, re-centred
-//! while the optimum improves on the window's open edge. A level that overrides index settings
+//! Refinement is `pkm_optimizers::lattice_refine_from` from the grid optimum (the grid is not
+//! evaluated twice): each `[[sweep.refine]]` level searches a window of ±`half_width` steps of
+//! `step` around the optimum so far, re-centred while the optimum improves on the window's open
+//! edge. A level that overrides index settings
 //! (e.g. a finer η1 rule) starts a new stage: a grid on its window with the new settings, whose
 //! optimum replaces the old one (values under different settings are not compared), then the
 //! level itself, as the Linear Delta search of Miller 2004 §2.2.3 does.
@@ -20,7 +21,9 @@ use crate::output::{Output, StudyEcho, cell, short};
 use crate::plot::{self, Heatmap, Marker};
 use crate::study::units::Real;
 use crate::study::{self, StudyFile};
-use pkm_optimizers::{GridAxis, GridSearch, LatticeLevel, Sense, grid_search, lattice_window};
+use pkm_optimizers::{
+    GridSearch, LatticeLevel, Sense, grid_search, lattice_refine_from, lattice_window,
+};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Progress};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -246,20 +249,6 @@ impl Objective for UtilityObjective<'_> {
     }
 }
 
-/// Re-centrings of one level at most, as `pkm_optimizers::lattice_refined_search`.
-const MAX_REPEATS: usize = 8;
-
-/// Whether `best` lies on an edge of `axes` that the bounds leave room to pass (as
-/// `pkm_optimizers::lattice_refined_search`).
-fn on_open_edge(axes: &[GridAxis], best: &[f64], bounds: &[Bounds], step: f64) -> bool {
-    let near = |a: f64, b: f64| (a - b).abs() < 1e-9 * (1.0 + step);
-    axes.iter().zip(best).zip(bounds).any(|((axis, &x), b)| {
-        axis.n() > 1
-            && ((near(x, axis.lower()) && x - step >= b.lower() - 1e-12)
-                || (near(x, axis.upper()) && x + step <= b.upper() + 1e-12))
-    })
-}
-
 /// The refined optimum: design, negated utility, the settings of the last stage, evaluations.
 struct Refined {
     best: Vec<f64>,
@@ -302,18 +291,16 @@ fn refine(
             (best, best_value) = (stage.best, stage.best_value);
             coarse = window;
         }
-        for _ in 0..MAX_REPEATS {
-            let axes = lattice_window(&bounds, &coarse, &best, &lattice)?;
-            let local = grid_search(&objective, Sense::Minimise, &GridSearch::new(axes.clone())?, progress)?;
-            evaluations += local.evaluations;
-            let improved = local.best_value < best_value;
-            if local.best_value <= best_value {
-                (best, best_value) = (local.best, local.best_value);
-            }
-            if !(improved && on_open_edge(&axes, &best, &bounds, lattice.step)) {
-                break;
-            }
-        }
+        let refined = lattice_refine_from(
+            &objective,
+            Sense::Minimise,
+            &coarse,
+            (best, best_value),
+            &[lattice],
+            progress,
+        )?;
+        evaluations += refined.evaluations;
+        (best, best_value) = (refined.best, refined.best_value);
     }
     if let Some(last) = levels.last() {
         let step = *last.step.get_ref();
