@@ -60,7 +60,10 @@ fn check_kinematics<M, const N: usize>(
     let j = mechanism.velocity_jacobian_at(x, mode).unwrap();
     let j_fd = central_difference_jacobian(mechanism, mode, x, 1e-6 * length);
     let relative = (j - j_fd).amax() / j_fd.amax();
-    assert!(relative < 1e-6, "{name}: |J - J_fd| / |J_fd| = {relative:e}");
+    assert!(
+        relative < 1e-6,
+        "{name}: |J - J_fd| / |J_fd| = {relative:e}"
+    );
 
     let sigma = <Dim<N> as FixedSvd<N>>::singular_values(&j_fd);
     let (sigma_min, sigma_max) = (sigma.min(), sigma.max());
