@@ -27,9 +27,7 @@ pub(crate) fn eta_of_one_design(c: &mut Criterion) {
             |y, z| inverse_condition(&delta, y, z),
             n,
         )
-        .map_err(|e| ObjectiveError::Infeasible {
-            reason: e.to_string(),
-        })
+        .map_err(|e| ObjectiveError::infeasible(e.to_string()))
     };
     group.bench_function("eta1_quadrature_24_scalar", |b| b.iter(|| scalar_eta1(24)));
     group.bench_function("eta1_quadrature_16_scalar", |b| b.iter(|| scalar_eta1(16)));

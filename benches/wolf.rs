@@ -51,9 +51,7 @@ fn analytic_gradient<P: Residuals>(
 ) -> Result<f64, ObjectiveError> {
     let (mut r, mut a) = ([0.0; 6], [0.0; 36]);
     if !problem.residual_jacobian(p, &mut r, &mut a)? {
-        return Err(ObjectiveError::Infeasible {
-            reason: "no analytic Jacobian".to_owned(),
-        });
+        return Err(ObjectiveError::infeasible("no analytic Jacobian"));
     }
     for (j, g) in gradient.iter_mut().enumerate() {
         *g = (0..6).map(|i| 2.0 * a[i * 6 + j] * r[i]).sum();

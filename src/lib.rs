@@ -12,6 +12,7 @@
 //! | [`optimizers`] | `pkm-optimizers` | grid search, Gauss–Newton multistart, constrained optimisation |
 //! | [`integrators`] | `pkm-integrators` | RK4, Dormand–Prince 5(4), symplectic methods |
 //! | [`dynamics_hamilton`] | `pkm-dynamics-hamilton` | Hamilton's equations in extended space |
+//! | [`draw`] | `pkm-draw` | SVG drawings of a mechanism's skeleton, with axes and workspaces |
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -19,6 +20,7 @@
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+pub use pkm_draw as draw;
 pub use pkm_dynamics_hamilton as dynamics_hamilton;
 pub use pkm_integrators as integrators;
 pub use pkm_mechanisms as mechanisms;

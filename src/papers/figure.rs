@@ -24,6 +24,25 @@ pub struct Figure {
     pub kind: FigureKind,
 }
 
+impl Figure {
+    /// A drawing of a robot (see [`FigureKind::Robot`]) with coordinates in `unit`.
+    pub fn robot(
+        name: impl Into<String>,
+        title: impl Into<String>,
+        scene: pkm_draw::Scene,
+        unit: &str,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            title: title.into(),
+            kind: FigureKind::Robot(RobotDrawing {
+                scene,
+                unit: unit.to_owned(),
+            }),
+        }
+    }
+}
+
 /// The kinds of figure `xtask` renders.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum FigureKind {
@@ -38,6 +57,19 @@ pub enum FigureKind {
         /// The marked points, in the map's coordinates.
         markers: Vec<Marker>,
     },
+    /// A robot at a pose in front, side, top and 3-D views (`pkm-draw`), with its axes,
+    /// trajectories and workspace points.
+    Robot(RobotDrawing),
+}
+
+/// A drawing of a robot: what `pkm_draw::render_svg` draws, and the length unit of its
+/// coordinates.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RobotDrawing {
+    /// The skeleton and the extra elements.
+    pub scene: pkm_draw::Scene,
+    /// Length unit of the coordinates (`"m"`, `"cm"`, `"R"`).
+    pub unit: String,
 }
 
 /// A labelled point drawn on a figure.

@@ -15,7 +15,9 @@ pub mod stamper1997;
 pub mod wolf2006;
 
 pub use comparison::{Comparison, Source, Verdict};
-pub use figure::{Figure, FigureKind, Heatmap, LinePlot, LineSeries, Marker, SeriesStyle, Table};
+pub use figure::{
+    Figure, FigureKind, Heatmap, LinePlot, LineSeries, Marker, RobotDrawing, SeriesStyle, Table,
+};
 
 use pkm_traits::Progress;
 use serde::Serialize;
@@ -150,6 +152,9 @@ pub enum ExperimentError {
     /// A dynamics computation failed.
     #[error(transparent)]
     Dynamics(#[from] pkm_dynamics_hamilton::DynamicsError),
+    /// A drawing of a robot could not be made.
+    #[error(transparent)]
+    Draw(#[from] pkm_draw::DrawError),
     /// The run was cancelled.
     #[error("cancelled")]
     Cancelled,

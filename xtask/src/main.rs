@@ -4,6 +4,7 @@
 //! prints the comparison table and writes the report (`results.json`, `report.md`, CSV, SVG).
 #![allow(clippy::print_stdout)]
 
+mod figure_data;
 mod plot;
 mod progress;
 mod report;

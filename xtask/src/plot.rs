@@ -1,9 +1,11 @@
-//! SVG figures with plotters: line plots with a legend, heatmaps with a colour bar.
+//! SVG figures with plotters: line plots with a legend, heatmaps with a colour bar, and robot
+//! drawings through `pkm-draw`.
 //!
 //! plotters is built without its `ttf` feature: text sizes are estimated and text is written as
 //! SVG `<text>`, so rendering needs no system font library.
 
-use pkm::papers::{Figure, FigureKind, Heatmap, LinePlot, Marker, SeriesStyle};
+use pkm::draw::{DrawOptions, render_svg};
+use pkm::papers::{Figure, FigureKind, Heatmap, LinePlot, Marker, RobotDrawing, SeriesStyle};
 use plotters::prelude::*;
 use std::ops::Range;
 use std::path::Path;
@@ -20,6 +22,9 @@ const TICK: u32 = 15;
 /// # Errors
 /// When the file cannot be written.
 pub(crate) fn render(figure: &Figure, path: &Path) -> anyhow::Result<()> {
+    if let FigureKind::Robot(drawing) = &figure.kind {
+        return robot(&figure.title, drawing, path);
+    }
     let root = SVGBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
     let area = root.titled(&figure.title, (FONT, TITLE))?;
@@ -27,8 +32,19 @@ pub(crate) fn render(figure: &Figure, path: &Path) -> anyhow::Result<()> {
         FigureKind::Lines(plot) => lines(&area, plot)?,
         FigureKind::Heatmap(map) => heatmap(&area, map, &[])?,
         FigureKind::AnnotatedHeatmap { map, markers } => heatmap(&area, map, markers)?,
+        FigureKind::Robot(_) => {}
     }
     root.present()?;
+    Ok(())
+}
+
+/// A robot drawing through `pkm-draw`: front, side, top and 3-D views on one sheet.
+fn robot(title: &str, drawing: &RobotDrawing, path: &Path) -> anyhow::Result<()> {
+    let options = DrawOptions {
+        unit: drawing.unit.clone(),
+        ..DrawOptions::titled(title)
+    };
+    std::fs::write(path, render_svg(&drawing.scene, &options)?)?;
     Ok(())
 }
 

@@ -1,10 +1,11 @@
-//! The files of a run: `results.json`, `report.md`, one CSV per table and one SVG per figure;
+//! The files of a run: `results.json`, `report.md`, one CSV per table, one SVG per figure and
+//! the CSV of its data;
 //! and the reproduction table of `README.md`.
 
 use crate::reproduce::ExperimentRun;
-use crate::{plot, table};
+use crate::{figure_data, plot, table};
 use anyhow::{Context as _, bail};
-use pkm::papers::{Comparison, Mode, Table, Verdict};
+use pkm::papers::{Comparison, Figure, Mode, Outcome, Table, Verdict};
 use serde::Serialize;
 use std::fmt;
 use std::fmt::Write as _;
@@ -163,6 +164,11 @@ impl<'a> Report<'a> {
             for figure in &outcome.figures {
                 let path = dir.join(format!("{id}.{}.svg", figure.name));
                 plot::render(figure, &path).with_context(|| path.display().to_string())?;
+                if let Some(name) = figure_csv_name(outcome, figure) {
+                    let path = dir.join(format!("{id}.{name}.csv"));
+                    std::fs::write(&path, figure_data::csv(figure))
+                        .with_context(|| path.display().to_string())?;
+                }
             }
         }
         write_atomically(&dir.join("results.json"), self.json()?.as_bytes())?;
@@ -236,24 +242,35 @@ fn experiment_section(md: &mut String, run: &ExperimentRun) {
     for figure in &outcome.figures {
         let _ = write!(md, "\n![{}]({}.{}.svg)\n", figure.title, e.id, figure.name);
     }
-    if !outcome.tables.is_empty() {
+    let figure_data = outcome
+        .figures
+        .iter()
+        .filter_map(|f| figure_csv_name(outcome, f));
+    let names: Vec<&str> = outcome
+        .tables
+        .iter()
+        .map(|t| t.name.as_str())
+        .chain(figure_data)
+        .collect();
+    if !names.is_empty() {
         md.push_str("\nData:");
-        for t in &outcome.tables {
-            let _ = write!(md, " [{}]({}.{}.csv)", t.name, e.id, t.name);
+        for name in names {
+            let _ = write!(md, " [{name}]({}.{name}.csv)", e.id);
         }
         md.push('\n');
     }
 }
 
+/// The CSV stem of `figure`'s data: its own name, unless a table of the outcome already has
+/// that name (the experiment wrote the data behind the figure itself).
+fn figure_csv_name<'a>(outcome: &Outcome, figure: &'a Figure) -> Option<&'a str> {
+    let taken = outcome.tables.iter().any(|t| t.name == figure.name);
+    (!taken).then_some(figure.name.as_str())
+}
+
 /// A table as CSV: quoted headers when needed, values in shortest round-trip form.
 fn csv(t: &Table) -> String {
-    let field = |s: &str| {
-        if s.contains([',', '"', '\n']) {
-            format!("\"{}\"", s.replace('"', "\"\""))
-        } else {
-            s.to_owned()
-        }
-    };
+    let field = figure_data::field;
     let mut out: Vec<String> = vec![
         t.columns
             .iter()
@@ -304,9 +321,10 @@ fn replace_between_markers(text: &str, table: &str) -> anyhow::Result<String> {
 mod tests {
     use super::*;
     use crate::reproduce::tests::synthetic_run;
+    use pkm::draw::{Link, LinkKind, PointKind, Scene, Skeleton, SkeletonPoint};
     use pkm::papers::{
         ExperimentError, Figure, FigureKind, Heatmap, LinePlot, LineSeries, Outcome, Paper,
-        SeriesStyle, Source,
+        RobotDrawing, SeriesStyle, Source,
     };
     use serde_json::Value;
 
@@ -354,6 +372,29 @@ mod tests {
                         x: vec![0.0, 1.0, 2.0],
                         y: vec![0.0, 0.5],
                         values: vec![Some(0.1), None, Some(0.3), Some(0.4), Some(0.5), None],
+                    }),
+                },
+                Figure {
+                    name: "robot".into(),
+                    title: "a two-link robot".into(),
+                    kind: FigureKind::Robot(RobotDrawing {
+                        scene: Scene::new(Skeleton {
+                            points: ["A", "B"]
+                                .into_iter()
+                                .zip([0.0, 1.0])
+                                .map(|(label, z)| SkeletonPoint {
+                                    label: label.into(),
+                                    kind: PointKind::Passive,
+                                    position: [0.0, 0.0, z].into(),
+                                })
+                                .collect(),
+                            links: vec![Link {
+                                from: 0,
+                                to: 1,
+                                kind: LinkKind::Actuated,
+                            }],
+                        }),
+                        unit: "m".into(),
                     }),
                 },
             ],
@@ -437,6 +478,16 @@ mod tests {
         }
         assert!(line.contains("<polyline") || line.contains("<path"));
         assert!(line.contains("<circle"));
+        // The data behind every figure beside it, and linked from the report.
+        assert!(read("test.synthetic.convergence.csv").starts_with("series,x,y\npkm,1,2\n"));
+        assert!(read("test.synthetic.gci.csv").starts_with("x,y,z\n0,0,0.1\n1,0,\n"));
+        assert!(md.contains("[convergence](test.synthetic.convergence.csv)"));
+        let robot = read("test.synthetic.robot.svg");
+        assert!(robot.contains("a two-link robot") && robot.contains("3-D"));
+        assert_eq!(
+            read("test.synthetic.robot.csv").lines().nth(2),
+            Some("point,1,B,passive,0,0,1")
+        );
         let heat = read("test.synthetic.gci.svg");
         for text in ["Figure 5: GCI landscape", "a (m)", "b (m)", "GCI"] {
             assert!(heat.contains(text), "heatmap lacks {text}");

@@ -307,11 +307,7 @@ impl Residuals for UpuSigmaMin {
         let upu = ThreeUpu::new(upu_design())?;
         let [a, b, c] = [v[3], v[4], v[5]].map(f64::to_radians);
         let pose = pose_from_task(&Task::<6>::new(v[0], v[1], v[2], a, b, c)).unwrap();
-        let rows = upu
-            .wrench_rows(&pose)
-            .map_err(|e| ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            })?;
+        let rows = upu.wrench_rows(&pose).map_err(ObjectiveError::from)?;
         r[0] = rows
             .singular_values()
             .iter()

@@ -17,6 +17,7 @@ mod linear_delta;
 mod linear_delta_cross_section;
 pub mod presets;
 pub mod rotary_delta;
+mod skeleton;
 mod stewart_gough;
 mod stewart_layout;
 mod stewart_task;
@@ -31,6 +32,7 @@ pub use linear_delta_cross_section::CrossSection;
 pub use rotary_delta::{
     ElbowMode, FOREARM_CLEARANCE_SPAN, Leg, Placement, RotaryDelta, RotaryDeltaDesign,
 };
+pub use skeleton::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
 pub use stewart_gough::{StewartDesign, StewartGough, platform_pose, pose_from_task};
 pub use stewart_layout::{AngleMode, JointLayout, Pairing};
 pub use stewart_task::{StewartDesignVariable, StewartTaskProblem};

@@ -309,11 +309,7 @@ impl StewartTaskProblem {
 /// The pose ${}^wR_p$ of the variables.
 fn pose_of(vars: &Variables) -> Result<Isometry3<f64>, ObjectiveError> {
     let (p, w) = (vars.position, vars.rotation);
-    pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z)).map_err(|e| {
-        ObjectiveError::Infeasible {
-            reason: e.to_string(),
-        }
-    })
+    pose_from_task(&Task::<6>::new(p.x, p.y, p.z, w.x, w.y, w.z)).map_err(ObjectiveError::from)
 }
 
 /// The smooth map of the cube $[-1, 1]^3$ onto the unit ball (faces onto the sphere).

@@ -315,7 +315,7 @@ pub fn grid_search<O: Objective + ?Sized>(
         let value = match value {
             Ok(v) if v.is_finite() => Some(v),
             Ok(v) => return Err(ObjectiveError::NonFinite { value: v }.into()),
-            Err(ObjectiveError::Infeasible { reason }) => {
+            Err(ObjectiveError::Infeasible { reason, .. }) => {
                 infeasible += 1;
                 last_reason = reason;
                 None

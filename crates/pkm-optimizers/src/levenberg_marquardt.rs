@@ -467,7 +467,7 @@ pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
                     best = Some(o);
                 }
             }
-            Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason })) => {
+            Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason, .. })) => {
                 infeasible_starts += 1;
                 last_error = Some(reason);
             }

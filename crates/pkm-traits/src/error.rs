@@ -167,6 +167,10 @@ pub enum ObjectiveError {
     Infeasible {
         /// What makes it infeasible, with numbers.
         reason: String,
+        /// The typed error behind `reason` when a mechanism found it (an invalid design, an
+        /// unreachable leg), so a search can tell them apart without parsing `reason`.
+        #[source]
+        cause: Option<InfeasibleCause>,
     },
     /// The design vector has the wrong length.
     #[error("design has {got} variables, the objective takes {expected}")]
@@ -191,19 +195,70 @@ pub enum ObjectiveError {
     InvalidInput(#[from] InvalidInput),
 }
 
+/// The typed error that made a design infeasible.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum InfeasibleCause {
+    /// The design's parameters are invalid.
+    #[error(transparent)]
+    Design(#[from] DesignError),
+    /// The design is valid but its kinematics fail (an unreachable pose, a singularity).
+    #[error(transparent)]
+    Kinematics(#[from] KinematicsError),
+}
+
+impl ObjectiveError {
+    /// An infeasible design described by `reason` alone (no typed cause).
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_traits::ObjectiveError;
+    /// let e = ObjectiveError::infeasible("empty workspace");
+    /// assert_eq!(e.to_string(), "infeasible design: empty workspace");
+    /// assert!(e.cause().is_none());
+    /// ```
+    pub fn infeasible(reason: impl Into<String>) -> Self {
+        Self::Infeasible {
+            reason: reason.into(),
+            cause: None,
+        }
+    }
+
+    /// The typed error behind an [`ObjectiveError::Infeasible`], if a mechanism reported one.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_traits::{DesignError, InfeasibleCause, ObjectiveError};
+    /// let design = DesignError { parameter: "a", value: -1.0, requirement: "must be > 0" };
+    /// let e = ObjectiveError::from(design.clone());
+    /// assert_eq!(e.cause(), Some(&InfeasibleCause::Design(design)));
+    /// ```
+    pub fn cause(&self) -> Option<&InfeasibleCause> {
+        match self {
+            Self::Infeasible { cause, .. } => cause.as_ref(),
+            _ => None,
+        }
+    }
+}
+
+impl From<InfeasibleCause> for ObjectiveError {
+    fn from(cause: InfeasibleCause) -> Self {
+        Self::Infeasible {
+            reason: cause.to_string(),
+            cause: Some(cause),
+        }
+    }
+}
+
 impl From<DesignError> for ObjectiveError {
     fn from(e: DesignError) -> Self {
-        Self::Infeasible {
-            reason: e.to_string(),
-        }
+        InfeasibleCause::from(e).into()
     }
 }
 
 impl From<KinematicsError> for ObjectiveError {
     fn from(e: KinematicsError) -> Self {
-        Self::Infeasible {
-            reason: e.to_string(),
-        }
+        InfeasibleCause::from(e).into()
     }
 }
 

@@ -50,7 +50,7 @@ pub mod testkit;
 pub mod workspace;
 
 pub use dynamics::{IntegrationError, Integrator, RhsError, StepReport, VectorField};
-pub use error::{DesignError, InvalidInput, KinematicsError, ObjectiveError};
+pub use error::{DesignError, InfeasibleCause, InvalidInput, KinematicsError, ObjectiveError};
 pub use kinematics::{
     ClosedChain, ForwardKinematics, InverseKinematics, Joints, NewtonSettings, Task,
     newton_forward_kinematics,

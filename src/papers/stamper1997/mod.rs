@@ -72,6 +72,7 @@ fn max_volume(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
             // Equivalent corner layouts (0/5/180 and 0/180/355, spec §3.2) screen within 1e-5
             // of each other.
             polished_starts: 4,
+            figure: Some("Fig. 3"),
         },
         ctx,
     )
@@ -92,6 +93,7 @@ fn max_volume_symmetric(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
             // Flat in a and c - r: the twelve starts end within 0.3 % of each other in W, closer
             // than the screening can order them.
             polished_starts: 8,
+            figure: None,
         },
         ctx,
     )
@@ -110,6 +112,7 @@ fn max_gci(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
             // One smooth maximum over the leg layout (spec §2): the best start leads the
             // screening by 0.0035 in eta, ten times the spread of the next three.
             polished_starts: 2,
+            figure: Some("Fig. 4"),
         },
         ctx,
     )

@@ -3,7 +3,10 @@
 //! random numbers, then re-evaluated with the paper's design on one fresh point set.
 
 use super::problem::{Criterion, StamperProblem, design, estimate};
-use crate::papers::{Comparison, Context, ExperimentError, Mode, Outcome, Paper, Source};
+use crate::papers::{Comparison, Context, ExperimentError, Figure, Mode, Outcome, Paper, Source};
+use nalgebra::Vector3;
+use pkm_draw::{PathKind, Scene};
+use pkm_mechanisms::{LegBranch, Skeleton};
 use pkm_optimizers::{
     AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, run_multistart,
     uniform_start_points,
@@ -27,6 +30,8 @@ pub(super) struct Study {
     /// How many of the best screened multistart starts get the full optimisation (see
     /// [`screened_starts`]): more where the starts end in near-equal optima.
     pub(super) polished_starts: usize,
+    /// The paper's figure of the optimum's workspace, drawn with the robot when there is one.
+    pub(super) figure: Option<&'static str>,
 }
 
 /// A documented deviation of some of a study's design variables.
@@ -154,10 +159,53 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
             );
         }
     }
+    let mut figures = Vec::new();
+    if let Some(figure) = study.figure {
+        figures.extend(workspace_drawing(figure, &best.design, ctx)?);
+    }
     Ok(Outcome {
         comparisons: rows,
+        figures,
         ..Outcome::default()
     })
+}
+
+/// The paper's Figs. 3 and 4: the workspace of the optimum `x` as Sobol points of the
+/// hemisphere of radius $R$ inside it, and the robot at the inside point nearest their centroid
+/// (principal, elbow-out branch). `None` when no sampled point is inside.
+fn workspace_drawing(
+    figure: &str,
+    x: &[f64],
+    ctx: &Context<'_>,
+) -> Result<Option<Figure>, ExperimentError> {
+    let d = design(x)?;
+    let inside: Vec<Vector3<f64>> = Sampler::Sobol { seed: 3 }
+        .unit_hemisphere_points(ctx.mode.pick(1_500, 4_000))?
+        .iter()
+        .map(|p| p * d.reach())
+        .filter(|p| d.contains(p))
+        .collect();
+    let n = inside.len().max(1) as f64;
+    let centroid = inside.iter().fold(Vector3::zeros(), |s, p| s + p / n);
+    let mut by_distance: Vec<&Vector3<f64>> = inside.iter().collect();
+    by_distance.sort_by(|a, b| (*a - centroid).norm().total_cmp(&(*b - centroid).norm()));
+    let Some(skeleton) = by_distance
+        .into_iter()
+        .find_map(|p| Skeleton::tsai(&d, p, LegBranch::PRINCIPAL_OUT).ok())
+    else {
+        return Ok(None);
+    };
+    let scene = Scene::new(skeleton).with_path(
+        format!("workspace ({} sampled points inside)", inside.len()),
+        PathKind::WorkspacePoints,
+        inside,
+    );
+    let title = format!(
+        "{figure}: workspace of pkm's optimum a={:.3} b={:.3} d+e={:.3} c-r={:.3} φ=0/{:.1}/{:.1}°",
+        x[0], x[1], x[2], x[3], x[4], x[5]
+    );
+    let name = format!("{}_workspace", figure.replace(". ", "").to_lowercase());
+    Ok(Some(Figure::robot(name, title, scene, "R")))
 }
 
 /// The `n_best` best designs of a coarse exhaustive grid on the length constraint

@@ -102,13 +102,9 @@ impl Objective for StamperProblem<'_> {
         let d = design(&self.evaluated(x))?;
         match self.criterion {
             Criterion::Volume { ngrid } => Ok(d.column_volume(ngrid)?),
-            Criterion::Gci => {
-                estimate(&d, self.points)
-                    .map(|e| e.eta)
-                    .map_err(|e| ObjectiveError::Infeasible {
-                        reason: e.to_string(),
-                    })
-            }
+            Criterion::Gci => estimate(&d, self.points)
+                .map(|e| e.eta)
+                .map_err(|e| ObjectiveError::infeasible(e.to_string())),
         }
     }
 }

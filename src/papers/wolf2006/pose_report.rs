@@ -3,7 +3,8 @@
 
 use crate::papers::{Comparison, ExperimentError, Mode, Source};
 use nalgebra::{Isometry3, Vector3};
-use pkm_mechanisms::{StewartDesign, StewartTaskProblem};
+use pkm_draw::{Axis, Scene};
+use pkm_mechanisms::{Skeleton, StewartDesign, StewartGough, StewartTaskProblem};
 use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
 use pkm_traits::{Bounds, Progress};
@@ -148,4 +149,24 @@ pub(super) fn kkt_rows(source: &Source, optimum: &LocalOptimum) -> Vec<Compariso
         rows.push(source.info("kkt_hessian_eig_max", "1", *hi));
     }
     rows
+}
+
+/// The Stewart–Gough platform `mechanism` at its optimal `pose` with the axis of the task
+/// twist (pitch `lambda`), as the paper's Figs. 4, 5 and 8 draw it.
+///
+/// # Errors
+/// A pose the skeleton cannot be built at (a leg of zero length), or a twist without axis.
+pub(super) fn optimal_pose_drawing(
+    mechanism: &StewartGough,
+    pose: &Isometry3<f64>,
+    twist: &Twist,
+    lambda: f64,
+) -> Result<Scene, ExperimentError> {
+    let skeleton = Skeleton::stewart_gough(mechanism, pose)?;
+    let axis = Axis::of_twist(
+        format!("task axis (λ = {lambda})"),
+        twist,
+        pose.translation.vector,
+    )?;
+    Ok(Scene::new(skeleton).with_axis(axis))
 }

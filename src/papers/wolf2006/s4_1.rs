@@ -2,9 +2,10 @@
 //! $F$ (eq. 14) for the twists with λ = 1 and λ = 0.
 
 use super::pose_report::{
-    PaperPose, maximise, objective_rows, pose_problem, pose_rows, section_4_1_twist,
+    PaperPose, maximise, objective_rows, optimal_pose_drawing, pose_problem, pose_rows,
+    section_4_1_twist,
 };
-use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use pkm_mechanisms::{StewartGough, WrenchSystem, presets};
 
 /// The paper's printed λ = 1 optimum: n = z, α = −13.5°, p = (−10, −10, 50) cm.
@@ -33,7 +34,7 @@ pub(super) fn run_lambda1(context: &Context<'_>) -> Result<Outcome, ExperimentEr
     run(
         context,
         "wolf2006.s4_1.lambda1",
-        1.0,
+        (1.0, "Fig. 4"),
         &PAPER_POSE_LAMBDA1,
         400.3,
     )
@@ -44,7 +45,7 @@ pub(super) fn run_lambda0(context: &Context<'_>) -> Result<Outcome, ExperimentEr
     run(
         context,
         "wolf2006.s4_1.lambda0",
-        0.0,
+        (0.0, "Fig. 5"),
         &PAPER_POSE_LAMBDA0,
         PAPER_F_LAMBDA0,
     )
@@ -53,7 +54,7 @@ pub(super) fn run_lambda0(context: &Context<'_>) -> Result<Outcome, ExperimentEr
 fn run(
     context: &Context<'_>,
     id: &str,
-    lambda: f64,
+    (lambda, figure): (f64, &str),
     paper: &PaperPose,
     paper_f: f64,
 ) -> Result<Outcome, ExperimentError> {
@@ -64,7 +65,7 @@ fn run(
     context.progress.check()?;
     let problem = pose_problem(presets::wolf_shoham_stewart_s4_1(), twist)?;
     let optimum = maximise(&problem, context.mode, context.progress)?;
-    let (_, pose) = problem.evaluate(&optimum.design)?;
+    let (optimal, pose) = problem.evaluate(&optimum.design)?;
     let note = "F at the paper's printed pose (n normalised), same-pattern layout";
     let [mut f_row, mut optimum_row] =
         objective_rows(&source, paper_f, (f_paper_pose, note), optimum.value);
@@ -93,8 +94,15 @@ fn run(
     let mut comparisons = vec![f_row, optimum_row];
     comparisons.extend(evidence);
     comparisons.extend(pose_rows(&source, &pose, paper, &optimum));
+    let drawing = optimal_pose_drawing(&optimal, &pose, &twist, lambda)?;
+    let name = format!("{}_optimal_pose", figure.replace(". ", "").to_lowercase());
+    let title = format!(
+        "{figure}: pkm's optimal platform pose for the λ = {lambda} twist (F = {:.1}), task axis",
+        optimum.value
+    );
     Ok(Outcome {
         comparisons,
+        figures: vec![Figure::robot(name, title, drawing, "cm")],
         ..Outcome::default()
     })
 }

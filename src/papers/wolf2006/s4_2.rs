@@ -3,10 +3,12 @@
 //! then combine the two optima with eq. 15 (equal weights, $\sum w_i q_i / \sum w_i$).
 
 use super::pose_report::kkt_rows;
-use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3};
+use pkm_draw::{Axis, Scene};
 use pkm_mechanisms::{
-    StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, WrenchSystem, presets,
+    Skeleton, StewartDesign, StewartDesignVariable, StewartGough, StewartTaskProblem, WrenchSystem,
+    presets,
 };
 use pkm_optimizers::{
     LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt,
@@ -123,8 +125,42 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         &max_t,
     ));
     comparisons.extend(kkt_rows(&source.with_id("wolf2006.s4_2.rotation"), &min_r));
+    let (combined_mechanism, _) = p_t.evaluate(&combined)?;
+    let figure = combined_drawing(&combined_mechanism, &pose, &translation, &rotation)?;
     Ok(Outcome {
         comparisons,
+        figures: vec![figure],
         ..Outcome::default()
     })
+}
+
+/// Fig. 7: the eq. 15 combination of the two optimal geometries at the task pose, with the axes
+/// of both task twists (the platform normal).
+fn combined_drawing(
+    mechanism: &StewartGough,
+    pose: &Isometry3<f64>,
+    translation: &Twist,
+    rotation: &Twist,
+) -> Result<Figure, ExperimentError> {
+    let centre = pose.translation.vector;
+    let scene = Scene::new(Skeleton::stewart_gough(mechanism, pose)?)
+        .with_axis(Axis::of_twist(
+            "translation task (maximise F)",
+            translation,
+            centre,
+        )?)
+        .with_axis(Axis::of_twist(
+            "rotation task (minimise F)",
+            rotation,
+            centre,
+        )?);
+    let d = mechanism.design();
+    let title = format!(
+        "Fig. 7: pkm's geometry for the peg-in-hole task pair, x = ({:.2}, {:.2}, {:.1}°, {:.1}°)",
+        d.base_radius,
+        d.platform_radius,
+        d.base_separation.to_degrees(),
+        d.platform_separation.to_degrees()
+    );
+    Ok(Figure::robot("fig7_optimized_geometry", title, scene, "cm"))
 }

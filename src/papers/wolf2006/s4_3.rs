@@ -2,9 +2,10 @@
 //! maximising $F$ for the λ = 1 twist.
 
 use super::pose_report::{
-    PaperPose, maximise, objective_rows, pose_problem, pose_rows, section_4_1_twist,
+    PaperPose, maximise, objective_rows, optimal_pose_drawing, pose_problem, pose_rows,
+    section_4_1_twist,
 };
-use crate::papers::{Context, ExperimentError, Outcome, Paper, Source};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source};
 use pkm_mechanisms::{StewartDesign, StewartDesignVariable, StewartGough, WrenchSystem, presets};
 use pkm_traits::Bounds;
 
@@ -51,8 +52,15 @@ pub(super) fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
             .with_note("upper-platform joint separation at pkm's optimum; paper prints 21.1"),
     ];
     comparisons.extend(pose_rows(&source, &pose, &paper, &optimum));
+    let title = format!(
+        "Fig. 8: pkm's optimal pose and upper joint angle x3 = {:.1}° (F = {:.1}), task axis",
+        mechanism.design().platform_separation.to_degrees(),
+        optimum.value
+    );
+    let drawing = optimal_pose_drawing(&mechanism, &pose, &twist, 1.0)?;
     Ok(Outcome {
         comparisons,
+        figures: vec![Figure::robot("fig8_optimal_pose", title, drawing, "cm")],
         ..Outcome::default()
     })
 }

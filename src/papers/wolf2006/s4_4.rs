@@ -5,9 +5,10 @@
 //! height that puts the legs' apex on $A_1$ (spec §1.6; F = 0 needs the apex on the line).
 
 use super::pose_report::kkt_rows;
-use crate::papers::{Context, ExperimentError, Outcome, Paper, Source, Verdict};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
-use pkm_mechanisms::{ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, presets};
+use pkm_draw::{Axis, Scene};
+use pkm_mechanisms::{Skeleton, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, presets};
 use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
@@ -91,11 +92,7 @@ impl Residuals for UpperAxesProblem {
     fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
         self.check_dimension(design)?;
         let upu = ThreeUpu::new(park_with_axes(tilted_axes(design)))?;
-        let rows = upu
-            .wrench_rows(&self.pose)
-            .map_err(|e| ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            })?;
+        let rows = upu.wrench_rows(&self.pose).map_err(ObjectiveError::from)?;
         r.copy_from_slice(task_residuals(&rows, &self.twist).as_slice());
         Ok(())
     }
@@ -169,7 +166,7 @@ pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError>
     let f_listed = upu.task_objective(&home(apex), &twist)?;
     let park = ThreeUpu::new(presets::park_3upu())?;
     let f_park = park.task_objective(&home(apex), &twist)?;
-    let (optimum, _) = optimise(Sense::Maximise, context)?;
+    let (optimum, problem) = optimise(Sense::Maximise, context)?;
     // Evidence (spec §3.6): swapping u1 and u2 only flips the couple u1 × u2, so the listed
     // axes give F(Park) + (u1·x)²; F(listed) ≈ F(Park) = 0 rules out 457.5.
     let swap = source
@@ -202,8 +199,47 @@ pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError>
         swap,
     ];
     comparisons.extend(kkt_rows(&source, &optimum));
+    let figure = upper_joints_drawing(&optimum, &problem)?;
     Ok(Outcome {
         comparisons,
+        figures: vec![figure],
         ..Outcome::default()
     })
+}
+
+/// Fig. 11: the 3-UPU at home with the upper U-joint axes of pkm's maximum (drawn at the
+/// platform joints, one platform radius long) and the task axis $A_1$.
+fn upper_joints_drawing(
+    optimum: &LocalOptimum,
+    problem: &UpperAxesProblem,
+) -> Result<Figure, ExperimentError> {
+    let axes = tilted_axes(&optimum.design);
+    let upu = ThreeUpu::new(park_with_axes(axes))?;
+    let skeleton = Skeleton::three_upu(&upu, &problem.pose)?;
+    let joints: Vec<Vector3<f64>> = skeleton
+        .points
+        .iter()
+        .filter(|p| p.kind == pkm_mechanisms::PointKind::Platform)
+        .map(|p| p.position)
+        .collect();
+    let mut scene = Scene::new(skeleton).with_axis(Axis::of_twist(
+        "task axis A1",
+        &problem.twist,
+        problem.pose.translation.vector,
+    )?);
+    for (joint, u) in joints.iter().zip(&axes) {
+        for (label, direction) in [("u1 (upper U joints)", u.u1), ("u2 (upper U joints)", u.u2)] {
+            scene = scene.with_axis(Axis {
+                label: label.to_owned(),
+                point: *joint,
+                direction: problem.pose.rotation * direction,
+                length: Some(upu.design().platform_radius),
+            });
+        }
+    }
+    let title = format!(
+        "Fig. 11: upper U-joint axes of pkm's maximum (F = {:.1}) at home, task axis A1",
+        optimum.value
+    );
+    Ok(Figure::robot("fig11_upper_u_joints", title, scene, "cm"))
 }

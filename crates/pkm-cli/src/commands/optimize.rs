@@ -217,7 +217,7 @@ pub fn tsai_objective(
     match objective {
         TsaiObjective::Volume => Ok(design.column_volume(columns)?),
         TsaiObjective::Eta | TsaiObjective::Gci => {
-            let infeasible = |reason: String| ObjectiveError::Infeasible { reason };
+            let infeasible = |reason: String| ObjectiveError::infeasible(reason);
             let e = Workspace::new(design, &[[Elbow::Out; 3]], &[])
                 .and_then(|w| w.hemisphere_estimate(points, design.reach(), &Silent))
                 .map_err(|e| infeasible(e.to_string()))?;

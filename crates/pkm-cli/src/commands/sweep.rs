@@ -238,11 +238,9 @@ impl Objective for UtilityObjective<'_> {
             .evaluate(design, &self.indices, self.settings)
         {
             Ok(Ok(values)) => Ok(-utility(self.terms, &self.indices, &values)),
-            Ok(Err(reason)) => Err(ObjectiveError::Infeasible { reason }),
+            Ok(Err(reason)) => Err(ObjectiveError::infeasible(reason)),
             Err(CliError::Cancelled) => Err(ObjectiveError::Cancelled),
-            Err(e) => Err(ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            }),
+            Err(e) => Err(ObjectiveError::infeasible(e.to_string())),
         }
     }
 }

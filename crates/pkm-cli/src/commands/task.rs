@@ -405,11 +405,7 @@ impl UpuProblem {
         })?;
         let [x, y, z, rx, ry, rz] = [all[8], all[9], all[10], all[11], all[12], all[13]];
         let (rx, ry, rz) = (rx.to_radians(), ry.to_radians(), rz.to_radians());
-        let pose = pose_from_task(&Task::<6>::new(x, y, z, rx, ry, rz)).map_err(|e| {
-            ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            }
-        })?;
+        let pose = pose_from_task(&Task::<6>::new(x, y, z, rx, ry, rz)).map_err(ObjectiveError::from)?;
         Ok((upu, pose))
     }
 
@@ -420,9 +416,7 @@ impl UpuProblem {
     pub fn wrench_rows(&self, v: &[f64]) -> Result<Matrix6<f64>, ObjectiveError> {
         let (upu, pose) = self.evaluate(v)?;
         upu.wrench_rows(&pose)
-            .map_err(|e| ObjectiveError::Infeasible {
-                reason: e.to_string(),
-            })
+            .map_err(ObjectiveError::from)
     }
 }
 
@@ -732,7 +726,7 @@ pub fn best_outcome(
                     best = Some((k, o));
                 }
             }
-            Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason })) => {
+            Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason, .. })) => {
                 last_reason = Some(reason.clone());
             }
             Err(e) => return Err(CliError::Invalid(format!("start {k}: {e}"))),

@@ -13,9 +13,10 @@ mod torques;
 
 use crate::papers::{Experiment, ExperimentError, LinePlot, LineSeries, SeriesStyle};
 pub use cycle::{CycleReading, pick_and_place};
+use pkm_draw::{Axis, PathKind, Scene};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm_mechanisms::{Placement, RotaryDelta, presets};
+use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, Skeleton, presets};
 
 /// The experiments of this part of the paper.
 pub fn experiments() -> Vec<Experiment> {
@@ -41,15 +42,54 @@ const DT: f64 = 1e-3;
 /// The paper's cycle time "0.5 s".
 const CYCLE_TIME: f64 = 0.5;
 
-fn model(robot: Robot, placement: Placement) -> Result<ExtendedModel, ExperimentError> {
-    let mechanism = match robot {
+fn mechanism(robot: Robot, placement: Placement) -> Result<RotaryDelta, ExperimentError> {
+    Ok(match robot {
         Robot::Nuwar => RotaryDelta::new(presets::nuwar(placement))?,
         Robot::Delta => RotaryDelta::new(presets::miller_delta(placement))?,
-    };
+    })
+}
+
+fn model(robot: Robot, placement: Placement) -> Result<ExtendedModel, ExperimentError> {
     Ok(ExtendedModel::new(
-        mechanism,
+        mechanism(robot, placement)?,
         &MassParameters::miller2004(),
     )?)
+}
+
+/// Points of the path sampled by the drawings.
+const DRAWN_PATH_POINTS: u32 = 200;
+
+/// `robot` at `placement` at the start of `trajectory` (elbows out, the branch of the
+/// dynamics), with the path of the cycle and, when `motor_axes`, the motor axes $e_i$ (0.15 m
+/// long, through the motor points): the layouts of Figs. 1 and 2 and the trajectory of Fig. 7.
+fn drawing(
+    robot: Robot,
+    placement: Placement,
+    trajectory: &Trajectory,
+    motor_axes: bool,
+) -> Result<Scene, ExperimentError> {
+    let m = mechanism(robot, placement)?;
+    let start = trajectory.sample(0.0).p;
+    let step = trajectory.duration() / f64::from(DRAWN_PATH_POINTS);
+    let path = (0..=DRAWN_PATH_POINTS)
+        .map(|k| trajectory.sample(f64::from(k) * step).p)
+        .collect();
+    let mut scene = Scene::new(Skeleton::rotary_delta(&m, &start, ElbowMode::Out)?).with_path(
+        "pick-and-place path",
+        PathKind::Trajectory,
+        path,
+    );
+    if motor_axes {
+        for leg in m.legs() {
+            scene = scene.with_axis(Axis {
+                label: "motor axes e_i".to_owned(),
+                point: leg.motor,
+                direction: leg.e,
+                length: Some(0.15),
+            });
+        }
+    }
+    Ok(scene)
 }
 
 fn canonical_trajectory() -> Result<Trajectory, ExperimentError> {

@@ -1,7 +1,7 @@
 //! `miller2004.dynamics.trajectory`, `.nuwar`, `.delta`: the pick-and-place cycle, the motor
 //! torques along it (Fig. 8) by Hamilton and Lagrange, and the Delta/NUWAR ratio.
 
-use super::{CYCLE_TIME, DT, Robot, canonical_trajectory, lines, model, placement_at};
+use super::{CYCLE_TIME, DT, Robot, canonical_trajectory, drawing, lines, model, placement_at};
 use super::{CycleReading, pick_and_place};
 use crate::papers::{
     Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source, Table,
@@ -75,7 +75,19 @@ fn run_trajectory(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
         )
         .with_note("3-4-5 on the eccentric angle, 0.25 s per leg (round trip 0.5 s)")
         .erratum_if(evidence, "miller2004-max-acceleration");
+    let fig7 = Figure::robot(
+        "miller2004_fig7_trajectory",
+        "Fig. 7: the elliptical pick-and-place path, NUWAR at its start (canonical placement)",
+        drawing(
+            Robot::Nuwar,
+            Placement::canonical(),
+            &canonical_trajectory()?,
+            false,
+        )?,
+        "m",
+    );
     Ok(Outcome {
+        figures: vec![fig7],
         comparisons: vec![
             row,
             source
@@ -238,11 +250,34 @@ fn robot_outcome(
             .with_note("Lagrange with analytic accelerations"),
     ];
     let name = format!("miller2004_fig8_{}", label.to_lowercase());
+    let number = match robot {
+        Robot::Delta => 1,
+        Robot::Nuwar => 2,
+    };
+    let (alpha, beta) = super::mechanism(robot, Placement::canonical())?.angles();
+    let angles = format!(
+        "α = {:.2}°, β = {:.2}°",
+        alpha.to_degrees(),
+        beta.to_degrees()
+    );
+    let layout = Figure::robot(
+        format!("miller2004_fig{number}_{}_layout", label.to_lowercase()),
+        format!(
+            "Fig. {number}: layout of the {label} ({angles}), motor axes, at the start of the cycle"
+        ),
+        drawing(
+            robot,
+            Placement::canonical(),
+            &canonical_trajectory()?,
+            true,
+        )?,
+        "m",
+    );
     Ok((
         Outcome {
             comparisons,
             tables: Vec::new(),
-            figures: vec![figure(&name, label, &t)],
+            figures: vec![figure(&name, label, &t), layout],
         },
         source,
     ))

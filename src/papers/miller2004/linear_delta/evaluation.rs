@@ -74,9 +74,7 @@ fn with_rule<T>(
 }
 
 fn infeasible(e: IndexError) -> ObjectiveError {
-    ObjectiveError::Infeasible {
-        reason: e.to_string(),
-    }
+    ObjectiveError::infeasible(e.to_string())
 }
 
 /// One design's mechanism and workspace cross-section, built once for all of its indices

@@ -5,7 +5,8 @@ use super::readings::SweepResult;
 use super::{ALPHA_PRINTED_DEG, BETA_NUWAR_DEG, design};
 use crate::papers::{Context, ExperimentError, Figure, FigureKind, Heatmap, Marker, Table};
 use nalgebra::Vector3;
-use pkm_mechanisms::{ElbowMode, RotaryDelta};
+use pkm_draw::{Axis, Scene};
+use pkm_mechanisms::{ElbowMode, RotaryDelta, Skeleton};
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
 use pkm_workspace_indices::Workspace;
 
@@ -34,6 +35,42 @@ pub(super) fn maps(results: &[SweepResult]) -> Vec<Figure> {
             }
         })
         .collect()
+}
+
+/// Fig. 2 (a) for each compared reading: the layout of the computed optimum $(\alpha, \beta)$
+/// (elbows out, motor axes $e_i$ 0.15 m long) with the plate on the centreline at the first
+/// reachable height of 0.40, 0.45, …, 0.70 m below the motor plane.
+pub(super) fn optimum_layouts(results: &[SweepResult]) -> Result<Vec<Figure>, ExperimentError> {
+    let mut figures = Vec::new();
+    for r in results.iter().filter(|r| r.reading.compared) {
+        let robot = design(r.alpha_opt, r.beta_opt)?;
+        let skeleton = (8..=14).find_map(|k| {
+            let p = Vector3::new(0.0, 0.0, robot.motor_plane_z() - 0.05 * f64::from(k));
+            Skeleton::rotary_delta(&robot, &p, ElbowMode::Out).ok()
+        });
+        let Some(skeleton) = skeleton else { continue };
+        let scene = robot
+            .legs()
+            .iter()
+            .fold(Scene::new(skeleton), |scene, leg| {
+                scene.with_axis(Axis {
+                    label: "motor axes e_i".to_owned(),
+                    point: leg.motor,
+                    direction: leg.e,
+                    length: Some(0.15),
+                })
+            });
+        figures.push(Figure::robot(
+            format!("layout_optimum_{}", r.reading.name),
+            format!(
+                "Fig. 2 (a): layout of pkm's optimum α = {:.1}°, β = {:.1}° ({} reading)",
+                r.alpha_opt, r.beta_opt, r.reading.name
+            ),
+            scene,
+            "m",
+        ));
+    }
+    Ok(figures)
 }
 
 fn marker(label: &str, x: f64, y: f64) -> Marker {

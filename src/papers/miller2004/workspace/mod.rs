@@ -121,6 +121,7 @@ fn alpha_beta(ctx: &Context<'_>) -> Result<Outcome, ExperimentError> {
     }
     outcome.comparisons.push(evidence.summary());
     outcome.figures.extend(figures::maps(&results));
+    outcome.figures.extend(figures::optimum_layouts(&results)?);
     let (figs, tables) = figures::cross_sections(ctx)?;
     outcome.figures.extend(figs);
     outcome.tables.extend(tables);
