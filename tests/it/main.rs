@@ -6,4 +6,5 @@ mod design_index_kernels;
 mod determinism;
 mod hostile;
 mod reproduce_quick;
+mod six_mechanisms;
 mod tidy;
