@@ -12,8 +12,8 @@ use pkm_mechanisms::{
     ConstantOrientation, StewartDesign, StewartGough, ThreeUpu, ThreeUpuDesign, UJointAxes,
 };
 use pkm_traits::{Silent, WorkspaceConstraint};
-use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, VolumeEstimate};
 use pkm_workspace_indices::Workspace;
+use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, VolumeEstimate};
 
 /// Relative agreement of two evaluations of the same formula with the same inputs.
 const SAME: f64 = 1e-12;
@@ -27,7 +27,13 @@ fn points(lower: [f64; 3], upper: [f64; 3], seed: u64) -> PointSet {
         lower: Vector3::from(lower),
         upper: Vector3::from(upper),
     };
-    PointSet::new(Domain::new(region).unwrap(), Sampler::Sobol { seed }, 4096, 4).unwrap()
+    PointSet::new(
+        Domain::new(region).unwrap(),
+        Sampler::Sobol { seed },
+        4096,
+        4,
+    )
+    .unwrap()
 }
 
 fn assert_same_estimate(e: &serde_json::Value, direct: &VolumeEstimate) {
@@ -39,7 +45,11 @@ fn assert_same_estimate(e: &serde_json::Value, direct: &VolumeEstimate) {
 }
 
 /// The volume of the points `member` accepts: the box volume times the accepted fraction.
-fn counted_volume(points: &PointSet, box_volume: f64, member: impl Fn(&Vector3<f64>) -> bool) -> f64 {
+fn counted_volume(
+    points: &PointSet,
+    box_volume: f64,
+    member: impl Fn(&Vector3<f64>) -> bool,
+) -> f64 {
     let inside = points.points().iter().filter(|p| member(p)).count();
     box_volume * inside as f64 / points.points().len() as f64
 }
@@ -81,7 +91,11 @@ fn three_upu_workspace_matches_the_library_and_a_direct_count() {
             })
     };
     let volume = counted_volume(&points, 1.4 * 1.4 * 0.65, member);
-    assert!(close(f(&e["volume"]), volume, SAME), "{} vs {volume}", e["volume"]);
+    assert!(
+        close(f(&e["volume"]), volume, SAME),
+        "{} vs {volume}",
+        e["volume"]
+    );
 
     let (header, rows) = csv(&out.path().join("slice-1-xy.csv"));
     assert_eq!(header, ["x", "y", "inside", "inverse_condition"]);
@@ -114,8 +128,9 @@ fn stewart_gough_workspace_matches_the_library_and_a_direct_count() {
     let limits = [
         WorkspaceConstraint::joint_range(0.45, 0.7).unwrap(),
         WorkspaceConstraint::below(0.75).unwrap(),
+        WorkspaceConstraint::half_space(-Vector3::z(), 0.0).unwrap(),
     ];
-    let points = points([-0.5, -0.5, 0.0], [0.5, 0.5, 0.75], 9);
+    let points = points([-0.9, -0.9, 0.0], [0.9, 0.9, 0.75], 9);
     let workspace = Workspace::new(&view, &[()], &limits).unwrap();
     let direct = workspace.volume_and_eta(&points, &Silent).unwrap();
     let e = &results["result"]["estimate"];
@@ -125,15 +140,19 @@ fn stewart_gough_workspace_matches_the_library_and_a_direct_count() {
     // Membership from |p + R r_i − b_i| with the platform's joints and R = exp([w]×).
     let rotation = Rotation3::new(w);
     let member = |p: &Vector3<f64>| {
-        p.z <= 0.75
+        (0.0..=0.75).contains(&p.z)
             && sg
                 .base_joints()
                 .iter()
                 .zip(sg.platform_joints())
                 .all(|(b, r)| (0.45..=0.7).contains(&(p + rotation * r - b).norm()))
     };
-    let volume = counted_volume(&points, 0.75, member);
-    assert!(close(f(&e["volume"]), volume, SAME), "{} vs {volume}", e["volume"]);
+    let volume = counted_volume(&points, 1.8 * 1.8 * 0.75, member);
+    assert!(
+        close(f(&e["volume"]), volume, SAME),
+        "{} vs {volume}",
+        e["volume"]
+    );
     // The workspace lies inside every leg's outer sphere: at most the ball of 0.7 m.
     assert!(volume < 4.0 / 3.0 * std::f64::consts::PI * 0.7f64.powi(3));
     let gci = f(&e["gci"]);
@@ -189,8 +208,13 @@ fn three_upu_sweep_matches_the_library() {
         lower: Vector3::new(-0.7, -0.7, 0.0),
         upper: Vector3::new(0.7, 0.7, 0.65),
     };
-    let points =
-        PointSet::new(Domain::new(region).unwrap(), Sampler::Sobol { seed: 5 }, 1024, 2).unwrap();
+    let points = PointSet::new(
+        Domain::new(region).unwrap(),
+        Sampler::Sobol { seed: 5 },
+        1024,
+        2,
+    )
+    .unwrap();
     let limits = [WorkspaceConstraint::joint_range(0.3, 0.6).unwrap()];
     for row in &rows {
         let b: f64 = row[radius].parse().unwrap();
@@ -208,7 +232,11 @@ fn three_upu_sweep_matches_the_library() {
             .unwrap();
         let v: f64 = row[volume].parse().unwrap();
         assert!(direct.volume > 0.0);
-        assert!(close(v, direct.volume, SAME), "{row:?} vs {}", direct.volume);
+        assert!(
+            close(v, direct.volume, SAME),
+            "{row:?} vs {}",
+            direct.volume
+        );
     }
 }
 
@@ -218,11 +246,24 @@ fn rejects(text: &str, line: usize, expected: &str) {
     let file = dir.path().join("bad.toml");
     std::fs::write(&file, text).unwrap();
     let out = dir.path().join("out");
-    let run = pkm(&["workspace", file.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let run = pkm(&[
+        "workspace",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert!(!run.ok, "accepted:\n{text}");
     let position = format!("bad.toml:{line}:");
-    assert!(run.stderr.contains(&position), "expected {position} in: {}", run.stderr);
-    assert!(run.stderr.contains(expected), "expected `{expected}` in: {}", run.stderr);
+    assert!(
+        run.stderr.contains(&position),
+        "expected {position} in: {}",
+        run.stderr
+    );
+    assert!(
+        run.stderr.contains(expected),
+        "expected `{expected}` in: {}",
+        run.stderr
+    );
     assert!(!out.join("results.json").exists());
 }
 
@@ -247,17 +288,29 @@ region = { box = { lower = [-0.5, -0.5, 0.0], upper = [0.5, 0.5, 0.75] } }
 fn bad_three_upu_and_stewart_files_are_rejected_at_their_line() {
     let upu = UPU_SWEEP.split("[[variables]]").next().unwrap();
     rejects(
-        &upu.replacen("platform_radius = 0.1", "platform_radius = 0.1\nlegs = 3", 1),
+        &upu.replacen(
+            "platform_radius = 0.1",
+            "platform_radius = 0.1\nlegs = 3",
+            1,
+        ),
         4,
         "unknown field `legs`",
     );
-    rejects(&upu.replacen("base_radius = 0.2", "base_radius = -0.2", 1), 2, "metres");
+    rejects(
+        &upu.replacen("base_radius = 0.2", "base_radius = -0.2", 1),
+        2,
+        "metres",
+    );
     rejects(
         &STEWART.replacen("rotation_deg", "orientation_deg", 1),
         2,
         "unknown field `orientation_deg`",
     );
-    rejects(&STEWART.replacen("base_radius = 0.3", "base_radius = -0.3", 1), 5, "metres");
+    rejects(
+        &STEWART.replacen("base_radius = 0.3", "base_radius = -0.3", 1),
+        5,
+        "metres",
+    );
     rejects(
         &STEWART.replacen("joint_range = [0.45, 0.7]", "joint_range_deg = [0, 90]", 1),
         10,

@@ -138,7 +138,9 @@ where
             return self.modes.iter().find_map(|mode| {
                 // As crate::inverse_condition_at: 0 where J is undefined.
                 match self.mechanism.velocity_jacobian_at(x, *mode) {
-                    Ok(j) => Some(<Dim<NQ> as TranslationalCondition<NQ>>::inverse_condition(&j)),
+                    Ok(j) => Some(<Dim<NQ> as TranslationalCondition<NQ>>::inverse_condition(
+                        &j,
+                    )),
                     Err(KinematicsError::Singular { .. }) => Some(0.0),
                     Err(_) => None,
                 }

@@ -74,7 +74,10 @@ fn workspace_membership_and_condition_match_a_direct_computation() {
 fn concentric_legs_give_a_spherical_shell() {
     // Equal radii and separations at R = I: every c_i = b_i - r_i is the origin, so the
     // workspace above z = 0 is the half shell Q_MIN ≤ |p| ≤ Q_MAX, volume 2π/3 (Q_MAX³ − Q_MIN³).
-    let v = view(StewartDesign::from_deg(0.25, 0.25, 30.0, 30.0), Vector3::zeros());
+    let v = view(
+        StewartDesign::from_deg(0.25, 0.25, 30.0, 30.0),
+        Vector3::zeros(),
+    );
     assert!(v.shell_centres().iter().all(|c| c.amax() < 1e-15));
     let above = WorkspaceConstraint::half_space(-Vector3::z(), 0.0).unwrap();
     let lengths = WorkspaceConstraint::joint_range(Q_MIN, Q_MAX).unwrap();

@@ -5,8 +5,8 @@ use super::{
 };
 use nalgebra::{Isometry3, SVector, Vector3};
 use pkm_mechanisms::{
-    ConstantOrientation, Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
-    LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
+    ConstantOrientation, Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaDesign,
+    LinearDeltaMode, LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
     StewartDesignVariable, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
     TsaiDesign, UJointAxes, WrenchSystem, platform_pose, pose_from_task, presets,
 };

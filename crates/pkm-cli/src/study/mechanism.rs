@@ -354,9 +354,7 @@ impl MechanismSpec {
             (Self::ThreeUpu(s), "platform_radius") => &mut s.platform_radius.0,
             (Self::StewartGough(s), "base_radius") => &mut s.design.base_radius.0,
             (Self::StewartGough(s), "platform_radius") => &mut s.design.platform_radius.0,
-            (Self::StewartGough(s), "base_separation_deg") => {
-                &mut s.design.base_separation_deg.0
-            }
+            (Self::StewartGough(s), "base_separation_deg") => &mut s.design.base_separation_deg.0,
             (Self::StewartGough(s), "platform_separation_deg") => {
                 &mut s.design.platform_separation_deg.0
             }
@@ -408,7 +406,8 @@ impl MechanismSpec {
                 self.kind(),
                 match kind {
                     JointKind::Revolute => "revolute (angles in degrees)",
-                    JointKind::Prismatic => "prismatic (carriage positions or leg lengths in metres)",
+                    JointKind::Prismatic =>
+                        "prismatic (carriage positions or leg lengths in metres)",
                 }
             )
         };
@@ -531,9 +530,7 @@ impl MechanismSpec {
                 visit(&linear_delta(s)?, &[mode], constraints, visitor)
             }
             Self::ThreeUpu(s) => visit(&three_upu(s)?, &[()], constraints, visitor),
-            Self::StewartGough(s) => {
-                visit(&stewart_orientation(s)?, &[()], constraints, visitor)
-            }
+            Self::StewartGough(s) => visit(&stewart_orientation(s)?, &[()], constraints, visitor),
         }
     }
 }
