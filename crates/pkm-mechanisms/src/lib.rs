@@ -4,8 +4,9 @@
 //! One file per mechanism: the rotary Delta/NUWAR, the Linear Delta (Miller 2004), the Tsai
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
 //! 3-UPU (Wolf & Shoham), and the Stewart–Gough platform at a constant orientation
-//! ([`ConstantOrientation`], its standard workspace). Each mechanism is built from a named design struct (SI units and
-//! radians) by `new(design)`; the papers' designs are in [`presets`].
+//! ([`ConstantOrientation`], its standard workspace). Each mechanism is built from a named
+//! design struct (SI units and radians) by `new(design)`; the papers' designs are in
+//! [`presets`].
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
