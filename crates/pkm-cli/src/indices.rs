@@ -18,7 +18,7 @@ use crate::CliError;
 use crate::study::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use pkm::papers::miller2004::linear_delta::evaluation::{DesignEvaluation, Eta1Memo, Eta1Rule};
 use pkm_traits::{ConstrainedWorkspace, Silent, WorkspaceConstraint};
-use pkm_workspace_indices::{PointSet, Workspace};
+use pkm_workspace_indices::{Dim, PointSet, TranslationalCondition, Workspace};
 use serde::{Deserialize, Serialize};
 
 /// An index (see the module table).
@@ -120,10 +120,13 @@ struct VolumeAndEta<'a> {
 impl WorkspaceVisitor for VolumeAndEta<'_> {
     type Output = Result<(f64, Option<f64>), CliError>;
 
-    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
         self,
-        workspace: &Workspace<'_, M>,
-    ) -> Self::Output {
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
         // Silent: a sweep reports progress per design, not per point.
         let e = if self.with_eta {
             workspace.volume_and_eta(self.points, &Silent)?

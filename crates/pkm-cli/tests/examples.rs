@@ -15,8 +15,13 @@ use pkm_cli::study;
 
 #[test]
 fn the_example_studies_are_valid() {
-    let _: study::StudyFile<WorkspaceStudy> =
-        study::load(&example("nuwar_workspace.toml")).unwrap();
+    for name in [
+        "nuwar_workspace.toml",
+        "three_upu_workspace.toml",
+        "stewart_gough_workspace.toml",
+    ] {
+        let _: study::StudyFile<WorkspaceStudy> = study::load(&example(name)).unwrap();
+    }
     for name in ["tsai_volume_gci.toml", "linear_delta_table2_row4.toml"] {
         let file: study::StudyFile<GridStudy> = study::load(&example(name)).unwrap();
         let requested = sweep::requested_indices(&file).unwrap();
@@ -41,7 +46,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        8,
+        10,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -3,8 +3,10 @@
 //!
 //! One file per mechanism: the rotary Delta/NUWAR, the Linear Delta (Miller 2004), the Tsai
 //! 3-DOF translational platform (Stamper, Tsai & Walsh 1997), the Stewart–Gough platform and the
-//! 3-UPU (Wolf & Shoham). Each mechanism is built from a named design struct (SI units and
-//! radians) by `new(design)`; the papers' designs are in [`presets`].
+//! 3-UPU (Wolf & Shoham), and the Stewart–Gough platform at a constant orientation
+//! ([`ConstantOrientation`], its standard workspace). Each mechanism is built from a named
+//! design struct (SI units and radians) by `new(design)`; the papers' designs are in
+//! [`presets`].
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -20,6 +22,7 @@ pub mod rotary_delta;
 mod skeleton;
 mod stewart_gough;
 mod stewart_layout;
+mod stewart_orientation;
 mod stewart_task;
 mod three_upu;
 mod tsai3dof;
@@ -35,6 +38,7 @@ pub use rotary_delta::{
 pub use skeleton::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
 pub use stewart_gough::{StewartDesign, StewartGough, platform_pose, pose_from_task};
 pub use stewart_layout::{AngleMode, JointLayout, Pairing};
+pub use stewart_orientation::ConstantOrientation;
 pub use stewart_task::{StewartDesignVariable, StewartTaskProblem};
 pub use three_upu::{ThreeUpu, ThreeUpuDesign, UJointAxes};
 pub use tsai3dof::{Elbow, LegAngles, LegBranch, Tsai3Dof, TsaiDesign};

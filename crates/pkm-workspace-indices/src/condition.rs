@@ -128,3 +128,55 @@ pub(crate) fn unit_scale(largest: f64, k: i32) -> Option<(f64, f64)> {
     let (first, second) = (e / 2, e - e / 2);
     Some((2f64.powi(-first), 2f64.powi(-second)))
 }
+
+/// $1/\kappa$ of the velocity Jacobian $J$ ($NQ \times 3$, $\dot q = J \dot p$) of a
+/// translational workspace with `NQ` actuated joints: the local index of
+/// [`crate::Workspace`].
+///
+/// For $NQ = 3$ it is the closed form [`crate::inverse_condition_number_3x3`]. For a redundant
+/// set of legs ($NQ > 3$, a Stewart–Gough platform at a fixed orientation) it is
+/// $\sigma_3 / \sigma_1$ of the three singular values of the tall $J$
+/// ([`inverse_condition_number_tall`]): the least over the greatest leg speed $|\dot q|$ per unit
+/// platform speed $|\dot p|$, 0 where $J$ loses rank (a direction of motion no leg sees).
+pub trait TranslationalCondition<const NQ: usize> {
+    /// $1/\kappa(j) \in [0, 1]$, 0 for a rank-deficient or non-finite `j`.
+    fn inverse_condition(j: &SMatrix<f64, NQ, 3>) -> f64;
+}
+
+impl TranslationalCondition<3> for Dim<3> {
+    fn inverse_condition(j: &SMatrix<f64, 3, 3>) -> f64 {
+        crate::inverse_condition_number_3x3(j)
+    }
+}
+
+impl TranslationalCondition<6> for Dim<6> {
+    fn inverse_condition(j: &SMatrix<f64, 6, 3>) -> f64 {
+        inverse_condition_number_tall(j)
+    }
+}
+
+/// $1/\kappa = \sigma_3 / \sigma_1 \in [0, 1]$ of a $6 \times 3$ matrix from its SVD (after the
+/// exact power-of-two scaling of [`inverse_condition_number`]); 0 for a matrix of rank below 3,
+/// the zero matrix, or one with non-finite entries.
+///
+/// # Example
+/// ```
+/// use nalgebra::SMatrix;
+/// let mut j = SMatrix::<f64, 6, 3>::zeros();
+/// j[(0, 0)] = 2.0;
+/// j[(1, 1)] = 1.0;
+/// j[(2, 2)] = 0.5;
+/// assert!((pkm_workspace_indices::inverse_condition_number_tall(&j) - 0.25).abs() < 1e-15);
+/// ```
+pub fn inverse_condition_number_tall(j: &SMatrix<f64, 6, 3>) -> f64 {
+    if !j.iter().all(|v| v.is_finite()) {
+        return 0.0;
+    }
+    let sigma = scaled_to_unit(j, 100).singular_values();
+    let (sigma_min, sigma_max) = (sigma.min(), sigma.max());
+    if sigma_max > 0.0 {
+        (sigma_min / sigma_max).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}

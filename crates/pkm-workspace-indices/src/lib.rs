@@ -71,7 +71,10 @@ mod sweep;
 mod volume;
 mod workspace;
 
-pub use condition::{Dim, FixedSvd, condition_number, inverse_condition_number};
+pub use condition::{
+    Dim, FixedSvd, TranslationalCondition, condition_number, inverse_condition_number,
+    inverse_condition_number_tall,
+};
 pub use condition_3x3::inverse_condition_number_3x3;
 pub use condition_3x3_lanes::{LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes};
 pub use cross_section_indices::{

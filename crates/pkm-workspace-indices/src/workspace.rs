@@ -12,13 +12,17 @@
 //! [`pkm_traits::InverseKinematics::velocity_jacobian_at`], which a mechanism may override with
 //! a closed form), 0 at an inverse-kinematic singularity. With constraints on the joints the
 //! Jacobian is [`pkm_traits::ClosedChain::jacobian`] at the joints that satisfy them.
+//!
+//! The number of actuated joints `NQ` may exceed the three task coordinates (a Stewart–Gough
+//! platform at a fixed orientation, `NQ = 6`): $J$ is then $NQ \times 3$ and $1/\kappa$ is
+//! $\sigma_3/\sigma_1$ of its singular values ([`TranslationalCondition`]). `NQ` defaults to 3.
 
 use crate::{
-    HemisphereEstimate, IndexError, PointSet, Slice, VolumeEstimate, hemisphere_estimate,
-    inverse_condition_at, inverse_condition_number_3x3, workspace_volume, workspace_volume_and_eta,
+    Dim, HemisphereEstimate, IndexError, PointSet, Slice, TranslationalCondition, VolumeEstimate,
+    hemisphere_estimate, workspace_volume, workspace_volume_and_eta,
 };
 use nalgebra::Vector3;
-use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
+use pkm_traits::{ConstrainedWorkspace, Joints, KinematicsError, Progress, WorkspaceConstraint};
 
 /// A mechanism, the working modes it may use and the constraints of its workspace.
 ///
@@ -40,14 +44,21 @@ use pkm_traits::{ConstrainedWorkspace, Joints, Progress, WorkspaceConstraint};
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct Workspace<'m, M: ConstrainedWorkspace<3, 3>> {
+pub struct Workspace<'m, M, const NQ: usize = 3>
+where
+    M: ConstrainedWorkspace<3, NQ>,
+{
     mechanism: &'m M,
     modes: Vec<M::WorkingMode>,
     on_position: Vec<WorkspaceConstraint>,
     on_joints: Vec<WorkspaceConstraint>,
 }
 
-impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
+impl<'m, M, const NQ: usize> Workspace<'m, M, NQ>
+where
+    M: ConstrainedWorkspace<3, NQ> + Sync,
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
     /// The workspace of `mechanism` in any of `modes` under `constraints`.
     ///
     /// # Errors
@@ -95,7 +106,7 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
     }
 
     /// The joints of the first listed mode that assembles at `x` within every constraint.
-    pub fn assembly(&self, x: &Vector3<f64>) -> Option<Joints<3>> {
+    pub fn assembly(&self, x: &Vector3<f64>) -> Option<Joints<NQ>> {
         if self.position_allowed(x) {
             self.assemble(x)
         } else {
@@ -108,7 +119,7 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
     }
 
     /// [`Workspace::assembly`] for a position that satisfies the position constraints.
-    fn assemble(&self, x: &Vector3<f64>) -> Option<Joints<3>> {
+    fn assemble(&self, x: &Vector3<f64>) -> Option<Joints<NQ>> {
         self.modes.iter().find_map(|mode| {
             let q = self.mechanism.inverse_kinematics(x, *mode).ok()?;
             self.on_joints
@@ -124,17 +135,21 @@ impl<'m, M: ConstrainedWorkspace<3, 3> + Sync> Workspace<'m, M> {
             return None;
         }
         if self.on_joints.is_empty() {
-            return self
-                .modes
-                .iter()
-                .find_map(|mode| inverse_condition_at(self.mechanism, x, *mode).ok());
+            return self.modes.iter().find_map(|mode| {
+                // As crate::inverse_condition_at: 0 where J is undefined.
+                match self.mechanism.velocity_jacobian_at(x, *mode) {
+                    Ok(j) => Some(<Dim<NQ> as TranslationalCondition<NQ>>::inverse_condition(
+                        &j,
+                    )),
+                    Err(KinematicsError::Singular { .. }) => Some(0.0),
+                    Err(_) => None,
+                }
+            });
         }
         let q = self.assemble(x)?;
-        Some(
-            self.mechanism
-                .jacobian(x, &q)
-                .map_or(0.0, |j| inverse_condition_number_3x3(&j)),
-        )
+        Some(self.mechanism.jacobian(x, &q).map_or(0.0, |j| {
+            <Dim<NQ> as TranslationalCondition<NQ>>::inverse_condition(&j)
+        }))
     }
 
     /// The workspace volume over `points`.

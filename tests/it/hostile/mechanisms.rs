@@ -5,15 +5,17 @@ use super::{
 };
 use nalgebra::{Isometry3, SVector, Vector3};
 use pkm_mechanisms::{
-    Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
-    LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
+    ConstantOrientation, Elbow, ElbowMode, JointLayout, LegBranch, LinearDelta, LinearDeltaDesign,
+    LinearDeltaMode, LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
     StewartDesignVariable, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
     TsaiDesign, UJointAxes, WrenchSystem, platform_pose, pose_from_task, presets,
 };
 use pkm_screw_theory::Twist;
 use pkm_traits::{
-    Bounds, ForwardKinematics, InverseKinematics, NewtonSettings, Objective, SlicedRegion,
+    Bounds, ClosedChain, ForwardKinematics, InverseKinematics, NewtonSettings, Objective,
+    SlicedRegion, WorkspaceConstraint,
 };
+use pkm_workspace_indices::Workspace;
 use proptest::prelude::*;
 
 /// IK at `x`; where it succeeds, the loop closes, the Jacobian is finite or typed, and FK from
@@ -166,6 +168,32 @@ proptest! {
         }
         let guess = SVector::<f64, 6>::new(0.0, 0.0, 1.0, 0.0, 0.0, 0.0);
         kinematics("StewartGough::inverse_kinematics", &sg, &task, (), &guess)?;
+    }
+
+    #[test]
+    fn stewart_constant_orientation_kinematics(w in hostile_vec3(), p in hostile_vec3()) {
+        let sg = StewartGough::new(StewartDesign::from_deg(1.0, 0.5, 20.0, 30.0)).unwrap();
+        let finite_view = |v: &ConstantOrientation| {
+            all_finite(v.rotation().matrix().iter())
+                && v.shell_centres().iter().all(|c| all_finite(c.iter()))
+        };
+        judge("ConstantOrientation::new", || ConstantOrientation::new(sg.clone(), w), finite_view)?;
+        let view = ConstantOrientation::new(sg, Vector3::new(0.1, -0.2, 0.3)).unwrap();
+        judge(
+            "ConstantOrientation::inverse_kinematics",
+            || view.inverse_kinematics(&p, ()),
+            |q| all_finite(q.iter()) && view.closure(&p, q).amax() <= 1e-6 * (1.0 + p.amax()).powi(2),
+        )?;
+        judge(
+            "ConstantOrientation::velocity_jacobian_at",
+            || view.velocity_jacobian_at(&p, ()),
+            |j| all_finite(j.iter()),
+        )?;
+        let lengths = WorkspaceConstraint::joint_range(0.5, 2.0).unwrap();
+        let ws = Workspace::new(&view, &[()], &[lengths]).unwrap();
+        let r = ws.inverse_condition(&p);
+        prop_assert!(r.is_none_or(|r| (0.0..=1.0).contains(&r)), "1/κ = {r:?} at {p}");
+        prop_assert_eq!(ws.contains(&p), r.is_some());
     }
 
     #[test]

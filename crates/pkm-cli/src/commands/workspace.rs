@@ -13,7 +13,9 @@ use crate::study::units::Metres;
 use crate::study::{self, StudyFile};
 use nalgebra::Vector3;
 use pkm_traits::{ConstrainedWorkspace, Progress};
-use pkm_workspace_indices::{ErrorModel, PointSet, Region, VolumeEstimate, Workspace};
+use pkm_workspace_indices::{
+    Dim, ErrorModel, PointSet, Region, TranslationalCondition, VolumeEstimate, Workspace,
+};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -209,7 +211,13 @@ struct CheckOnly;
 
 impl WorkspaceVisitor for CheckOnly {
     type Output = ();
-    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(self, _: &Workspace<'_, M>) {}
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+        self,
+        _: &Workspace<'_, M, NQ>,
+    ) where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
+    }
 }
 
 /// The axis-aligned box around a region (m).
@@ -254,10 +262,13 @@ struct Compute<'a> {
 impl WorkspaceVisitor for Compute<'_> {
     type Output = Result<(VolumeEstimate, Vec<SliceValues>), CliError>;
 
-    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
         self,
-        workspace: &Workspace<'_, M>,
-    ) -> Self::Output {
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
         self.progress
             .start("workspace points", self.points.points().len() as u64);
         let estimate = workspace.volume_and_eta(self.points, self.progress);
@@ -276,13 +287,16 @@ impl WorkspaceVisitor for Compute<'_> {
 }
 
 /// 1/κ on `n × n` cell centres of `plane` at `at`, over the bounding box (rows in parallel).
-fn slice<M: ConstrainedWorkspace<3, 3> + Sync>(
-    workspace: &Workspace<'_, M>,
+fn slice<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+    workspace: &Workspace<'_, M, NQ>,
     plane: Plane,
     at: f64,
     n: usize,
     (lower, upper): (Vector3<f64>, Vector3<f64>),
-) -> SliceValues {
+) -> SliceValues
+where
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
     let (a, b, normal) = plane.axes();
     let u = centres(lower[a], upper[a], n);
     let v = centres(lower[b], upper[b], n);

@@ -9,13 +9,15 @@ use super::units::{
     ConeDegrees, DegreeRange, Degrees, MetreRange, Metres, NonNegativeMetres, PositiveMetres, Real,
 };
 use crate::CliError;
+use crate::commands::task::{StewartSpec, stewart_layout};
 use nalgebra::Vector3;
 use pkm_mechanisms::{
-    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
-    Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
+    ConstantOrientation, Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
+    LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign, StewartGough,
+    ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
 };
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
-use pkm_workspace_indices::{Region, Workspace};
+use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use serde::{Deserialize, Serialize};
 
 /// The `[mechanism.<kind>]` table: exactly one kind.
@@ -28,6 +30,37 @@ pub enum MechanismSpec {
     Tsai(TsaiSpec),
     /// The Linear Delta (Miller 2004 §2.2): three parallel rails along x.
     LinearDelta(LinearDeltaSpec),
+    /// The 3-UPU (Wolf & Shoham §4.4) in its translational model: platform at $R = I$.
+    ThreeUpu(ThreeUpuSpec),
+    /// The Stewart–Gough platform (Wolf & Shoham Fig. 3) at one fixed orientation.
+    StewartGough(StewartOrientationSpec),
+}
+
+/// `[mechanism.three_upu]`: the 3-UPU's joint circles. The upper U-joint axes do not enter the
+/// translational model (they only orient the constraint couples), so they are Park's.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThreeUpuSpec {
+    /// Base joint radius $a$ (m).
+    pub base_radius: PositiveMetres,
+    /// Platform joint radius $b$ (m).
+    pub platform_radius: PositiveMetres,
+    /// Azimuths $\theta_i$ of the three legs' joints (degrees; default Park's −90, 30, 150).
+    #[serde(default = "park_azimuths")]
+    pub azimuths_deg: [Degrees; 3],
+}
+
+/// `[mechanism.stewart_gough]`: the platform's design (the `design` table, exactly the
+/// `[mechanism.stewart_gough]` table of `pkm task`) and the fixed orientation of its
+/// constant-orientation workspace. Leg-length ranges are `[constraints] joint_range`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StewartOrientationSpec {
+    /// Rotation vector $\alpha n$ of the platform (degrees; default no rotation).
+    #[serde(default = "no_rotation")]
+    pub rotation_deg: [Degrees; 3],
+    /// The design $x = (x_1, x_2, x_3, x_4)$ and joint layout (as `pkm task`).
+    pub design: StewartSpec,
 }
 
 /// An elbow branch of the rotary Delta's arms.
@@ -127,6 +160,12 @@ pub struct LinearDeltaSpec {
     pub leans_positive: [bool; 3],
 }
 
+fn park_azimuths() -> [Degrees; 3] {
+    [Degrees(-90.0), Degrees(30.0), Degrees(150.0)]
+}
+fn no_rotation() -> [Degrees; 3] {
+    [Degrees(0.0); 3]
+}
 fn zero_deg() -> Degrees {
     Degrees(0.0)
 }
@@ -214,11 +253,13 @@ pub struct JointRangeSpec {
 pub trait WorkspaceVisitor {
     /// What the visit returns.
     type Output;
-    /// Works on `workspace`.
-    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(
+    /// Works on `workspace` (`NQ` actuated joints: 3, or a Stewart–Gough platform's 6).
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
         self,
-        workspace: &Workspace<'_, M>,
-    ) -> Self::Output;
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>;
 }
 
 /// Why a design has no workspace: an invalid design (recorded as infeasible in sweeps) or a
@@ -253,6 +294,8 @@ impl MechanismSpec {
             Self::RotaryDelta(_) => "rotary_delta",
             Self::Tsai(_) => "tsai",
             Self::LinearDelta(_) => "linear_delta",
+            Self::ThreeUpu(_) => "three_upu",
+            Self::StewartGough(_) => "stewart_gough",
         }
     }
 
@@ -271,6 +314,13 @@ impl MechanismSpec {
             ],
             Self::Tsai(_) => &["a", "b", "d_plus_e", "c_minus_r", "phi2_deg", "phi3_deg"],
             Self::LinearDelta(_) => &["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1", "yr"],
+            Self::ThreeUpu(_) => &["base_radius", "platform_radius"],
+            Self::StewartGough(_) => &[
+                "base_radius",
+                "platform_radius",
+                "base_separation_deg",
+                "platform_separation_deg",
+            ],
         }
     }
 
@@ -300,6 +350,14 @@ impl MechanismSpec {
             (Self::LinearDelta(s), "zr_over_yr") => &mut s.zr_over_yr.0,
             (Self::LinearDelta(s), "l2_over_l1") => &mut s.l2_over_l1.0,
             (Self::LinearDelta(s), "yr") => &mut s.yr.0,
+            (Self::ThreeUpu(s), "base_radius") => &mut s.base_radius.0,
+            (Self::ThreeUpu(s), "platform_radius") => &mut s.platform_radius.0,
+            (Self::StewartGough(s), "base_radius") => &mut s.design.base_radius.0,
+            (Self::StewartGough(s), "platform_radius") => &mut s.design.platform_radius.0,
+            (Self::StewartGough(s), "base_separation_deg") => &mut s.design.base_separation_deg.0,
+            (Self::StewartGough(s), "platform_separation_deg") => {
+                &mut s.design.platform_separation_deg.0
+            }
             (spec, _) => {
                 return Err(format!(
                     "`{name}` is not a design variable of {}: expected one of {}",
@@ -328,7 +386,9 @@ impl MechanismSpec {
 
     fn joint_kind(&self) -> JointKind {
         match self {
-            Self::LinearDelta(_) => JointKind::Prismatic,
+            Self::LinearDelta(_) | Self::ThreeUpu(_) | Self::StewartGough(_) => {
+                JointKind::Prismatic
+            }
             Self::RotaryDelta(_) | Self::Tsai(_) => JointKind::Revolute,
         }
     }
@@ -346,7 +406,8 @@ impl MechanismSpec {
                 self.kind(),
                 match kind {
                     JointKind::Revolute => "revolute (angles in degrees)",
-                    JointKind::Prismatic => "prismatic (carriage positions in metres)",
+                    JointKind::Prismatic =>
+                        "prismatic (carriage positions or leg lengths in metres)",
                 }
             )
         };
@@ -402,7 +463,8 @@ impl MechanismSpec {
     }
 
     /// A region that holds every reachable position of this design, when the mechanism has
-    /// one (the Linear Delta's rails are unbounded: its study gives the region).
+    /// one (the Linear Delta's rails and the legs of the 3-UPU and the Stewart–Gough platform
+    /// are unbounded: their studies give the region).
     ///
     /// # Errors
     /// [`BuildError::Design`] for an invalid design.
@@ -422,7 +484,7 @@ impl MechanismSpec {
                 center: Vector3::zeros(),
                 radius: tsai(s)?.reach(),
             }),
-            Self::LinearDelta(_) => None,
+            Self::LinearDelta(_) | Self::ThreeUpu(_) | Self::StewartGough(_) => None,
         })
     }
 
@@ -467,16 +529,21 @@ impl MechanismSpec {
                 };
                 visit(&linear_delta(s)?, &[mode], constraints, visitor)
             }
+            Self::ThreeUpu(s) => visit(&three_upu(s)?, &[()], constraints, visitor),
+            Self::StewartGough(s) => visit(&stewart_orientation(s)?, &[()], constraints, visitor),
         }
     }
 }
 
-fn visit<M: ConstrainedWorkspace<3, 3> + Sync, V: WorkspaceVisitor>(
+fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(
     mechanism: &M,
     modes: &[M::WorkingMode],
     constraints: &[WorkspaceConstraint],
     visitor: V,
-) -> Result<V::Output, BuildError> {
+) -> Result<V::Output, BuildError>
+where
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
     let workspace = Workspace::new(mechanism, modes, constraints)
         .map_err(|e| BuildError::Constraint(e.to_string()))?;
     Ok(visitor.visit(&workspace))
@@ -540,6 +607,41 @@ pub fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
         l2_over_l1: s.l2_over_l1.0,
     };
     LinearDelta::new(LinearDeltaDesign { ratios, yr: s.yr.0 }).map_err(design_error)
+}
+
+/// The 3-UPU of a `[mechanism.three_upu]` table (Park's U-joint axes at its azimuths).
+///
+/// # Errors
+/// [`BuildError::Design`] with the library's reason for an invalid design.
+pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
+    let azimuths = s.azimuths_deg.map(Degrees::radians);
+    ThreeUpu::new(ThreeUpuDesign {
+        base_radius: s.base_radius.0,
+        platform_radius: s.platform_radius.0,
+        azimuths,
+        upper: azimuths.map(UJointAxes::park),
+    })
+    .map_err(design_error)
+}
+
+/// The constant-orientation view of a `[mechanism.stewart_gough]` table.
+///
+/// # Errors
+/// [`BuildError::Design`] with the library's reason for an invalid design or rotation.
+pub fn stewart_orientation(s: &StewartOrientationSpec) -> Result<ConstantOrientation, BuildError> {
+    let d = &s.design;
+    let platform = StewartGough::new(StewartDesign {
+        layout: stewart_layout(d),
+        ..StewartDesign::from_deg(
+            d.base_radius.0,
+            d.platform_radius.0,
+            d.base_separation_deg.0,
+            d.platform_separation_deg.0,
+        )
+    })
+    .map_err(design_error)?;
+    let w = Vector3::from(s.rotation_deg.map(Degrees::radians));
+    ConstantOrientation::new(platform, w).map_err(design_error)
 }
 
 impl From<BuildError> for CliError {
