@@ -19,15 +19,16 @@ use crate::grid::{GridStudy, Prepared};
 use crate::output::Output;
 use crate::study::StudyFile;
 use crate::study::mechanism::{
-    ElbowSpec, MechanismSpec, TsaiElbowSpec, WorkspaceVisitor, linear_delta, rotary_delta, tsai,
+    ElbowSpec, MechanismSpec, TsaiElbowSpec, WorkspaceVisitor, linear_delta, rotary_delta,
+    stewart_orientation, three_upu, tsai,
 };
 use crate::{CliError, output::short};
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use pkm::screw_theory::Twist;
 use pkm_draw::{Axis, DrawOptions, PathKind, Scene, render_svg};
 use pkm_mechanisms::{Elbow, ElbowMode, LegBranch, LinearDeltaMode, Skeleton};
 use pkm_traits::{ConstrainedWorkspace, KinematicsError, WorkspaceConstraint};
-use pkm_workspace_indices::{Region, Workspace};
+use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use rayon::prelude::*;
 
 /// The drawing of the robot.
@@ -203,6 +204,19 @@ pub fn skeleton_at(spec: &MechanismSpec, p: &Vector3<f64>) -> Result<Skeleton, S
             };
             first_drawable(p, [Skeleton::linear_delta(&robot, p, mode)])
         }
+        MechanismSpec::ThreeUpu(s) => {
+            let robot = three_upu(s).map_err(|e| e.to_string())?;
+            let pose = Isometry3::translation(p.x, p.y, p.z);
+            first_drawable(p, [Skeleton::three_upu(&robot, &pose)])
+        }
+        MechanismSpec::StewartGough(s) => {
+            let view = stewart_orientation(s).map_err(|e| e.to_string())?;
+            let pose = Isometry3::from_parts(
+                Translation3::from(*p),
+                UnitQuaternion::from_rotation_matrix(view.rotation()),
+            );
+            first_drawable(p, [Skeleton::stewart_gough(view.platform(), &pose)])
+        }
     }
 }
 
@@ -260,10 +274,13 @@ struct Members<'a> {
 impl WorkspaceVisitor for Members<'_> {
     type Output = Vec<bool>;
 
-    fn visit<M: ConstrainedWorkspace<3, 3> + Sync>(
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
         self,
-        workspace: &Workspace<'_, M>,
-    ) -> Vec<bool> {
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Vec<bool>
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
         self.points
             .par_iter()
             .map(|p| workspace.contains(p))
