@@ -6,7 +6,6 @@
 
 mod figure_data;
 mod plot;
-mod progress;
 mod report;
 mod reproduce;
 mod table;

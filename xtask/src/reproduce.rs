@@ -1,9 +1,9 @@
 //! `cargo xtask reproduce`: runs the experiments, prints the table, writes the report.
 
-use crate::progress::{CancelFlag, Spinner};
 use crate::{report, table};
 use anyhow::{Context as _, bail};
 use pkm::papers::{self, Comparison, Context, Experiment, ExperimentError, Mode, Outcome, Verdict};
+use pkm_cli::progress::{CancelFlag, Spinner};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -89,7 +89,7 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
         .clone()
         .unwrap_or_else(|| workspace_root().join("target/reproduce"));
     report::prepare_output_dir(&out)?;
-    let cancel = CancelFlag::on_ctrl_c()?;
+    let cancel = CancelFlag::on_ctrl_c().map_err(anyhow::Error::msg)?;
     let runs = run_all(&experiments, mode, &cancel);
     let cancelled = cancel.is_set();
     let rows: Vec<Comparison> = runs.iter().flat_map(|r| r.comparisons().to_vec()).collect();
@@ -155,7 +155,7 @@ fn run_all(experiments: &[Experiment], mode: Mode, cancel: &CancelFlag) -> Vec<E
         if cancel.is_set() {
             break;
         }
-        let spinner = Spinner::new(experiment.id, cancel.clone());
+        let spinner = Spinner::new(experiment.id, cancel.clone(), false);
         let start = Instant::now();
         let outcome = (experiment.run)(&Context {
             mode,

@@ -1,5 +1,5 @@
-//! Progress on the terminal (indicatif) and cooperative cancellation on Ctrl-C (ctrlc), after
-//! `xtask/src/progress.rs`: the first Ctrl-C asks the running computation to stop at its next
+//! Progress on the terminal (indicatif) and cooperative cancellation on Ctrl-C (ctrlc), for the
+//! `pkm` command and for `cargo xtask reproduce`: the first Ctrl-C asks the running computation to stop at its next
 //! check, a second one exits at once (status 130).
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
