@@ -6,8 +6,8 @@
 
 use pkm::draw::{DrawOptions, render_svg};
 use pkm::papers::{Figure, FigureKind, Heatmap, LinePlot, Marker, RobotDrawing, SeriesStyle};
+use pkm_cli::plot::{edges, fraction, range, span};
 use plotters::prelude::*;
-use std::ops::Range;
 use std::path::Path;
 
 const SIZE: (u32, u32) = (900, 600);
@@ -50,24 +50,6 @@ fn robot(title: &str, drawing: &RobotDrawing, path: &Path) -> anyhow::Result<()>
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 
-/// The finite range of `values`, padded by 5 % (a unit range around a single value).
-fn range(values: impl Iterator<Item = f64>) -> Range<f64> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        });
-    if lo > hi {
-        return 0.0..1.0;
-    }
-    let pad = if hi - lo > 0.0 {
-        0.05 * (hi - lo)
-    } else {
-        0.5_f64.max(0.05 * lo.abs())
-    };
-    lo - pad..hi + pad
-}
-
 fn lines(area: &Area<'_>, plot: &LinePlot) -> anyhow::Result<()> {
     let points = || plot.series.iter().flat_map(|s| s.points.iter().copied());
     let mut chart = ChartBuilder::on(area)
@@ -108,44 +90,6 @@ fn lines(area: &Area<'_>, plot: &LinePlot) -> anyhow::Result<()> {
         .border_style(BLACK)
         .draw()?;
     Ok(())
-}
-
-/// Cell edges around increasing `centres`: midpoints inside, mirrored half-steps at the ends.
-fn edges(centres: &[f64]) -> Vec<f64> {
-    let half = |a: f64, b: f64| 0.5 * (b - a);
-    let first_half = match centres {
-        [a, b, ..] => half(*a, *b),
-        _ => 0.5,
-    };
-    let last_half = match centres {
-        [.., a, b] => half(*a, *b),
-        _ => 0.5,
-    };
-    let mut edges: Vec<f64> = centres
-        .first()
-        .map(|c| c - first_half)
-        .into_iter()
-        .collect();
-    edges.extend(centres.windows(2).map(|w| 0.5 * (w[0] + w[1])));
-    edges.extend(centres.last().map(|c| c + last_half));
-    edges
-}
-
-/// From the first to the last edge (a unit range when there are none).
-fn span(edges: &[f64]) -> Range<f64> {
-    match (edges.first(), edges.last()) {
-        (Some(&lo), Some(&hi)) if hi > lo => lo..hi,
-        _ => range(edges.iter().copied()),
-    }
-}
-
-/// Position of `z` in `[lo, hi]` as a fraction; the middle when the range is a point.
-fn fraction(z: f64, lo: f64, hi: f64) -> f64 {
-    if hi > lo {
-        ((z - lo) / (hi - lo)).clamp(0.0, 1.0)
-    } else {
-        0.5
-    }
 }
 
 fn colour(t: f64) -> RGBColor {

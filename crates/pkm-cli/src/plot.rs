@@ -68,7 +68,7 @@ fn text_error<E: std::fmt::Display>(e: E) -> String {
 }
 
 /// The finite range of `values`, padded by 5 % (a unit range around a single value).
-fn range(values: impl Iterator<Item = f64>) -> Range<f64> {
+pub fn range(values: impl Iterator<Item = f64>) -> Range<f64> {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
@@ -86,7 +86,7 @@ fn range(values: impl Iterator<Item = f64>) -> Range<f64> {
 }
 
 /// Cell edges around increasing `centres`: midpoints inside, mirrored half-steps at the ends.
-fn edges(centres: &[f64]) -> Vec<f64> {
+pub fn edges(centres: &[f64]) -> Vec<f64> {
     let half = |a: f64, b: f64| 0.5 * (b - a);
     let first_half = match centres {
         [a, b, ..] => half(*a, *b),
@@ -106,14 +106,16 @@ fn edges(centres: &[f64]) -> Vec<f64> {
     edges
 }
 
-fn span(edges: &[f64]) -> Range<f64> {
+/// From the first to the last edge (a unit range when there are none).
+pub fn span(edges: &[f64]) -> Range<f64> {
     match (edges.first(), edges.last()) {
         (Some(&lo), Some(&hi)) if hi > lo => lo..hi,
         _ => range(edges.iter().copied()),
     }
 }
 
-fn fraction(z: f64, lo: f64, hi: f64) -> f64 {
+/// Position of `z` in `[lo, hi]` as a fraction; the middle when the range is a point.
+pub fn fraction(z: f64, lo: f64, hi: f64) -> f64 {
     if hi > lo {
         ((z - lo) / (hi - lo)).clamp(0.0, 1.0)
     } else {
