@@ -229,9 +229,7 @@ mod tests {
         }
         fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
             if p[0] + p[1] > 1.05 {
-                return Err(ObjectiveError::Infeasible {
-                    reason: "x0 + x1 > 1.05".into(),
-                });
+                return Err(ObjectiveError::infeasible("x0 + x1 > 1.05"));
             }
             Ok((p[0] - 0.713).powi(2) + (p[1] - 0.437).powi(2) + 0.3 * p[0] * p[1] + p[2])
         }
