@@ -46,7 +46,7 @@ pub struct ConstantOrientation {
 }
 
 impl ConstantOrientation {
-    /// The platform held at the rotation $R = \exp([w]_\times)$ of the rotation vector `w`
+    /// The platform held at the rotation $R = \exp(\[w\]_\times)$ of the rotation vector `w`
     /// (radians, $w = \alpha n$, as [`pose_from_task`]).
     ///
     /// # Errors

@@ -1,5 +1,5 @@
 //! The subcommands. Adding one is a module here with an `Args` type (clap `Args`) that
-//! implements [`Run`], plus one line in [`subcommands!`]'s invocation below.
+//! implements [`Run`], plus one line in the `subcommands!` invocation below.
 
 use crate::CliError;
 use crate::progress::Spinner;

@@ -141,7 +141,7 @@ impl Run for Args {
 /// The indices a Pareto study evaluates, in objective order.
 ///
 /// # Errors
-/// As [`objectives`].
+/// At their line: no `[pareto]` section, fewer than two objectives, or a repeated one.
 pub fn requested(file: &StudyFile<GridStudy>) -> Result<Vec<(IndexName, Range<usize>)>, CliError> {
     objectives(file)
 }
