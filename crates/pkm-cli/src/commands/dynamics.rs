@@ -14,10 +14,10 @@
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
-use crate::output::{Output, StudyEcho};
+use crate::output::Output;
 use crate::study::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
-use crate::study::{self, StudyFile};
+use crate::study::StudyFile;
 use nalgebra::{Vector3, Vector6};
 use pkm::dynamics_hamilton::forward::{ForwardForm, HamiltonForm, SampledTorques};
 use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing, SPACING_TOLERANCE};
@@ -747,17 +747,7 @@ pub fn retrace(
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let file: StudyFile<DynamicsStudy> = study::load(&self.file)?;
-        let (result, report, out) = compute(&file, context)?;
-        out.finish(
-            "dynamics",
-            StudyEcho {
-                file: self.file.display().to_string(),
-                text: file.text.clone(),
-            },
-            result,
-        )?;
-        Ok(report)
+        super::run_study("dynamics", &self.file, context, compute)
     }
 }
 

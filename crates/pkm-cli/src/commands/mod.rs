@@ -2,8 +2,12 @@
 //! implements [`Run`], plus one line in the `subcommands!` invocation below.
 
 use crate::CliError;
+use crate::output::{Output, StudyEcho};
 use crate::progress::Spinner;
-use std::path::PathBuf;
+use crate::study::{self, StudyFile};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use std::path::{Path, PathBuf};
 
 /// What every command receives: where to write and how to report progress.
 #[derive(Debug)]
@@ -87,4 +91,25 @@ subcommands! {
     /// Inverse dynamics (Hamilton and Lagrange) of a rotary Delta along a trajectory, and the
     /// forward retrace with its constraint drift.
     Dynamics => dynamics,
+}
+
+/// Loads the study at `path`, runs `compute` on it and writes its `results.json` as `command`
+/// (the study file echoed): the body of every single-run command.
+///
+/// # Errors
+/// The study file's errors at their line, `compute`'s errors, I/O errors.
+pub fn run_study<S: DeserializeOwned, R: Serialize>(
+    command: &str,
+    path: &Path,
+    context: &Context,
+    compute: impl FnOnce(&StudyFile<S>, &Context) -> Result<(R, Report, Output), CliError>,
+) -> Result<Report, CliError> {
+    let file: StudyFile<S> = study::load(path)?;
+    let (result, report, out) = compute(&file, context)?;
+    let echo = StudyEcho {
+        file: path.display().to_string(),
+        text: file.text.clone(),
+    };
+    out.finish(command, echo, result)?;
+    Ok(report)
 }

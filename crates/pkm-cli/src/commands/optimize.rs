@@ -19,10 +19,10 @@
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
-use crate::output::{Output, StudyEcho};
+use crate::output::Output;
 use crate::plot::{self, Marker, Scatter};
 use crate::study::mechanism::{MechanismSpec, TsaiSpec};
-use crate::study::{self, StudyFile};
+use crate::study::StudyFile;
 use nalgebra::{DMatrix, DVector, Vector3};
 use pkm_mechanisms::{Elbow, Tsai3Dof, TsaiDesign};
 use pkm_optimizers::{
@@ -700,17 +700,7 @@ pub struct OptimizeResult {
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let file: StudyFile<OptimizeStudy> = study::load(&self.file)?;
-        let (result, report, out) = compute(&file, context)?;
-        out.finish(
-            "optimize",
-            StudyEcho {
-                file: self.file.display().to_string(),
-                text: file.text.clone(),
-            },
-            result,
-        )?;
-        Ok(report)
+        super::run_study("optimize", &self.file, context, compute)
     }
 }
 

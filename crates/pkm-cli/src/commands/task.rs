@@ -13,10 +13,10 @@ use super::optimize::{Starts, run_blocks, start_points};
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
-use crate::output::{Output, StudyEcho};
+use crate::output::Output;
 use crate::plot::{self, Marker, Scatter};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
-use crate::study::{self, StudyFile};
+use crate::study::StudyFile;
 use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3, Vector6};
 use pkm::screw_theory::{Twist, line_set_rank, task_residuals};
 use pkm_mechanisms::{
@@ -910,17 +910,7 @@ fn weighted_twists(file: &StudyFile<TaskStudy>) -> Result<Vec<(f64, Twist)>, Cli
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let file: StudyFile<TaskStudy> = study::load(&self.file)?;
-        let (result, report, out) = compute(&file, context)?;
-        out.finish(
-            "task",
-            StudyEcho {
-                file: self.file.display().to_string(),
-                text: file.text.clone(),
-            },
-            result,
-        )?;
-        Ok(report)
+        super::run_study("task", &self.file, context, compute)
     }
 }
 

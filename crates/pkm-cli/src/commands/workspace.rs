@@ -5,12 +5,12 @@
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
-use crate::output::{Output, StudyEcho, cell};
+use crate::output::{Output, cell};
 use crate::plot::{self, Heatmap};
 use crate::study::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
 use crate::study::sampling::SamplingSpec;
 use crate::study::units::Metres;
-use crate::study::{self, StudyFile};
+use crate::study::StudyFile;
 use nalgebra::Vector3;
 use pkm_traits::{ConstrainedWorkspace, Progress};
 use pkm_workspace_indices::{
@@ -317,17 +317,7 @@ const AXIS_NAMES: [&str; 3] = ["x (m)", "y (m)", "z (m)"];
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let file: StudyFile<WorkspaceStudy> = study::load(&self.file)?;
-        let (result, report, out) = compute(&file, context)?;
-        out.finish(
-            "workspace",
-            StudyEcho {
-                file: self.file.display().to_string(),
-                text: file.text.clone(),
-            },
-            result,
-        )?;
-        Ok(report)
+        super::run_study("workspace", &self.file, context, compute)
     }
 }
 
