@@ -72,6 +72,8 @@ proptest! {
             && markers.iter().all(|m| drawable(m.x) && drawable(m.y));
         let chart = Chart::heatmap("map", "x", "y", map).with_markers(markers);
         judge("chart::render_svg (heat map)", || render_svg(&chart), |svg| valid && well_formed(svg))?;
+        // And every drawable grid is drawn.
+        prop_assert_eq!(render_svg(&chart).is_ok(), valid);
     }
 
     #[test]
@@ -80,5 +82,6 @@ proptest! {
             && markers.iter().all(|m| drawable(m.x) && drawable(m.y));
         let chart = Chart::series("series", "x", "y", series).with_markers(markers);
         judge("chart::render_svg (series)", || render_svg(&chart), |svg| valid && well_formed(svg))?;
+        prop_assert_eq!(render_svg(&chart).is_ok(), valid);
     }
 }

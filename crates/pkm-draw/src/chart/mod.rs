@@ -32,9 +32,9 @@ use std::fmt;
 pub struct Chart {
     /// Caption above the chart.
     pub title: String,
-    /// The horizontal axis.
+    /// What the horizontal axis measures.
     pub x_axis: Quantity,
-    /// The vertical axis.
+    /// What the vertical axis measures.
     pub y_axis: Quantity,
     /// What is drawn in the plane of the axes.
     pub plot: Plot,
