@@ -88,9 +88,15 @@ mod tests {
 
     #[test]
     fn fractions_are_clamped_and_a_point_range_maps_to_the_middle() {
-        assert_eq!(fraction(0.25, 0.0, 1.0), 0.25);
-        assert_eq!(fraction(-3.0, 0.0, 1.0), 0.0);
-        assert_eq!(fraction(7.0, 0.0, 1.0), 1.0);
-        assert_eq!(fraction(7.0, 2.0, 2.0), 0.5);
+        let fractions = [
+            fraction(0.25, 0.0, 1.0),
+            fraction(-3.0, 0.0, 1.0),
+            fraction(7.0, 0.0, 1.0),
+            fraction(7.0, 2.0, 2.0),
+        ];
+        assert_eq!(
+            fractions.map(f64::to_bits),
+            [0.25, 0.0, 1.0, 0.5].map(f64::to_bits)
+        );
     }
 }

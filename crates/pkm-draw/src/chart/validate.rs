@@ -137,7 +137,7 @@ fn heatmap(map: &Heatmap) -> Result<(), ChartError> {
         }
     }
     let (nx, ny) = (map.x.len(), map.y.len());
-    let cells = nx.checked_mul(ny).unwrap_or(usize::MAX);
+    let cells = nx.saturating_mul(ny);
     InvalidInput::require_count_at_most(
         "heat-map cells",
         cells,
