@@ -3,8 +3,8 @@
 #![allow(clippy::unwrap_used)]
 
 use pkm_draw::chart::{
-    Chart, ChartError, Colour, Heatmap, LegendPosition, MAX_ITEMS, Marker, Plot, Quantity, Series,
-    SeriesStyle, render_svg,
+    CLOUD, Chart, ChartError, Colour, Heatmap, LegendPosition, MAX_ITEMS, Marker, Plot, Quantity,
+    Series, SeriesStyle, render_svg,
 };
 
 /// A 3 × 2 map with two undefined cells, and two markers.
@@ -128,6 +128,18 @@ fn a_line_chart_has_its_texts_lines_points_and_legend() {
         "Lagrange's dashes"
     );
     assert_eq!(count(&svg, "fill=\"#0000FF\""), 2);
+}
+
+#[test]
+fn a_cloud_of_points_is_drawn_with_smaller_dots() {
+    let dots = |n: u32| {
+        let points = (0..n).map(|k| (f64::from(k), f64::from(k % 7))).collect();
+        let chart = Chart::series("cloud", "x", "y", vec![Series::points("", points)]);
+        let svg = render_svg(&chart).unwrap();
+        (count(&svg, "<circle"), count(&svg, "r=\"2\""))
+    };
+    assert_eq!(dots(CLOUD as u32), (CLOUD, 0));
+    assert_eq!(dots(CLOUD as u32 + 1), (CLOUD + 1, CLOUD + 1));
 }
 
 #[test]

@@ -21,7 +21,7 @@ mod render;
 mod scale;
 mod validate;
 
-pub use render::render_svg;
+pub use render::{CLOUD, render_svg};
 pub use validate::{ChartError, MAX_ITEMS, MAX_VALUE};
 
 use serde::{Deserialize, Serialize};
@@ -235,9 +235,10 @@ pub enum SeriesStyle {
     Line,
     /// A thin dashed polyline (a reference drawn under a solid one).
     Dashed,
-    /// A dot per point.
+    /// A dot per point (radius 3 pixels; 2 in a cloud of more than [`CLOUD`] points).
     Points,
-    /// A solid polyline with a dot at each point.
+    /// A solid polyline with a larger dot (radius 4 pixels) at each point: a front drawn over
+    /// a cloud.
     LineAndPoints,
 }
 

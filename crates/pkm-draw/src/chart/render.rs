@@ -25,6 +25,10 @@ const TICK: u32 = 15;
 const BAR_STEPS: u32 = 64;
 const MARKER_COLOUR: RGBColor = RED;
 
+/// Above this many points a [`SeriesStyle::Points`] series is a cloud, drawn with smaller dots so
+/// that the cloud's shape stays visible.
+pub const CLOUD: usize = 1000;
+
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 type Plane<'a> = ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
@@ -192,7 +196,7 @@ fn draw_series(plane: &mut Plane<'_>, s: &Series, colour: RGBAColor) -> Result<(
             }
             if s.style == SeriesStyle::LineAndPoints {
                 plane
-                    .draw_series(points.map(|p| Circle::new(p, 3, dot)))
+                    .draw_series(points.map(|p| Circle::new(p, 4, dot)))
                     .map_err(backend)?;
             }
         }
@@ -205,8 +209,9 @@ fn draw_series(plane: &mut Plane<'_>, s: &Series, colour: RGBAColor) -> Result<(
             }
         }
         SeriesStyle::Points => {
+            let radius = if s.points.len() > CLOUD { 2 } else { 3 };
             let drawn = plane
-                .draw_series(points.map(|p| Circle::new(p, 3, dot)))
+                .draw_series(points.map(|p| Circle::new(p, radius, dot)))
                 .map_err(backend)?;
             if let Some(entry) = legend_entry(drawn, &s.label) {
                 entry.legend(move |(x, y)| Circle::new((x + 10, y), 3, dot));
