@@ -12,7 +12,7 @@
 //! | [`optimizers`] | `pkm-optimizers` | grid search, Gauss–Newton multistart, constrained optimisation |
 //! | [`integrators`] | `pkm-integrators` | RK4, Dormand–Prince 5(4), symplectic methods |
 //! | [`dynamics_hamilton`] | `pkm-dynamics-hamilton` | Hamilton's equations in extended space |
-//! | [`draw`] | `pkm-draw` | SVG drawings of a mechanism's skeleton, with axes and workspaces |
+//! | [`draw`] | `pkm-draw` | SVG drawings of a mechanism's skeleton, with axes and workspaces; charts (heat maps, lines, scatter) |
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.

@@ -1,5 +1,7 @@
-//! Data for tables (CSV) and figures (SVG). Experiments describe *what* to draw; `xtask` renders.
+//! Data for tables (CSV) and figures (SVG). Experiments describe *what* to draw: a chart of
+//! `pkm_draw::chart` or a robot drawing of `pkm_draw`; `xtask` renders.
 
+use pkm_draw::chart::Chart;
 use serde::Serialize;
 
 /// Series data written as `<experiment id>.<name>.csv`.
@@ -13,18 +15,25 @@ pub struct Table {
     pub rows: Vec<Vec<f64>>,
 }
 
-/// A figure written as `<experiment id>.<name>.svg`.
+/// A figure written as `<experiment id>.<name>.svg`, with its data as
+/// `<experiment id>.<name>.csv`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Figure {
     /// File-name stem, unique within the experiment.
     pub name: String,
-    /// Caption, naming the paper's figure it stands for where there is one.
-    pub title: String,
-    /// What to draw.
+    /// What to draw, with its caption.
     pub kind: FigureKind,
 }
 
 impl Figure {
+    /// A chart (heat map, lines, points); its title is the caption.
+    pub fn chart(name: impl Into<String>, chart: Chart) -> Self {
+        Self {
+            name: name.into(),
+            kind: FigureKind::Chart(chart),
+        }
+    }
+
     /// A drawing of a robot (see [`FigureKind::Robot`]) with coordinates in `unit`.
     pub fn robot(
         name: impl Into<String>,
@@ -34,11 +43,19 @@ impl Figure {
     ) -> Self {
         Self {
             name: name.into(),
-            title: title.into(),
             kind: FigureKind::Robot(RobotDrawing {
+                title: title.into(),
                 scene,
                 unit: unit.to_owned(),
             }),
+        }
+    }
+
+    /// The caption, naming the paper's figure it stands for where there is one.
+    pub fn title(&self) -> &str {
+        match &self.kind {
+            FigureKind::Chart(chart) => &chart.title,
+            FigureKind::Robot(drawing) => &drawing.title,
         }
     }
 }
@@ -46,87 +63,21 @@ impl Figure {
 /// The kinds of figure `xtask` renders.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum FigureKind {
-    /// Curves or point clouds over shared axes.
-    Lines(LinePlot),
-    /// A scalar field on a regular grid, as colours.
-    Heatmap(Heatmap),
-    /// A heatmap with labelled points marked on it (designs, optima).
-    AnnotatedHeatmap {
-        /// The field.
-        map: Heatmap,
-        /// The marked points, in the map's coordinates.
-        markers: Vec<Marker>,
-    },
+    /// Curves, point clouds or a heat map, with markers (`pkm_draw::chart`).
+    Chart(Chart),
     /// A robot at a pose in front, side, top and 3-D views (`pkm-draw`), with its axes,
     /// trajectories and workspace points.
     Robot(RobotDrawing),
 }
 
-/// A drawing of a robot: what `pkm_draw::render_svg` draws, and the length unit of its
-/// coordinates.
+/// A drawing of a robot: what `pkm_draw::render_svg` draws, its caption and the length unit of
+/// its coordinates.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RobotDrawing {
+    /// Caption, naming the paper's figure it stands for where there is one.
+    pub title: String,
     /// The skeleton and the extra elements.
     pub scene: pkm_draw::Scene,
     /// Length unit of the coordinates (`"m"`, `"cm"`, `"R"`).
     pub unit: String,
-}
-
-/// A labelled point drawn on a figure.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Marker {
-    /// The label written beside the point.
-    pub label: String,
-    /// Horizontal coordinate.
-    pub x: f64,
-    /// Vertical coordinate.
-    pub y: f64,
-}
-
-/// Curves or point clouds over shared axes.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct LinePlot {
-    /// Label of the horizontal axis, with unit.
-    pub x_label: String,
-    /// Label of the vertical axis, with unit.
-    pub y_label: String,
-    /// The curves.
-    pub series: Vec<LineSeries>,
-}
-
-/// One curve or point cloud.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct LineSeries {
-    /// Legend entry.
-    pub label: String,
-    /// Drawn as a line or as points.
-    pub style: SeriesStyle,
-    /// `(x, y)` points.
-    pub points: Vec<(f64, f64)>,
-}
-
-/// How a series is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum SeriesStyle {
-    /// A polyline through the points.
-    Line,
-    /// A dot per point.
-    Points,
-}
-
-/// A scalar field $z(x, y)$ on the grid `x × y`, drawn as colours.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Heatmap {
-    /// Label of the horizontal axis, with unit.
-    pub x_label: String,
-    /// Label of the vertical axis, with unit.
-    pub y_label: String,
-    /// Label of the colour scale, with unit.
-    pub z_label: String,
-    /// Cell centres along x, increasing.
-    pub x: Vec<f64>,
-    /// Cell centres along y, increasing.
-    pub y: Vec<f64>,
-    /// `values[iy * x.len() + ix]`; `None` where the field is undefined (outside a workspace).
-    pub values: Vec<Option<f64>>,
 }

@@ -15,9 +15,7 @@ pub mod stamper1997;
 pub mod wolf2006;
 
 pub use comparison::{Comparison, Source, Verdict};
-pub use figure::{
-    Figure, FigureKind, Heatmap, LinePlot, LineSeries, Marker, RobotDrawing, SeriesStyle, Table,
-};
+pub use figure::{Figure, FigureKind, RobotDrawing, Table};
 
 use pkm_traits::Progress;
 use serde::Serialize;

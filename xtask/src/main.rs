@@ -4,10 +4,10 @@
 //! prints the comparison table and writes the report (`results.json`, `report.md`, CSV, SVG).
 #![allow(clippy::print_stdout)]
 
-mod figure_data;
-mod plot;
+mod figure;
 mod report;
 mod reproduce;
+mod run;
 mod table;
 
 use clap::{Parser, Subcommand};

@@ -2,56 +2,15 @@
 //! the CSV of its data;
 //! and the reproduction table of `README.md`.
 
-use crate::reproduce::ExperimentRun;
-use crate::{figure_data, plot, table};
+use crate::run::{ExperimentRun, Summary};
+use crate::{figure, table};
 use anyhow::{Context as _, bail};
-use pkm::papers::{Comparison, Figure, Mode, Outcome, Table, Verdict};
+use pkm::papers::{Comparison, Figure, Mode, Outcome, Table};
+use pkm_frontend::OutputDir;
 use serde::Serialize;
-use std::fmt;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
-
-/// Counts of verdicts, experiments that errored, and experiments that ran.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub(crate) struct Summary {
-    pass: usize,
-    fail: usize,
-    erratum: usize,
-    info: usize,
-    errors: usize,
-    experiments: usize,
-}
-
-impl Summary {
-    /// Counts over `runs`.
-    pub(crate) fn of(runs: &[ExperimentRun]) -> Self {
-        let mut summary = Self {
-            experiments: runs.len(),
-            errors: runs.iter().filter(|r| r.outcome.is_err()).count(),
-            ..Self::default()
-        };
-        for row in runs.iter().flat_map(ExperimentRun::comparisons) {
-            *match row.verdict {
-                Verdict::Pass => &mut summary.pass,
-                Verdict::Fail => &mut summary.fail,
-                Verdict::Erratum => &mut summary.erratum,
-                Verdict::Info => &mut summary.info,
-            } += 1;
-        }
-        summary
-    }
-}
-
-impl fmt::Display for Summary {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} experiments, {} errored; {} pass, {} fail, {} erratum, {} info",
-            self.experiments, self.errors, self.pass, self.fail, self.erratum, self.info
-        )
-    }
-}
 
 /// `git rev-parse HEAD` in `root`, with `-dirty` when `git status --porcelain` lists changes;
 /// `unknown` without git.
@@ -70,39 +29,6 @@ pub(crate) fn git_commit(root: &Path) -> String {
         (Some(head), _) => head,
         (None, _) => "unknown".to_owned(),
     }
-}
-
-/// Creates `dir` if needed and checks that a report can be written there, before anything
-/// runs: `--out` must name a directory (not a file) that can be created and written.
-///
-/// # Errors
-/// When `dir` is a file, lies below a file, or cannot be created or written.
-pub(crate) fn prepare_output_dir(dir: &Path) -> anyhow::Result<()> {
-    if dir.exists() && !dir.is_dir() {
-        bail!("--out {} is not a directory", dir.display());
-    }
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("--out {}: cannot create the directory", dir.display()))?;
-    let probe = dir.join(format!(".write-check-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .with_context(|| format!("--out {}: the directory is not writable", dir.display()))?;
-    std::fs::remove_file(&probe)
-        .with_context(|| format!("--out {}: cannot remove {}", dir.display(), probe.display()))
-}
-
-/// Writes `contents` to `path` atomically: into a temporary file of the same directory, then
-/// renamed over `path`, so a reader (or a crash, or Ctrl-C) never sees a half-written file.
-fn write_atomically(path: &Path, contents: &[u8]) -> anyhow::Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let temporary = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-    std::fs::write(&temporary, contents).with_context(|| temporary.display().to_string())?;
-    std::fs::rename(&temporary, path).with_context(|| {
-        let _ = std::fs::remove_file(&temporary);
-        format!("renaming {} to {}", temporary.display(), path.display())
-    })
 }
 
 /// Everything a run writes.
@@ -140,41 +66,36 @@ impl<'a> Report<'a> {
     /// Writes `results.json`, `report.md`, the CSVs and the SVGs into `dir` (created if needed)
     /// and returns the path of the report.
     ///
-    /// `results.json` and `report.md` are written atomically (temporary file, then rename). A
-    /// cancelled run writes only `results.cancelled.json` and `report.cancelled.md`, both with
-    /// `cancelled: true`, and leaves every file of the previous complete report as it was.
+    /// Every file is written atomically (temporary file, then rename), `results.json` and
+    /// `report.md` last. A cancelled run writes only `results.cancelled.json` and
+    /// `report.cancelled.md`, both with `cancelled: true`, and leaves every file of the previous
+    /// complete report as it was.
     ///
     /// # Errors
     /// When a file cannot be written or a figure cannot be rendered.
     pub(crate) fn write(&self, dir: &Path) -> anyhow::Result<std::path::PathBuf> {
-        std::fs::create_dir_all(dir)?;
+        let mut out = OutputDir::create(dir)?;
         if self.cancelled {
-            write_atomically(&dir.join("results.cancelled.json"), self.json()?.as_bytes())?;
-            let report = dir.join("report.cancelled.md");
-            write_atomically(&report, self.markdown().as_bytes())?;
-            return Ok(report);
+            out.write("results.cancelled.json", self.json()?.as_bytes())?;
+            return Ok(out.write("report.cancelled.md", self.markdown().as_bytes())?);
         }
         for run in self.runs {
             let Ok(outcome) = &run.outcome else { continue };
             let id = run.experiment.id;
             for t in &outcome.tables {
-                let path = dir.join(format!("{id}.{}.csv", t.name));
-                std::fs::write(&path, csv(t)).with_context(|| path.display().to_string())?;
+                out.write(&format!("{id}.{}.csv", t.name), csv(t).as_bytes())?;
             }
-            for figure in &outcome.figures {
-                let path = dir.join(format!("{id}.{}.svg", figure.name));
-                plot::render(figure, &path).with_context(|| path.display().to_string())?;
-                if let Some(name) = figure_csv_name(outcome, figure) {
-                    let path = dir.join(format!("{id}.{name}.csv"));
-                    std::fs::write(&path, figure_data::csv(figure))
-                        .with_context(|| path.display().to_string())?;
+            for f in &outcome.figures {
+                let name = format!("{id}.{}.svg", f.name);
+                let svg = figure::svg(f).with_context(|| name.clone())?;
+                out.write(&name, svg.as_bytes())?;
+                if let Some(stem) = figure_csv_name(outcome, f) {
+                    out.write(&format!("{id}.{stem}.csv"), figure::csv(f).as_bytes())?;
                 }
             }
         }
-        write_atomically(&dir.join("results.json"), self.json()?.as_bytes())?;
-        let report = dir.join("report.md");
-        write_atomically(&report, self.markdown().as_bytes())?;
-        Ok(report)
+        out.write("results.json", self.json()?.as_bytes())?;
+        Ok(out.write("report.md", self.markdown().as_bytes())?)
     }
 
     /// `results.json`: `{"mode", "git_commit", "cancelled", "results": [Comparison…]}`.
@@ -240,7 +161,13 @@ fn experiment_section(md: &mut String, run: &ExperimentRun) {
     };
     let _ = writeln!(md, ", {} comparisons.", outcome.comparisons.len());
     for figure in &outcome.figures {
-        let _ = write!(md, "\n![{}]({}.{}.svg)\n", figure.title, e.id, figure.name);
+        let _ = write!(
+            md,
+            "\n![{}]({}.{}.svg)\n",
+            figure.title(),
+            e.id,
+            figure.name
+        );
     }
     let figure_data = outcome
         .figures
@@ -270,7 +197,7 @@ fn figure_csv_name<'a>(outcome: &Outcome, figure: &'a Figure) -> Option<&'a str>
 
 /// A table as CSV: quoted headers when needed, values in shortest round-trip form.
 fn csv(t: &Table) -> String {
-    let field = figure_data::field;
+    let field = figure::field;
     let mut out: Vec<String> = vec![
         t.columns
             .iter()
@@ -320,12 +247,10 @@ fn replace_between_markers(text: &str, table: &str) -> anyhow::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reproduce::tests::synthetic_run;
+    use crate::run::tests::synthetic_run;
+    use pkm::draw::chart::{Chart, Heatmap, Quantity, Series};
     use pkm::draw::{Link, LinkKind, PointKind, Scene, Skeleton, SkeletonPoint};
-    use pkm::papers::{
-        ExperimentError, Figure, FigureKind, Heatmap, LinePlot, LineSeries, Outcome, Paper,
-        RobotDrawing, SeriesStyle, Source,
-    };
+    use pkm::papers::{ExperimentError, Figure, Outcome, Paper, Source};
     use serde_json::Value;
 
     fn outcome() -> Outcome {
@@ -342,61 +267,53 @@ mod tests {
                 rows: vec![vec![100.0, 1.5], vec![1000.0, 0.1]],
             }],
             figures: vec![
-                Figure {
-                    name: "convergence".into(),
-                    title: "Figure 3: volume convergence".into(),
-                    kind: FigureKind::Lines(LinePlot {
-                        x_label: "samples".into(),
-                        y_label: "volume (m^3)".into(),
-                        series: vec![
-                            LineSeries {
-                                label: "pkm".into(),
-                                style: SeriesStyle::Line,
-                                points: vec![(1.0, 2.0), (2.0, 1.5), (3.0, f64::NAN), (4.0, 1.7)],
-                            },
-                            LineSeries {
-                                label: "paper".into(),
-                                style: SeriesStyle::Points,
-                                points: vec![(1.0, 2.1), (4.0, 1.6)],
-                            },
+                Figure::chart(
+                    "convergence",
+                    Chart::series(
+                        "Figure 3: volume convergence",
+                        "samples",
+                        Quantity::new("volume", "m^3"),
+                        vec![
+                            Series::line("pkm", vec![(1.0, 2.0), (2.0, 1.5), (4.0, 1.7)]),
+                            Series::points("paper", vec![(1.0, 2.1), (4.0, 1.6)]),
                         ],
+                    ),
+                ),
+                Figure::chart(
+                    "gci",
+                    Chart::heatmap(
+                        "Figure 5: GCI landscape",
+                        Quantity::new("a", "m"),
+                        Quantity::new("b", "m"),
+                        Heatmap {
+                            colour_axis: "GCI".into(),
+                            x: vec![0.0, 1.0, 2.0],
+                            y: vec![0.0, 0.5],
+                            values: vec![Some(0.1), None, Some(0.3), Some(0.4), Some(0.5), None],
+                        },
+                    ),
+                ),
+                Figure::robot(
+                    "robot",
+                    "a two-link robot",
+                    Scene::new(Skeleton {
+                        points: ["A", "B"]
+                            .into_iter()
+                            .zip([0.0, 1.0])
+                            .map(|(label, z)| SkeletonPoint {
+                                label: label.into(),
+                                kind: PointKind::Passive,
+                                position: [0.0, 0.0, z].into(),
+                            })
+                            .collect(),
+                        links: vec![Link {
+                            from: 0,
+                            to: 1,
+                            kind: LinkKind::Actuated,
+                        }],
                     }),
-                },
-                Figure {
-                    name: "gci".into(),
-                    title: "Figure 5: GCI landscape".into(),
-                    kind: FigureKind::Heatmap(Heatmap {
-                        x_label: "a (m)".into(),
-                        y_label: "b (m)".into(),
-                        z_label: "GCI".into(),
-                        x: vec![0.0, 1.0, 2.0],
-                        y: vec![0.0, 0.5],
-                        values: vec![Some(0.1), None, Some(0.3), Some(0.4), Some(0.5), None],
-                    }),
-                },
-                Figure {
-                    name: "robot".into(),
-                    title: "a two-link robot".into(),
-                    kind: FigureKind::Robot(RobotDrawing {
-                        scene: Scene::new(Skeleton {
-                            points: ["A", "B"]
-                                .into_iter()
-                                .zip([0.0, 1.0])
-                                .map(|(label, z)| SkeletonPoint {
-                                    label: label.into(),
-                                    kind: PointKind::Passive,
-                                    position: [0.0, 0.0, z].into(),
-                                })
-                                .collect(),
-                            links: vec![Link {
-                                from: 0,
-                                to: 1,
-                                kind: LinkKind::Actuated,
-                            }],
-                        }),
-                        unit: "m".into(),
-                    }),
-                },
+                    "m",
+                ),
             ],
         }
     }
@@ -528,21 +445,9 @@ mod tests {
         let leftovers: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()
             .filter_map(Result::ok)
-            .filter(|e| e.file_name().to_string_lossy().contains(".tmp-"))
+            .filter(|e| e.file_name().to_string_lossy().contains(".partial"))
             .collect();
         assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
-    }
-
-    #[test]
-    fn summary_counts_verdicts_and_errors() {
-        let runs = [
-            synthetic_run("a", Ok(outcome())),
-            synthetic_run("b", Err(ExperimentError::Cancelled)),
-        ];
-        assert_eq!(
-            Summary::of(&runs).to_string(),
-            "2 experiments, 1 errored; 1 pass, 1 fail, 0 erratum, 1 info"
-        );
     }
 
     #[test]

@@ -1,12 +1,13 @@
 //! `cargo xtask reproduce`: runs the experiments, prints the table, writes the report.
 
+use crate::run::{ExperimentRun, Summary};
 use crate::{report, table};
 use anyhow::{Context as _, bail};
-use pkm::papers::{self, Comparison, Context, Experiment, ExperimentError, Mode, Outcome, Verdict};
-use pkm_cli::progress::{CancelFlag, Spinner};
+use pkm::papers::{self, Comparison, Context, Experiment, Mode, Verdict};
+use pkm_frontend::{CancelFlag, OutputDir, Spinner};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Options of `cargo xtask reproduce`.
 #[derive(Debug, Default, clap::Args)]
@@ -27,24 +28,6 @@ pub(crate) struct ReproduceArgs {
     /// `<!-- reproduce:end -->` (full run of every experiment only).
     #[arg(long)]
     update_readme: bool,
-}
-
-/// One experiment as it ran.
-#[derive(Debug)]
-pub(crate) struct ExperimentRun {
-    /// The experiment.
-    pub(crate) experiment: Experiment,
-    /// Wall time.
-    pub(crate) elapsed: Duration,
-    /// What it produced, or why it produced nothing.
-    pub(crate) outcome: Result<Outcome, ExperimentError>,
-}
-
-impl ExperimentRun {
-    /// Its comparisons (none when it failed to run).
-    pub(crate) fn comparisons(&self) -> &[Comparison] {
-        self.outcome.as_ref().map_or(&[], |o| &o.comparisons)
-    }
 }
 
 /// The workspace root: the parent of this crate's manifest directory.
@@ -88,7 +71,8 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
         .out
         .clone()
         .unwrap_or_else(|| workspace_root().join("target/reproduce"));
-    report::prepare_output_dir(&out)?;
+    // Checked before anything runs: a directory that can be created and written.
+    OutputDir::create(&out).with_context(|| format!("--out {}", out.display()))?;
     let cancel = CancelFlag::on_ctrl_c().map_err(anyhow::Error::msg)?;
     let runs = run_all(&experiments, mode, &cancel);
     let cancelled = cancel.is_set();
@@ -109,7 +93,7 @@ fn run_registry(args: &ReproduceArgs, registry: Vec<Experiment>) -> anyhow::Resu
         report::update_readme(&readme, &report)?;
         println!("updated {}", readme.display());
     }
-    let summary = report::Summary::of(&runs);
+    let summary = Summary::of(&runs);
     println!("\n{summary}");
     println!("report: {}", written.display());
     if cancelled {
@@ -192,9 +176,10 @@ pub(crate) fn succeeded(runs: &[ExperimentRun], cancelled: bool) -> bool {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
-    use pkm::papers::{Paper, Source};
+    use crate::run::tests::synthetic_run;
+    use pkm::papers::{ExperimentError, Outcome, Paper, Source};
 
     fn passing(_: &Context<'_>) -> Result<Outcome, ExperimentError> {
         Ok(Outcome::default())
@@ -222,23 +207,6 @@ pub(crate) mod tests {
             paper: Paper::Miller2004,
             title: "synthetic",
             run,
-        }
-    }
-
-    /// A run of a synthetic experiment `id` with `outcome`.
-    pub(crate) fn synthetic_run(
-        id: &'static str,
-        outcome: Result<Outcome, ExperimentError>,
-    ) -> ExperimentRun {
-        ExperimentRun {
-            experiment: Experiment {
-                id,
-                paper: Paper::WolfShoham,
-                title: "synthetic experiment",
-                run: passing,
-            },
-            elapsed: Duration::from_millis(1250),
-            outcome,
         }
     }
 

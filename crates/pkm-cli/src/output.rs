@@ -1,11 +1,13 @@
 //! What a command leaves in `--out DIR`: `results.json` (a versioned schema with the study file
-//! echoed in it), CSV tables and SVG figures, each written atomically (a temporary file renamed
-//! into place), so an interrupted run never leaves a half-written file.
+//! echoed in it), CSV tables and SVG figures, each written atomically by `pkm-frontend`'s
+//! [`OutputDir`] (a temporary file renamed into place), so an interrupted run never leaves a
+//! half-written file.
 //!
 //! Nothing that depends on the run (time, thread count, host) goes into `results.json`: two
 //! runs of the same study, or a sharded run and its merge, write the same bytes.
 
 use crate::CliError;
+use pkm_frontend::{OutputDir, OutputError};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -42,46 +44,46 @@ pub struct Results<R> {
 /// The output directory of one command.
 #[derive(Debug)]
 pub struct Output {
-    dir: PathBuf,
-    files: Vec<String>,
+    dir: OutputDir,
+}
+
+/// The command's error for a failed write of `name`.
+fn error(name: &str, e: OutputError) -> CliError {
+    match e {
+        OutputError::Io { path, source } => CliError::io(path, source),
+        OutputError::Writer { source, .. } => CliError::Invalid(format!("{name}: {source}")),
+        e => CliError::Invalid(e.to_string()),
+    }
 }
 
 impl Output {
-    /// Creates `dir` (and its parents) if needed.
+    /// Creates `dir` (and its parents) if needed and checks that it can be written.
     ///
     /// # Errors
-    /// [`CliError::Io`] when it cannot be created or is not a directory.
+    /// [`CliError::Io`] when it cannot be created or written; [`CliError::Invalid`] when it is
+    /// not a directory.
     pub fn create(dir: &Path) -> Result<Self, CliError> {
-        std::fs::create_dir_all(dir).map_err(|e| CliError::io(dir, e))?;
         Ok(Self {
-            dir: dir.to_path_buf(),
-            files: Vec::new(),
+            dir: OutputDir::create(dir).map_err(|e| error("--out", e))?,
         })
     }
 
     /// The directory.
     pub fn dir(&self) -> &Path {
-        &self.dir
+        self.dir.dir()
     }
 
     /// The path of `name` in the directory.
     pub fn path(&self, name: &str) -> PathBuf {
-        self.dir.join(name)
+        self.dir.path(name)
     }
 
     /// Writes `bytes` to `name` atomically and records it.
     ///
     /// # Errors
-    /// [`CliError::Io`].
+    /// [`CliError::Io`]; [`CliError::Invalid`] for a name that is not a plain file name.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<PathBuf, CliError> {
-        let path = self.path(name);
-        let temporary = self.path(&format!(".{name}.partial"));
-        std::fs::write(&temporary, bytes).map_err(|e| CliError::io(&temporary, e))?;
-        std::fs::rename(&temporary, &path).map_err(|e| CliError::io(&path, e))?;
-        if !self.files.iter().any(|f| f == name) {
-            self.files.push(name.to_owned());
-        }
-        Ok(path)
+        self.dir.write(name, bytes).map_err(|e| error(name, e))
     }
 
     /// Writes a CSV table: `header`, then `rows` (each already formatted).
@@ -109,20 +111,13 @@ impl Output {
     /// Renders an SVG with `draw` into `name` (through a temporary file) and records it.
     ///
     /// # Errors
-    /// [`CliError::Io`], or [`CliError::Invalid`] with plotters' message.
+    /// [`CliError::Io`], or [`CliError::Invalid`] with the renderer's message.
     pub fn write_svg(
         &mut self,
         name: &str,
         draw: impl FnOnce(&Path) -> Result<(), String>,
     ) -> Result<PathBuf, CliError> {
-        let temporary = self.path(&format!(".{name}.partial.svg"));
-        draw(&temporary).map_err(|e| CliError::Invalid(format!("{name}: {e}")))?;
-        let path = self.path(name);
-        std::fs::rename(&temporary, &path).map_err(|e| CliError::io(&path, e))?;
-        if !self.files.iter().any(|f| f == name) {
-            self.files.push(name.to_owned());
-        }
-        Ok(path)
+        self.dir.write_with(name, draw).map_err(|e| error(name, e))
     }
 
     /// Writes `results.json` last, listing every file written before it.
@@ -141,7 +136,7 @@ impl Output {
             version: env!("CARGO_PKG_VERSION").to_owned(),
             study,
             result,
-            files: self.files.clone(),
+            files: self.dir.files().to_vec(),
         };
         let mut json = serde_json::to_string_pretty(&results)
             .map_err(|e| CliError::Invalid(format!("results.json: {e}")))?;

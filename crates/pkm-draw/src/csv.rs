@@ -6,7 +6,7 @@ use pkm_mechanisms::{LinkKind, PointKind};
 use std::fmt::Write as _;
 
 /// A label as one CSV field: quoted when it holds a comma, a quote or a line break.
-fn field(s: &str) -> String {
+pub(crate) fn field(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {

@@ -1,8 +1,10 @@
 //! Drawings of parallel mechanisms: a [`Skeleton`] (from `pkm-mechanisms`) at a pose, seen in
 //! orthographic front, side and top views and in a 3-D (axonometric) projection, on one SVG, with
-//! optional screw or twist axes, trajectories and workspace boundaries ([`Scene`]).
+//! optional screw or twist axes, trajectories and workspace boundaries ([`Scene`]); and the one
+//! chart layer of pkm ([`chart`]: heat maps, line and scatter plots).
 //!
-//! [`render_svg`] is the one entry point; [`Scene::to_csv`] writes the data behind a drawing.
+//! [`render_svg`] is the entry point of drawings, [`chart::render_svg`] that of charts;
+//! [`Scene::to_csv`] and [`chart::Chart::to_csv`] write the data behind them.
 //! Every input is checked first: a non-finite or huge coordinate, a link to a missing point, an
 //! empty skeleton or an unusable option is a [`DrawError`], never a panic.
 #![warn(missing_docs)]
@@ -12,6 +14,7 @@
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+pub mod chart;
 mod csv;
 mod render;
 mod view;

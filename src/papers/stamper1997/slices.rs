@@ -2,10 +2,8 @@
 //! sampled workspaces of both designs.
 
 use super::problem::design;
-use crate::papers::{
-    Context, ExperimentError, Figure, FigureKind, Heatmap, LinePlot, LineSeries, Outcome, Paper,
-    SeriesStyle, Source,
-};
+use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source};
+use pkm_draw::chart::{Chart, Heatmap, Series};
 use pkm_mechanisms::Elbow;
 use pkm_workspace_indices::{Sampler, Workspace};
 
@@ -77,18 +75,16 @@ pub(super) fn run_slice(
         )
         .with_note(format!("at (x, y) = ({x:.3}, {y:.3}), {n}x{n} grid"));
     let heatmap = Heatmap {
-        x_label: "x / R".into(),
-        y_label: "y / R".into(),
-        z_label: "1/κ".into(),
+        colour_axis: "1/κ".into(),
         x: slice.x,
         y: slice.y,
         values: slice.values,
     };
-    let mut figures = vec![Figure {
-        name: "slice_z0.5".into(),
-        title: format!("1/κ on z = 0.5 ({figure})"),
-        kind: FigureKind::Heatmap(heatmap),
-    }];
+    let title = format!("1/κ on z = 0.5 ({figure})");
+    let mut figures = vec![Figure::chart(
+        "slice_z0.5",
+        Chart::heatmap(title, "x / R", "y / R", heatmap),
+    )];
     figures.push(workspace_figure(&paper_design, ctx)?);
     let mut comparisons = vec![row];
     if let SliceEvidence::CentreClosedForm = evidence {
@@ -119,20 +115,13 @@ fn workspace_figure(paper_design: &[f64; 6], ctx: &Context<'_>) -> Result<Figure
         .filter(|p| d.contains(p))
         .map(|p| (p.x, p.z))
         .collect();
-    Ok(Figure {
-        name: "workspace_xz".into(),
-        title: format!(
-            "workspace of a = {}, b = {}, legs 0/{}/{}: sampled inside points, side view",
-            paper_design[0], paper_design[1], paper_design[4], paper_design[5]
-        ),
-        kind: FigureKind::Lines(LinePlot {
-            x_label: "x / R".into(),
-            y_label: "z / R".into(),
-            series: vec![LineSeries {
-                label: "inside".into(),
-                style: SeriesStyle::Points,
-                points: inside,
-            }],
-        }),
-    })
+    let title = format!(
+        "workspace of a = {}, b = {}, legs 0/{}/{}: sampled inside points, side view",
+        paper_design[0], paper_design[1], paper_design[4], paper_design[5]
+    );
+    let points = vec![Series::points("inside", inside)];
+    Ok(Figure::chart(
+        "workspace_xz",
+        Chart::series(title, "x / R", "z / R", points),
+    ))
 }

@@ -11,6 +11,7 @@
 //! iteration settings in the cases, and allocation aborts by asserting a typed error for huge
 //! counts.
 
+mod chart;
 mod dynamics;
 mod indices;
 mod integrators;

@@ -15,6 +15,7 @@ use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
 use crate::output::Output;
+use crate::plot;
 use crate::study::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
 use crate::study::StudyFile;
@@ -27,7 +28,7 @@ use pkm::dynamics_hamilton::{
     DynamicsError, ExtendedModel, ExtendedState, ForearmModel, MassParameters,
 };
 use pkm::integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, integrate};
-use plotters::prelude::*;
+use pkm_draw::chart::{Chart, Colour, Series, SeriesStyle};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -835,22 +836,20 @@ fn write_torques(out: &mut Output, torques: &Torques) -> Result<(), CliError> {
     out.write_csv("torques.csv", &header, rows)?;
     let times: Vec<f64> = torques.samples.iter().map(|(t, _)| *t).collect();
     let mut series = Vec::new();
-    for (name, history) in [("Hamilton", &torques.hamilton), ("Lagrange", &torques.lagrange)] {
+    for (name, history, style) in [
+        ("Hamilton", &torques.hamilton, SeriesStyle::Line),
+        ("Lagrange", &torques.lagrange, SeriesStyle::Dashed),
+    ] {
         for motor in 0..3 {
-            series.push(Line {
-                name: format!("{name}, motor {}", motor + 1),
-                points: times.iter().zip(history).map(|(t, v)| (*t, v[motor])).collect(),
-                dashed: name == "Lagrange",
-            });
+            let points = times.iter().zip(history).map(|(t, v)| (*t, v[motor])).collect();
+            series.push(
+                Series::styled(format!("{name}, motor {}", motor + 1), style, points)
+                    .with_colour(Colour::Palette(motor)),
+            );
         }
     }
-    let plot = Lines {
-        title: "motor torques".into(),
-        x_label: "t (s)".into(),
-        y_label: "torque (N m)".into(),
-        series,
-    };
-    out.write_svg("torques.svg", |path| lines(&plot, path))?;
+    let plot = Chart::series("motor torques", "t (s)", "torque (N m)", series);
+    out.write_svg("torques.svg", |path| plot::render(&plot, path))?;
     Ok(())
 }
 
@@ -869,106 +868,17 @@ fn write_retrace(out: &mut Output, per_sample: &RetraceSamples) -> Result<(), Cl
     let series = ["x", "y", "z"]
         .iter()
         .enumerate()
-        .map(|(i, axis)| Line {
-            name: format!("{axis} - {axis}_commanded"),
-            points: per_sample.iter().map(|(t, e, _)| (*t, e[i] * 1e3)).collect(),
-            dashed: false,
+        .map(|(i, axis)| {
+            let points = per_sample.iter().map(|(t, e, _)| (*t, e[i] * 1e3)).collect();
+            Series::line(format!("{axis} - {axis}_commanded"), points)
         })
         .collect();
-    let plot = Lines {
-        title: "forward retrace with the Hamilton torques minus the commanded path".into(),
-        x_label: "t (s)".into(),
-        y_label: "position difference (mm)".into(),
+    let plot = Chart::series(
+        "forward retrace with the Hamilton torques minus the commanded path",
+        "t (s)",
+        "position difference (mm)",
         series,
-    };
-    out.write_svg("retrace.svg", |path| lines(&plot, path))?;
+    );
+    out.write_svg("retrace.svg", |path| plot::render(&plot, path))?;
     Ok(())
-}
-
-/// A named polyline.
-#[derive(Debug, Clone, PartialEq)]
-struct Line {
-    name: String,
-    points: Vec<(f64, f64)>,
-    dashed: bool,
-}
-
-/// Line plot with a legend.
-#[derive(Debug, Clone, PartialEq)]
-struct Lines {
-    title: String,
-    x_label: String,
-    y_label: String,
-    series: Vec<Line>,
-}
-
-/// The finite range of `values`, padded by 5 % (a unit range around a single value).
-fn padded_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        });
-    if lo > hi {
-        return 0.0..1.0;
-    }
-    let pad = if hi > lo {
-        0.05 * (hi - lo)
-    } else {
-        0.5_f64.max(0.05 * lo.abs())
-    };
-    lo - pad..hi + pad
-}
-
-fn lines(plot: &Lines, path: &std::path::Path) -> Result<(), String> {
-    let text = |e: &dyn std::fmt::Display| e.to_string();
-    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| text(&e))?;
-    let area = root
-        .titled(&plot.title, ("sans-serif", 26))
-        .map_err(|e| text(&e))?;
-    let all = || plot.series.iter().flat_map(|s| s.points.iter().copied());
-    let mut chart = ChartBuilder::on(&area)
-        .margin(20)
-        .x_label_area_size(50)
-        .y_label_area_size(80)
-        .build_cartesian_2d(
-            padded_range(all().map(|p| p.0)),
-            padded_range(all().map(|p| p.1)),
-        )
-        .map_err(|e| text(&e))?;
-    chart
-        .configure_mesh()
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 18))
-        .x_desc(&plot.x_label)
-        .y_desc(&plot.y_label)
-        .draw()
-        .map_err(|e| text(&e))?;
-    for (i, s) in plot.series.iter().enumerate() {
-        let colour = Palette99::pick(i % 3).to_rgba();
-        let style = colour.stroke_width(if s.dashed { 1 } else { 2 });
-        let finite = s
-            .points
-            .iter()
-            .copied()
-            .filter(|(x, y)| x.is_finite() && y.is_finite());
-        let drawn = if s.dashed {
-            chart.draw_series(DashedLineSeries::new(finite, 6, 4, style))
-        } else {
-            chart.draw_series(LineSeries::new(finite, style))
-        }
-        .map_err(|e| text(&e))?;
-        drawn
-            .label(s.name.clone())
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
-    }
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| text(&e))?;
-    root.present().map_err(|e| text(&e))
 }

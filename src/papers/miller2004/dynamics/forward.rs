@@ -5,10 +5,9 @@
 //! and energy balance.
 
 use super::{DT, Robot, canonical_trajectory, lines, model};
-use crate::papers::{
-    Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source,
-};
+use crate::papers::{Context, Experiment, ExperimentError, Figure, Outcome, Paper, Source};
 use nalgebra::{SVector, Vector3};
+use pkm_draw::chart::Quantity;
 use pkm_dynamics_hamilton::forward::{AccelerationForm, ForwardForm, HamiltonForm, SampledTorques};
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing, lagrange_torques};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
@@ -151,12 +150,16 @@ fn fig9(errors: &[(f64, Vector3<f64>)]) -> Figure {
             (format!("{axis} - {axis}_cmd"), points)
         })
         .collect();
-    Figure {
-        name: "miller2004_fig9_forward_vs_commanded".to_owned(),
-        title: "NUWAR forward dynamics with the Hamilton torques minus the commanded path (Fig. 9)"
-            .to_owned(),
-        kind: FigureKind::Lines(lines("t (s)", "position difference (mm)", series)),
-    }
+    let title =
+        "NUWAR forward dynamics with the Hamilton torques minus the commanded path (Fig. 9)";
+    Figure::chart(
+        "miller2004_fig9_forward_vs_commanded",
+        lines(
+            title.to_owned(),
+            Quantity::new("position difference", "mm"),
+            series,
+        ),
+    )
 }
 
 fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {

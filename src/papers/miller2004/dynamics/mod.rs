@@ -11,8 +11,9 @@ mod start_angle_search;
 mod start_angles;
 mod torques;
 
-use crate::papers::{Experiment, ExperimentError, LinePlot, LineSeries, SeriesStyle};
+use crate::papers::{Experiment, ExperimentError};
 pub use cycle::{CycleReading, pick_and_place};
+use pkm_draw::chart::{Chart, Quantity, Series};
 use pkm_draw::{Axis, PathKind, Scene};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
@@ -104,17 +105,11 @@ fn placement_at(azimuth_deg: f64) -> Placement {
     }
 }
 
-fn lines(x_label: &str, y_label: &str, series: Vec<(String, Vec<(f64, f64)>)>) -> LinePlot {
-    LinePlot {
-        x_label: x_label.to_owned(),
-        y_label: y_label.to_owned(),
-        series: series
-            .into_iter()
-            .map(|(label, points)| LineSeries {
-                label,
-                style: SeriesStyle::Line,
-                points,
-            })
-            .collect(),
-    }
+/// A chart of solid lines `series` (label, points) against time in seconds.
+fn lines(title: String, y_axis: Quantity, series: Vec<(String, Vec<(f64, f64)>)>) -> Chart {
+    let series = series
+        .into_iter()
+        .map(|(label, points)| Series::line(label, points))
+        .collect();
+    Chart::series(title, Quantity::new("t", "s"), y_axis, series)
 }

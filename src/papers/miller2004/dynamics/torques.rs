@@ -4,10 +4,10 @@
 use super::{CYCLE_TIME, DT, Robot, canonical_trajectory, drawing, lines, model, placement_at};
 use super::{CycleReading, pick_and_place};
 use crate::papers::{
-    Context, Experiment, ExperimentError, Figure, FigureKind, Outcome, Paper, Source, Table,
-    Verdict,
+    Context, Experiment, ExperimentError, Figure, Outcome, Paper, Source, Table, Verdict,
 };
 use nalgebra::Vector3;
+use pkm_draw::chart::Quantity;
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
 use pkm_mechanisms::Placement;
@@ -144,11 +144,8 @@ fn figure(name: &str, robot: &str, t: &Torques) -> Figure {
             (format!("tau_{}", i + 1), points)
         })
         .collect();
-    Figure {
-        name: name.to_owned(),
-        title: format!("{robot} motor torques along the pick-and-place cycle (Hamilton, Fig. 8)"),
-        kind: FigureKind::Lines(lines("t (s)", "torque (N m)", series)),
-    }
+    let title = format!("{robot} motor torques along the pick-and-place cycle (Hamilton, Fig. 8)");
+    Figure::chart(name, lines(title, Quantity::new("torque", "N m"), series))
 }
 
 /// The placements of the sensitivity study: both motor-1 classes, motor-plane heights around

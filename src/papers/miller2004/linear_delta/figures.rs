@@ -4,7 +4,8 @@
 use super::evaluation::{Eta1Memo, Utility, inverse_condition, linear_delta};
 use super::search::{Optimum, Rules, search_box};
 use super::table2::{STATED_LIMITS, VARIABLES};
-use crate::papers::{ExperimentError, Figure, FigureKind, Heatmap, Mode};
+use crate::papers::{ExperimentError, Figure, Mode};
+use pkm_draw::chart::{Chart, Heatmap};
 use pkm_traits::SlicedRegion;
 use rayon::prelude::*;
 
@@ -47,21 +48,20 @@ pub fn figure6(
             .collect();
         for (k, name) in ["eta", "eta1", "eta2"].into_iter().enumerate() {
             let index = [2, 0, 1][k];
-            figures.push(Figure {
-                name: format!("fig6_{name}_{plane}"),
-                title: format!(
-                    "Fig. 6: {name} on the plane ({}, {}) through the optimum",
-                    VARIABLES[kx], VARIABLES[ky]
-                ),
-                kind: FigureKind::Heatmap(Heatmap {
-                    x_label: VARIABLES[kx].to_owned(),
-                    y_label: VARIABLES[ky].to_owned(),
-                    z_label: name.to_owned(),
-                    x: xs.clone(),
-                    y: ys.clone(),
-                    values: values.iter().map(|v| v.map(|v| v[index])).collect(),
-                }),
-            });
+            let title = format!(
+                "Fig. 6: {name} on the plane ({}, {}) through the optimum",
+                VARIABLES[kx], VARIABLES[ky]
+            );
+            let map = Heatmap {
+                colour_axis: name.into(),
+                x: xs.clone(),
+                y: ys.clone(),
+                values: values.iter().map(|v| v.map(|v| v[index])).collect(),
+            };
+            figures.push(Figure::chart(
+                format!("fig6_{name}_{plane}"),
+                Chart::heatmap(title, VARIABLES[kx], VARIABLES[ky], map),
+            ));
         }
     }
     Ok(figures)
@@ -90,19 +90,18 @@ pub fn cross_section_map(design: &[f64; 4], mode: Mode) -> Result<Figure, Experi
                 .then(|| inverse_condition(&delta, y, z))
         })
         .collect();
-    Ok(Figure {
-        name: "cross_section_inverse_condition".to_owned(),
-        title: format!(
-            "Workspace cross-section and 1/kappa of the optimum ({:.2}, {:.2}, {:.2}, {:.2})",
-            design[0], design[1], design[2], design[3]
-        ),
-        kind: FigureKind::Heatmap(Heatmap {
-            x_label: "y/YR".to_owned(),
-            y_label: "z/YR".to_owned(),
-            z_label: "1/kappa".to_owned(),
-            x: ys,
-            y: zs,
-            values,
-        }),
-    })
+    let title = format!(
+        "Workspace cross-section and 1/kappa of the optimum ({:.2}, {:.2}, {:.2}, {:.2})",
+        design[0], design[1], design[2], design[3]
+    );
+    let map = Heatmap {
+        colour_axis: "1/kappa".into(),
+        x: ys,
+        y: zs,
+        values,
+    };
+    Ok(Figure::chart(
+        "cross_section_inverse_condition",
+        Chart::heatmap(title, "y/YR", "z/YR", map),
+    ))
 }

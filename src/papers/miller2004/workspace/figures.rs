@@ -3,8 +3,9 @@
 
 use super::readings::SweepResult;
 use super::{ALPHA_PRINTED_DEG, BETA_NUWAR_DEG, design};
-use crate::papers::{Context, ExperimentError, Figure, FigureKind, Heatmap, Marker, Table};
+use crate::papers::{Context, ExperimentError, Figure, Table};
 use nalgebra::Vector3;
+use pkm_draw::chart::{Chart, Heatmap, Marker, Quantity};
 use pkm_draw::{Axis, Scene};
 use pkm_mechanisms::{ElbowMode, RotaryDelta, Skeleton};
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
@@ -16,23 +17,22 @@ pub(super) fn maps(results: &[SweepResult]) -> Vec<Figure> {
         .iter()
         .map(|r| {
             let map = Heatmap {
-                x_label: "β (deg)".into(),
-                y_label: "α (deg)".into(),
-                z_label: "V / V_Delta".into(),
+                colour_axis: "V / V_Delta".into(),
                 x: r.beta_deg.clone(),
                 y: r.alpha_deg.clone(),
                 values: r.ratios.iter().map(|(v, _)| Some(*v)).collect(),
             };
-            let markers = vec![
-                marker("Delta", 0.0, 0.0),
-                marker("NUWAR", BETA_NUWAR_DEG, ALPHA_PRINTED_DEG),
-                marker(&format!("max {:.4}", r.max_ratio), r.beta_opt, r.alpha_opt),
+            let markers = [
+                Marker::new("Delta", 0.0, 0.0),
+                Marker::new("NUWAR", BETA_NUWAR_DEG, ALPHA_PRINTED_DEG),
+                Marker::new(format!("max {:.4}", r.max_ratio), r.beta_opt, r.alpha_opt),
             ];
-            Figure {
-                name: format!("map_{}", r.reading.name),
-                title: format!("§2.1 workspace volume / Delta's: {}", r.reading.name),
-                kind: FigureKind::AnnotatedHeatmap { map, markers },
-            }
+            let title = format!("§2.1 workspace volume / Delta's: {}", r.reading.name);
+            let (beta, alpha) = (Quantity::new("β", "deg"), Quantity::new("α", "deg"));
+            Figure::chart(
+                format!("map_{}", r.reading.name),
+                Chart::heatmap(title, beta, alpha, map).with_markers(markers),
+            )
         })
         .collect()
 }
@@ -73,14 +73,6 @@ pub(super) fn optimum_layouts(results: &[SweepResult]) -> Result<Vec<Figure>, Ex
     Ok(figures)
 }
 
-fn marker(label: &str, x: f64, y: f64) -> Marker {
-    Marker {
-        label: label.to_owned(),
-        x,
-        y,
-    }
-}
-
 /// Cells per axis of a cross-section.
 fn cells(ctx: &Context<'_>) -> usize {
     ctx.mode.pick(41, 161)
@@ -108,8 +100,8 @@ pub(super) fn cross_sections(
         let vertical = classify(&robot, &xs, &zs, |x, z| Vector3::new(x, 0.0, z))?;
         let horizontal = classify(&robot, &xs, &xs, |x, y| Vector3::new(x, y, -0.6))?;
         for (plane, (a, b), values, labels) in [
-            ("xz", (&xs, &zs), vertical, ("x (m)", "z − z0 (m)")),
-            ("xy", (&xs, &xs), horizontal, ("x (m)", "y (m)")),
+            ("xz", (&xs, &zs), vertical, ("x", "z − z0")),
+            ("xy", (&xs, &xs), horizontal, ("x", "y")),
         ] {
             tables.push(section_table(
                 &format!("section_{plane}_{name}"),
@@ -117,26 +109,26 @@ pub(super) fn cross_sections(
                 b,
                 &values,
             ));
-            figures.push(Figure {
-                name: format!("section_{plane}_{name}"),
-                title: format!(
-                    "{} workspace, {} (2: below the motors, 1: above)",
-                    name.to_uppercase(),
-                    if plane == "xz" {
-                        "plane y = 0"
-                    } else {
-                        "plane z − z0 = −0.6 m"
-                    }
-                ),
-                kind: FigureKind::Heatmap(Heatmap {
-                    x_label: labels.0.into(),
-                    y_label: labels.1.into(),
-                    z_label: "region".into(),
-                    x: a.clone(),
-                    y: b.clone(),
-                    values,
-                }),
-            });
+            let title = format!(
+                "{} workspace, {} (2: below the motors, 1: above)",
+                name.to_uppercase(),
+                if plane == "xz" {
+                    "plane y = 0"
+                } else {
+                    "plane z − z0 = −0.6 m"
+                }
+            );
+            let map = Heatmap {
+                colour_axis: "region".into(),
+                x: a.clone(),
+                y: b.clone(),
+                values,
+            };
+            let (u, v) = (Quantity::new(labels.0, "m"), Quantity::new(labels.1, "m"));
+            figures.push(Figure::chart(
+                format!("section_{plane}_{name}"),
+                Chart::heatmap(title, u, v, map),
+            ));
         }
     }
     Ok((figures, tables))
