@@ -7,12 +7,14 @@
 //! quadrature (add `--full` for the accurate one used by Table 2).
 #![allow(clippy::print_stdout)]
 
+use pkm::mechanisms::LinearDeltaMode;
 use pkm::papers::miller2004::linear_delta::{
-    evaluation::Eta1Memo,
+    evaluation::linear_delta,
     search::{Rules, optimise, search_box},
     table2::STATED_LIMITS,
 };
 use pkm::papers::{Context, Mode};
+use pkm::workspace_indices::{SectionIndexCache, SectionIndices};
 use pkm_traits::Silent;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -34,17 +36,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         mode,
         progress: &Silent,
     };
-    let memo = Eta1Memo::default();
+    // The indices of every design searched, shared by the weightings (they do not depend on
+    // the weights).
+    let cache = SectionIndexCache::new();
     let bounds = search_box(STATED_LIMITS)?;
     println!("  w1    w2 | L1/YR YA/YR ZR/YR L2/L1 |   eta1   eta2    eta");
     for (w1, w2) in weights {
         let rules = Rules::for_mode(mode);
-        let optimum = optimise((w1, w2), bounds, rules, &memo, &context)?;
+        let optimum = optimise((w1, w2), bounds, rules, &cache, &context)?;
         let [l1, ya, zr, l2] = optimum.design;
         let [eta1, eta2, eta] = optimum.indices;
         // The search skips η1 when w1 = 0; report it at the optimum all the same.
         let eta1 = if eta1.is_nan() {
-            memo.eta1(&optimum.design, rules.fine)?
+            let delta = linear_delta(&optimum.design)?;
+            SectionIndices::new(&delta, LinearDeltaMode::PAPER).eta1(rules.fine)?
         } else {
             eta1
         };

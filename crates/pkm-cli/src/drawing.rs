@@ -14,7 +14,6 @@
 //! `--threads`, and `pkm merge` writes the same drawing as a single run.
 
 use crate::commands::Report;
-use crate::commands::workspace::bounding_box;
 use crate::grid::{GridStudy, Prepared};
 use crate::output::Output;
 use crate::study::StudyFile;
@@ -88,8 +87,8 @@ pub fn design_scene(
         Some(region) => region,
         None => drawing_region(spec)?,
     };
-    let (lower, upper) = bounding_box(&region);
-    let centre = (lower + upper) / 2.0;
+    let bounds = region.bounding_box();
+    let (lower, upper, centre) = (bounds.lower, bounds.upper, bounds.centre());
     let (a, b, normal) = match spec {
         MechanismSpec::LinearDelta(_) => (1, 2, 0),
         _ => (0, 2, 1),

@@ -9,16 +9,19 @@
 //! | `eta2` | space utilisation (Miller 2004 eq. 2) | – | linear_delta |
 //! | `area` | cross-section area A_W / Y_R² | – | linear_delta |
 //!
-//! The Linear Delta's cross-section indices are computed by the library through the `pkm`
-//! facade (`pkm::papers::miller2004::linear_delta::evaluation`), memoised per design to the
-//! nearest millionth as the paper experiments do, so a study file and the experiment evaluate
-//! the same numbers.
+//! The Linear Delta's cross-section indices are the library's
+//! (`pkm_workspace_indices::SectionIndices`, the same as the paper experiments), cached per
+//! exact design for the study (`SectionIndexCache`): a design is never given another design's
+//! values, however close the nodes of a sweep.
 
 use crate::CliError;
 use crate::study::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
-use pkm::papers::miller2004::linear_delta::evaluation::{DesignEvaluation, Eta1Memo, Eta1Rule};
-use pkm_traits::{ConstrainedWorkspace, Silent, WorkspaceConstraint};
-use pkm_workspace_indices::{Dim, PointSet, TranslationalCondition, Workspace};
+use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
+use pkm_traits::{ConstrainedWorkspace, ObjectiveError, Silent, WorkspaceConstraint};
+use pkm_workspace_indices::{
+    Dim, Eta1Rule, IndexError, PointSet, SectionIndex, SectionIndexCache, TranslationalCondition,
+    Workspace,
+};
 use serde::{Deserialize, Serialize};
 
 /// An index (see the module table).
@@ -91,7 +94,7 @@ impl Default for IndexSettings {
 impl IndexSettings {
     fn eta1_rule(self) -> Eta1Rule {
         if self.eta1_paper_grid {
-            Eta1Rule::PaperGrid
+            Eta1Rule::Grid
         } else {
             Eta1Rule::Quadrature(self.eta1_points)
         }
@@ -109,7 +112,7 @@ pub struct Evaluator {
     variables: Vec<String>,
     constraints: Vec<WorkspaceConstraint>,
     points: Option<PointSet>,
-    memo: Eta1Memo,
+    cache: SectionIndexCache,
 }
 
 struct VolumeAndEta<'a> {
@@ -151,7 +154,7 @@ impl Evaluator {
             variables,
             constraints,
             points,
-            memo: Eta1Memo::default(),
+            cache: SectionIndexCache::new(),
         }
     }
 
@@ -230,19 +233,33 @@ impl Evaluator {
         let ratios = spec
             .linear_delta_ratios()
             .ok_or_else(|| format!("{} is an index of linear_delta only", index.key()))?;
-        let reason = |e: pkm_traits::ObjectiveError| e.to_string();
-        match index {
-            IndexName::Eta1 => self
-                .memo
-                .eta1(&ratios, settings.eta1_rule())
-                .map_err(reason),
-            IndexName::Eta2 => self.memo.eta2(&ratios).map_err(reason),
-            IndexName::Area => DesignEvaluation::new(&ratios)
-                .map(|e| e.area())
-                .map_err(reason),
+        let index = match index {
+            IndexName::Eta1 => SectionIndex::Eta1(settings.eta1_rule()),
+            IndexName::Eta2 => SectionIndex::Eta2,
+            IndexName::Area => SectionIndex::Area,
             IndexName::Volume | IndexName::Eta | IndexName::Gci => {
-                Err("workspace index without points".to_owned())
+                return Err("workspace index without points".to_owned());
             }
+        };
+        // The study's design of Y_R = 1 (the ratios are the design variables).
+        let build = || {
+            let ratios = LinearDeltaRatios::from_slice(&ratios);
+            LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 })
+        };
+        let values = self
+            .cache
+            .values(&ratios, &[index], LinearDeltaMode::PAPER, build);
+        match values.into_iter().next() {
+            Some(value) => value.map_err(|e| infeasible(e).to_string()),
+            None => Err("no value".to_owned()),
         }
+    }
+}
+
+/// An index failure as an infeasible design (an invalid design keeps its typed cause).
+fn infeasible(e: IndexError) -> ObjectiveError {
+    match e {
+        IndexError::Design(design) => design.into(),
+        e => ObjectiveError::infeasible(e.to_string()),
     }
 }

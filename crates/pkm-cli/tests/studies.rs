@@ -6,7 +6,6 @@ mod common;
 
 use common::{close, csv, run_study, study};
 use nalgebra::Vector3;
-use pkm::papers::miller2004::linear_delta::evaluation::{Eta1Memo, eta1, eta2};
 use pkm::papers::miller2004::linear_delta::table2;
 use pkm::papers::{Context, Mode};
 use pkm_mechanisms::{
@@ -14,13 +13,24 @@ use pkm_mechanisms::{
     Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
 };
 use pkm_traits::{Silent, WorkspaceConstraint};
-use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
+use pkm_workspace_indices::{
+    Domain, Eta1Rule, IndexError, PointSet, Region, Sampler, SectionIndex, SectionIndexCache,
+    SectionIndices, Workspace,
+};
 
 /// Relative agreement of two evaluations of the same formula with the same inputs.
 const SAME: f64 = 1e-12;
 
 fn f(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap()
+}
+
+/// A cross-section index of the Linear Delta `[L1/YR, YA/YR, ZR/YR, L2/L1]` (YR = 1),
+/// straight from the library.
+fn section_index(design: &[f64; 4], index: SectionIndex) -> Result<f64, IndexError> {
+    let ratios = LinearDeltaRatios::from_slice(design);
+    let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 })?;
+    SectionIndices::new(&delta, LinearDeltaMode::PAPER).value(index)
 }
 
 #[test]
@@ -160,7 +170,7 @@ fn linear_delta_row4_study_gives_the_experiments_optimum() {
         mode: Mode::Quick,
         progress: &Silent,
     };
-    let (_, experiment) = table2::row4(&context, &Eta1Memo::default()).unwrap();
+    let (_, experiment) = table2::row4(&context, &SectionIndexCache::new()).unwrap();
     let optimum = &results["result"]["optimum"];
     let names = ["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1"];
     for (name, expected) in names.iter().zip(experiment.design) {
@@ -200,7 +210,8 @@ fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
         .filter_map(|row| {
             let v: Vec<f64> = row[1..4].iter().map(|c| c.parse().unwrap()).collect();
             let design = [v[0], 0.0, v[1], v[2]];
-            let (Ok(e1), Ok(e2)) = (eta1(&design, 8), eta2(&design)) else {
+            let e1 = section_index(&design, SectionIndex::Eta1(Eta1Rule::Quadrature(8)));
+            let (Ok(e1), Ok(e2)) = (e1, section_index(&design, SectionIndex::Eta2)) else {
                 assert!(
                     row[4].is_empty(),
                     "infeasible for the library, not for pkm: {row:?}"
@@ -286,7 +297,43 @@ fn linear_delta_workspace_matches_the_library() {
     assert!(close(f(&e["volume"]), direct.volume, SAME));
     assert!(close(f(&e["gci"]), direct.gci().unwrap(), SAME));
     // Bounded by the cross-section area (YR² · A_W/YR²) times the carriage stroke.
-    let area =
-        pkm::papers::miller2004::linear_delta::evaluation::area(&[2.0, 0.0, 0.0, 0.63]).unwrap();
+    let area = section_index(&[2.0, 0.0, 0.0, 0.63], SectionIndex::Area).unwrap();
     assert!(f(&e["volume"]) < 0.2 * 0.2 * area * 1.0);
+}
+
+/// Regression (issue 17): the Linear Delta's η1/η2 were memoised per design rounded to 1e-6 and
+/// computed at the rounded design, so a sweep whose nodes were closer than that reported one
+/// node's values for its neighbours. Nodes 1e-9 apart now each get their own values, the
+/// library's at exactly that node.
+#[test]
+fn a_linear_delta_sweep_with_nodes_1e_9_apart_gives_each_node_its_own_indices() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("close.toml");
+    std::fs::write(
+        &path,
+        "[mechanism.linear_delta]\n\
+         l1_over_yr = 2.0\nya_over_yr = 0.0\nzr_over_yr = 0.0\nl2_over_l1 = 0.63\n\
+         [indices]\neta1_points = 8\n\
+         [[variables]]\nname = \"l2_over_l1\"\nfrom = 0.63\nto = 0.630000004\nsteps = 5\n\
+         [sweep]\nobjective = { eta1 = 1.0, eta2 = 1.0 }\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    run_study("sweep", &path, &out, &[]);
+    let (header, rows) = csv(&out.join("landscape.csv"));
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (l2, eta1, eta2) = (column("l2_over_l1"), column("eta1"), column("eta2"));
+    assert_eq!(rows.len(), 5);
+    let mut distinct = Vec::new();
+    for row in &rows {
+        let design = [2.0, 0.0, 0.0, row[l2].parse().unwrap()];
+        let cell = |k: usize| row[k].parse::<f64>().unwrap().to_bits();
+        let eta1_rule = SectionIndex::Eta1(Eta1Rule::Quadrature(8));
+        let library = |index| section_index(&design, index).unwrap().to_bits();
+        assert_eq!(cell(eta1), library(eta1_rule), "{row:?}");
+        assert_eq!(cell(eta2), library(SectionIndex::Eta2), "{row:?}");
+        distinct.push(cell(eta1));
+    }
+    distinct.dedup();
+    assert_eq!(distinct.len(), 5, "nodes 1e-9 apart share an η1");
 }

@@ -6,15 +6,15 @@
 
 use clap::Parser;
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
-use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
-use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
 use pkm::screw_theory::Twist;
 use pkm_cli::commands::dynamics::DynamicsResult;
 use pkm_cli::commands::optimize::OptimizeResult;
 use pkm_cli::commands::task::TaskResult;
 use pkm_cli::output::Results;
 use pkm_cli::{Cli, run};
+use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
+use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
+use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm_mechanisms::{
     Placement, RotaryDelta, StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
     ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
@@ -427,7 +427,7 @@ fn nuwar_dynamics_from_a_csv_matches_the_library_and_the_analytic_cycle() {
     // differences. Measured at dt = 2 ms: 0.23 N m inside (0.4 % of the 60 N m peak) and
     // 1.16 N m (1.9 %) at the two samples at each end, where the one-sided differences have
     // four times the error constant; the bounds are about twice that.
-    let cycle = pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let cycle = miller_pick_and_place(0.5).unwrap();
     let exact = inverse::sample(&model, &cycle, dt).unwrap();
     let analytic = inverse::hamilton(&model, &exact, Differencing::Central).unwrap();
     let gaps: Vec<f64> = hamilton
@@ -627,7 +627,7 @@ fn the_built_in_cycle_gives_the_library_torques() {
     );
     let r = run_text::<DynamicsResult>("dynamics", &text).result;
     let model = nuwar();
-    let cycle = pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+    let cycle = miller_pick_and_place(0.5).unwrap();
     let samples = inverse::sample(&model, &cycle, 1e-3).unwrap();
     let hamilton = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
     let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact).unwrap();

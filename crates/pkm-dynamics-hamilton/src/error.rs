@@ -1,6 +1,6 @@
 //! Typed failures of the dynamics computations.
 
-use pkm_traits::{IntegrationError, KinematicsError};
+use pkm_traits::{IntegrationError, InvalidInput, KinematicsError};
 use thiserror::Error;
 
 /// A failure at one configuration $q$ of the model. The model has no clock: the functions of
@@ -77,16 +77,9 @@ pub enum DynamicsError {
         /// Time at which it happened.
         t: f64,
     },
-    /// Settings that cannot work.
-    #[error("invalid setting: {setting} = {value} ({requirement})")]
-    InvalidSetting {
-        /// Name of the setting.
-        setting: &'static str,
-        /// The value given.
-        value: f64,
-        /// What it must satisfy.
-        requirement: &'static str,
-    },
+    /// Settings that cannot work (a non-positive step, too few samples, an empty trajectory).
+    #[error(transparent)]
+    Invalid(#[from] InvalidInput),
     /// The integrator failed (cannot meet its tolerance, step underflow, ...).
     #[error(transparent)]
     Integration(#[from] IntegrationError),

@@ -18,11 +18,15 @@
 //! as a dense 9×9 system.
 //!
 //! Both carry $W$ so that the energy balance $E(t) - E(0) - W(t)$ is known to the integrator's
-//! tolerance.
+//! tolerance. [`retrace`] runs a form with any `pkm_integrators` scheme and samples it with
+//! these diagnostics; [`retrace_sampled`] feeds the Hamilton form with the torques of an
+//! inverse-dynamics run (the retrace of Fig. 9).
 
 mod fields;
+mod retrace;
 mod saddle;
 mod torque;
 
 pub use fields::{AccelerationForm, ForwardForm, HamiltonForm, SADDLE_MATRIX};
+pub use retrace::{Retrace, retrace, retrace_sampled};
 pub use torque::SampledTorques;

@@ -11,6 +11,7 @@
 use crate::trajectory::Trajectory;
 use crate::{ConfigurationError, DynamicsError, ExtendedModel, ExtendedState};
 use nalgebra::{Vector3, Vector6};
+use pkm_traits::InvalidInput;
 
 /// Two-point differencing of a sampled signal on a uniform grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,7 +52,7 @@ pub enum Accelerations {
 /// The extended states of `trajectory` on the grid $t_k = k\,\Delta t$ up to its end.
 ///
 /// # Errors
-/// [`DynamicsError::InvalidSetting`] for a step that is not positive or leaves fewer than 3
+/// [`DynamicsError::Invalid`] for a step that is not positive or leaves fewer than 3
 /// samples; [`DynamicsError::Unreachable`] with the time and leg of the first unreachable point.
 pub fn sample(
     model: &ExtendedModel,
@@ -60,11 +61,7 @@ pub fn sample(
 ) -> Result<Vec<(f64, ExtendedState)>, DynamicsError> {
     let steps = (trajectory.duration() / dt).round();
     if !(dt > 0.0 && (2.0..1e8).contains(&steps)) {
-        return Err(DynamicsError::InvalidSetting {
-            setting: "dt",
-            value: dt,
-            requirement: "must be > 0 and leave 3 to 1e8 samples",
-        });
+        return Err(InvalidInput::new("dt", dt, "must be > 0 and leave 3 to 1e8 samples").into());
     }
     (0..=steps as usize)
         .map(|k| {
@@ -102,24 +99,19 @@ pub const SPACING_TOLERANCE: f64 = 1e-9;
 /// is exactly the `dt` given there.
 ///
 /// # Errors
-/// [`DynamicsError::InvalidSetting`]: setting `"samples"` (value: their number) for fewer than
+/// [`DynamicsError::Invalid`]: name `"samples"` (value: their number) for fewer than
 /// 3 samples, `"sample step"` for a step that is not finite and positive, and `"sample time"`
 /// (value: $t_k$) at the first sample off the uniform grid.
-pub fn sample_step(samples: &[(f64, ExtendedState)]) -> Result<f64, DynamicsError> {
+pub fn sample_step<T>(samples: &[(f64, T)]) -> Result<f64, DynamicsError> {
     let n = samples.len();
-    let [(first, _), (second, _), ..] = samples else {
-        return Err(too_few(n));
+    let [(first, _), (second, _), _, ..] = samples else {
+        let requirement = "differencing needs at least 3 samples";
+        return Err(InvalidInput::new("samples", n as f64, requirement).into());
     };
-    if n < 3 {
-        return Err(too_few(n));
-    }
     let step = second - first;
     if !(step.is_finite() && step > 0.0) {
-        return Err(DynamicsError::InvalidSetting {
-            setting: "sample step",
-            value: step,
-            requirement: "sample times must increase and be finite",
-        });
+        let requirement = "sample times must increase and be finite";
+        return Err(InvalidInput::new("sample step", step, requirement).into());
     }
     let off_grid = samples.windows(2).find(|w| {
         let (before, after) = (w[0].0, w[1].0);
@@ -128,21 +120,59 @@ pub fn sample_step(samples: &[(f64, ExtendedState)]) -> Result<f64, DynamicsErro
         !((after - before - step).abs() <= SPACING_TOLERANCE * step + rounding)
     });
     match off_grid {
-        Some(w) => Err(DynamicsError::InvalidSetting {
-            setting: "sample time",
-            value: w[1].0,
-            requirement: "samples must be equally spaced to a relative 1e-9",
-        }),
+        Some(w) => {
+            let requirement = "samples must be equally spaced to a relative 1e-9";
+            Err(InvalidInput::new("sample time", w[1].0, requirement).into())
+        }
         None => Ok(step),
     }
 }
 
-fn too_few(n: usize) -> DynamicsError {
-    DynamicsError::InvalidSetting {
-        setting: "samples",
-        value: n as f64,
-        requirement: "differencing needs at least 3 samples",
-    }
+/// The extended states of platform positions $p_k$ sampled at equally spaced times $t_k$
+/// (measured or planned positions without derivatives): $\dot p$ by second-order central
+/// differences of the positions and $\ddot p$ by the same differences of $\dot p$
+/// ([`Differencing::Central`] applied once and twice, one-sided at the ends), then the joint
+/// motion of each sample ([`ExtendedModel::joint_motion`]). Hamilton's torques
+/// ([`hamilton`]) of these states use first differences of the data only.
+///
+/// # Errors
+/// As [`sample_step`] for positions that are too few or not equally spaced in time;
+/// [`DynamicsError::Unreachable`] or [`DynamicsError::Singular`] with the time of the first
+/// sample out of reach (a non-finite position is out of reach).
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_dynamics_hamilton::{ExtendedModel, MassParameters, inverse};
+/// use pkm_mechanisms::{Placement, RotaryDelta, presets};
+/// let robot = RotaryDelta::new(presets::nuwar(Placement::canonical()))?;
+/// let model = ExtendedModel::new(robot, &MassParameters::miller2004())?;
+/// // A uniform descent at 0.1 m/s, sampled every 10 ms.
+/// let positions: Vec<_> = (0..20)
+///     .map(|k| (k as f64 * 0.01, Vector3::new(0.0, 0.0, -0.8 - 0.001 * k as f64)))
+///     .collect();
+/// let states = inverse::sample_positions(&model, &positions)?;
+/// assert!((states[7].1.qd[2] + 0.1).abs() < 1e-12 && states[7].1.qdd[2].abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn sample_positions(
+    model: &ExtendedModel,
+    positions: &[(f64, Vector3<f64>)],
+) -> Result<Vec<(f64, ExtendedState)>, DynamicsError> {
+    let dt = sample_step(positions)?;
+    let padded: Vec<Vector6<f64>> = positions
+        .iter()
+        .map(|(_, p)| Vector6::new(p.x, p.y, p.z, 0.0, 0.0, 0.0))
+        .collect();
+    let velocities = Differencing::Central.apply(&padded, dt);
+    let accelerations = Differencing::Central.apply(&velocities, dt);
+    let head = |v: &Vector6<f64>| Vector3::new(v[0], v[1], v[2]);
+    (positions.iter().zip(&velocities).zip(&accelerations))
+        .map(|(((t, p), v), a)| {
+            let state = model.joint_motion(p, &head(v), &head(a));
+            state.map(|s| (*t, s)).map_err(|e| e.at(*t))
+        })
+        .collect()
 }
 
 /// Hamilton's inverse dynamics (§3.3): $p_k = M(q_k)\dot q_k$, $\dot p$ by `differencing` on
@@ -318,7 +348,7 @@ mod tests {
                 lagrange(&model, samples, differenced).unwrap_err(),
             ] {
                 assert!(
-                    matches!(e, DynamicsError::InvalidSetting { setting: s, value: v, .. }
+                    matches!(e, DynamicsError::Invalid(InvalidInput { name: s, value: v, .. })
                         if s == setting && ((v.is_nan() && value.is_nan()) || (v - value).abs() < 1e-15)),
                     "{e:?}, expected {setting} = {value}"
                 );

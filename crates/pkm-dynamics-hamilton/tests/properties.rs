@@ -4,7 +4,8 @@
 
 use nalgebra::{Vector3, Vector6};
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
+use pkm_dynamics_hamilton::trajectory::Trajectory;
+use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm_mechanisms::{Placement, RotaryDelta, presets};
 use proptest::prelude::*;
@@ -17,30 +18,9 @@ fn nuwar() -> ExtendedModel {
     .unwrap()
 }
 
-/// Miller's canonical cycle (§3.5, spec `miller-dynamics.md`), built from the general API: the
-/// half ellipse through (0, -0.2, -0.9), (0, 0, -0.5), (0, 0.2, -0.9), 3-4-5, 0.25 s each way.
+/// Miller's canonical cycle (§3.5, spec `miller-dynamics.md`): 0.25 s each way.
 fn ellipse_cycle() -> Trajectory {
-    let path = Path::Ellipse {
-        centre: Vector3::new(0.0, 0.0, -0.9),
-        axis_1: Vector3::new(0.0, -0.2, 0.0),
-        axis_2: Vector3::new(0.0, 0.0, 0.4),
-        start_angle: 0.0,
-        sweep: std::f64::consts::PI,
-    };
-    let go = Segment {
-        path,
-        law: MotionLaw::Polynomial345,
-        duration: 0.25,
-        reverse: false,
-    };
-    Trajectory::new(vec![
-        go,
-        Segment {
-            reverse: true,
-            ..go
-        },
-    ])
-    .unwrap()
+    miller_pick_and_place(0.5).unwrap()
 }
 
 fn lagrangian(m: &ExtendedModel, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {

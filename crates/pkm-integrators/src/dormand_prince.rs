@@ -176,7 +176,7 @@ impl<const M: usize> Integrator<M> for DormandPrince54<M> {
     /// until the weighted local error is at most 1.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] for a non-finite `t`, or an `h` that is zero, not
+    /// [`IntegrationError::Invalid`] for a non-finite `t`, or an `h` that is zero, not
     /// finite or too small to move `t`;
     /// [`IntegrationError::Rhs`] when the field fails; [`IntegrationError::NonFinite`] when the
     /// state is not finite, or when attempts stay non-finite down to the smallest step (a

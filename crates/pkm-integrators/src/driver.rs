@@ -1,7 +1,7 @@
 //! The driver that runs a [`Scheme`] over an interval and samples it.
 
 use nalgebra::SVector;
-use pkm_traits::{IntegrationError, Progress, VectorField};
+use pkm_traits::{IntegrationError, InvalidInput, Progress, VectorField};
 
 use crate::{OutputTimes, Scheme, Solution, Stats, require_finite_state};
 
@@ -18,7 +18,7 @@ const CHECK_EVERY: usize = 64;
 /// sample and is checked for cancellation every 64 steps.
 ///
 /// # Errors
-/// [`IntegrationError::InvalidSetting`] for a span that is not finite and increasing, invalid
+/// [`IntegrationError::Invalid`] for a span that is not finite and increasing, invalid
 /// output times, a first step that is not finite and positive, or a fixed step so small that
 /// the span needs more steps than the method's budget (refused before the run starts);
 /// [`IntegrationError::TooManySteps`] when the method's step budget runs out;
@@ -39,11 +39,12 @@ where
 {
     let (t0, t1) = t_span;
     if !(t0.is_finite() && t1.is_finite() && t1 > t0 && (t1 - t0).is_finite()) {
-        return Err(IntegrationError::InvalidSetting {
-            setting: "t1",
-            value: t1,
-            requirement: "t0 and t1 must be finite with t1 > t0 and a finite span t1 - t0",
-        });
+        return Err(InvalidInput::new(
+            "t1",
+            t1,
+            "t0 and t1 must be finite with t1 > t0 and a finite span t1 - t0",
+        )
+        .into());
     }
     require_finite_state(t0, z0)?;
     let targets = output.resolve(t0, t1)?;
@@ -129,19 +130,16 @@ fn check_start(
     samples: usize,
 ) -> Result<(), IntegrationError> {
     if !(h.is_finite() && h > 0.0) {
-        return Err(IntegrationError::InvalidSetting {
-            setting: "h",
-            value: h,
-            requirement: "the first step must be finite and > 0",
-        });
+        return Err(InvalidInput::new("h", h, "the first step must be finite and > 0").into());
     }
     let needed = ((t1 - t0) / h).ceil() + samples as f64;
     if !dense && !(needed <= max_steps as f64) {
-        return Err(IntegrationError::InvalidSetting {
-            setting: "h",
-            value: h,
-            requirement: "the span needs more fixed steps than the method's max_steps",
-        });
+        return Err(InvalidInput::new(
+            "h",
+            h,
+            "the span needs more fixed steps than the method's max_steps",
+        )
+        .into());
     }
     Ok(())
 }
@@ -398,13 +396,13 @@ mod tests {
         ] {
             let result = run(span, out);
             assert!(
-                matches!(result, Err(IntegrationError::InvalidSetting { .. })),
+                matches!(result, Err(IntegrationError::Invalid(_))),
                 "{result:?}"
             );
         }
         assert!(matches!(
             Rk4::new(-0.1),
-            Err(IntegrationError::InvalidSetting { setting: "h", .. })
+            Err(IntegrationError::Invalid(InvalidInput { name: "h", .. }))
         ));
         assert!(
             ImplicitMidpoint::new(0.1)

@@ -1,9 +1,9 @@
 //! The implicit midpoint rule, symplectic and of order 2.
 
 use nalgebra::SVector;
-use pkm_traits::{IntegrationError, Integrator, StepReport, VectorField};
+use pkm_traits::{IntegrationError, Integrator, InvalidInput, StepReport, VectorField};
 
-use crate::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start, require_finite_state, require_positive};
+use crate::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start, require_finite_state};
 
 /// The implicit midpoint rule with a fixed step,
 /// $$ z_1 = z_0 + h\, f\!\left(t_0 + \tfrac h2,\ \tfrac{z_0 + z_1}{2}\right), $$
@@ -47,10 +47,10 @@ impl ImplicitMidpoint {
     /// Implicit midpoint with step size `h` for the driver and default stage-solver settings.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless `h` is finite and `> 0`.
+    /// [`IntegrationError::Invalid`] unless `h` is finite and `> 0`.
     pub fn new(h: f64) -> Result<Self, IntegrationError> {
         Ok(Self {
-            h: require_positive("h", h)?,
+            h: InvalidInput::require_positive("h", h)?,
             tolerance: 1e-13,
             max_iterations: 50,
             max_steps: DEFAULT_MAX_FIXED_STEPS,
@@ -61,21 +61,21 @@ impl ImplicitMidpoint {
     /// that needs more before it starts.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] when 0.
+    /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
-        Ok(Self {
-            max_steps: crate::require_nonzero("max_steps", max_steps)?,
-            ..self
-        })
+        if max_steps == 0 {
+            return Err(InvalidInput::new("max_steps", 0.0, "must be >= 1").into());
+        }
+        Ok(Self { max_steps, ..self })
     }
 
     /// Stopping tolerance of the fixed-point stage solve (relative to `max(1, ‖z‖_∞)`).
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless finite and `> 0`.
+    /// [`IntegrationError::Invalid`] unless finite and `> 0`.
     pub fn with_tolerance(self, tolerance: f64) -> Result<Self, IntegrationError> {
         Ok(Self {
-            tolerance: require_positive("tolerance", tolerance)?,
+            tolerance: InvalidInput::require_positive("tolerance", tolerance)?,
             ..self
         })
     }
@@ -83,14 +83,10 @@ impl ImplicitMidpoint {
     /// Iteration budget of the stage solve.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] when 0.
+    /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_iterations(self, max_iterations: usize) -> Result<Self, IntegrationError> {
         if max_iterations == 0 {
-            return Err(IntegrationError::InvalidSetting {
-                setting: "max_iterations",
-                value: 0.0,
-                requirement: "must be >= 1",
-            });
+            return Err(InvalidInput::new("max_iterations", 0.0, "must be >= 1").into());
         }
         Ok(Self {
             max_iterations,
@@ -116,7 +112,7 @@ impl<const M: usize> Integrator<M> for ImplicitMidpoint {
     /// One implicit midpoint step of size `h` (negative `h` integrates backwards).
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] for a zero or non-finite `h` or `t`;
+    /// [`IntegrationError::Invalid`] for a zero or non-finite `h` or `t`;
     /// [`IntegrationError::Rhs`] when the field fails, [`IntegrationError::NonFinite`] when the
     /// state or a stage is not finite, [`IntegrationError::NotConverged`] when the stage solve
     /// exceeds its iteration budget (reduce `h`).

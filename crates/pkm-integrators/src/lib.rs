@@ -67,7 +67,7 @@ pub use scheme::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start};
 pub use settings::AdaptiveSettings;
 
 use nalgebra::SVector;
-use pkm_traits::IntegrationError;
+use pkm_traits::{IntegrationError, InvalidInput};
 
 /// `Err(NonFinite { t })` unless every component of `z` is finite.
 fn require_finite_state<const M: usize>(
@@ -81,49 +81,17 @@ fn require_finite_state<const M: usize>(
     }
 }
 
-/// `Ok(value)` when `value` is finite and `> 0`, else `InvalidSetting`.
-fn require_positive(setting: &'static str, value: f64) -> Result<f64, IntegrationError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(IntegrationError::InvalidSetting {
-            setting,
-            value,
-            requirement: "must be finite and > 0",
-        })
-    }
-}
-
-/// `Ok(value)` when the count is at least 1, else `InvalidSetting`.
-fn require_nonzero(setting: &'static str, value: usize) -> Result<usize, IntegrationError> {
-    if value > 0 {
-        Ok(value)
-    } else {
-        Err(IntegrationError::InvalidSetting {
-            setting,
-            value: 0.0,
-            requirement: "must be >= 1",
-        })
-    }
-}
-
 /// A step of `h` from `t` must be finite, non-zero and move `t` (`t + h != t`); `h < 0`
 /// integrates backwards.
 fn require_step(t: f64, h: f64) -> Result<(), IntegrationError> {
     if !t.is_finite() {
-        return Err(IntegrationError::InvalidSetting {
-            setting: "t",
-            value: t,
-            requirement: "must be finite",
-        });
+        return Err(InvalidInput::new("t", t, "must be finite").into());
     }
     let advance = (t + h) - t;
     if !(h.is_finite() && advance.abs() > 0.0) {
-        return Err(IntegrationError::InvalidSetting {
-            setting: "h",
-            value: h,
-            requirement: "must be finite and large enough that t + h != t",
-        });
+        return Err(
+            InvalidInput::new("h", h, "must be finite and large enough that t + h != t").into(),
+        );
     }
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! What a run returns: the sampled states and its statistics.
 
 use nalgebra::SVector;
-use pkm_traits::{IntegrationError, StepReport};
+use pkm_traits::{IntegrationError, InvalidInput, StepReport};
 
 /// Most samples one run records: they are allocated up front, so more are refused (a typed
 /// error) before the run starts. 2²³ states of 12 components take 800 MB.
@@ -24,21 +24,22 @@ impl OutputTimes {
     /// The requested times inside `[t0, t1]`, or `None` for [`OutputTimes::Steps`].
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] for a `Uniform` step that is not finite and positive,
+    /// [`IntegrationError::Invalid`] for a `Uniform` step that is not finite and positive,
     /// `Times` that are not finite, not sorted or outside the span, or more than [`MAX_SAMPLES`]
     /// samples.
     pub fn resolve(&self, t0: f64, t1: f64) -> Result<Option<Vec<f64>>, IntegrationError> {
         match self {
             Self::Steps => Ok(None),
             Self::Uniform(dt) => {
-                let dt = crate::require_positive("output dt", *dt)?;
+                let dt = InvalidInput::require_positive("output dt", *dt)?;
                 let count = ((t1 - t0) / dt + 1e-9).floor();
                 if !(count < MAX_SAMPLES as f64) {
-                    return Err(IntegrationError::InvalidSetting {
-                        setting: "output dt",
-                        value: dt,
-                        requirement: "must give at most MAX_SAMPLES samples over the span",
-                    });
+                    return Err(InvalidInput::new(
+                        "output dt",
+                        dt,
+                        "must give at most MAX_SAMPLES samples over the span",
+                    )
+                    .into());
                 }
                 // `count` is a non-negative integer below MAX_SAMPLES, so the cast is exact.
                 let n = count as usize;
@@ -48,20 +49,22 @@ impl OutputTimes {
             }
             Self::Times(times) => {
                 if times.len() > MAX_SAMPLES {
-                    return Err(IntegrationError::InvalidSetting {
-                        setting: "output times",
-                        value: times.len() as f64,
-                        requirement: "at most MAX_SAMPLES output times",
-                    });
+                    return Err(InvalidInput::new(
+                        "output times",
+                        times.len() as f64,
+                        "at most MAX_SAMPLES output times",
+                    )
+                    .into());
                 }
                 let mut previous = t0;
                 for &t in times {
                     if !(t >= previous && t <= t1) {
-                        return Err(IntegrationError::InvalidSetting {
-                            setting: "output time",
-                            value: t,
-                            requirement: "must be non-decreasing and inside [t0, t1]",
-                        });
+                        return Err(InvalidInput::new(
+                            "output time",
+                            t,
+                            "must be non-decreasing and inside [t0, t1]",
+                        )
+                        .into());
                     }
                     previous = t;
                 }

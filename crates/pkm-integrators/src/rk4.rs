@@ -1,9 +1,9 @@
 //! The classical fourth-order Runge–Kutta method.
 
 use nalgebra::SVector;
-use pkm_traits::{IntegrationError, Integrator, StepReport, VectorField};
+use pkm_traits::{IntegrationError, Integrator, InvalidInput, StepReport, VectorField};
 
-use crate::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start, require_finite_state, require_positive};
+use crate::{DEFAULT_MAX_FIXED_STEPS, Scheme, Start, require_finite_state};
 
 /// Classical Runge–Kutta method of order 4 with a fixed step (Hairer, Nørsett & Wanner,
 /// *Solving ODEs I*, §II.1, Table 1.2, "the" Runge–Kutta method):
@@ -34,10 +34,10 @@ impl Rk4 {
     /// RK4 with step size `h` for the driver and a budget of [`DEFAULT_MAX_FIXED_STEPS`] steps.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless `h` is finite and `> 0`.
+    /// [`IntegrationError::Invalid`] unless `h` is finite and `> 0`.
     pub fn new(h: f64) -> Result<Self, IntegrationError> {
         Ok(Self {
-            h: require_positive("h", h)?,
+            h: InvalidInput::require_positive("h", h)?,
             max_steps: DEFAULT_MAX_FIXED_STEPS,
         })
     }
@@ -45,12 +45,12 @@ impl Rk4 {
     /// Budget of steps per run: the driver refuses a run that needs more before it starts.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] when 0.
+    /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
-        Ok(Self {
-            max_steps: crate::require_nonzero("max_steps", max_steps)?,
-            ..self
-        })
+        if max_steps == 0 {
+            return Err(InvalidInput::new("max_steps", 0.0, "must be >= 1").into());
+        }
+        Ok(Self { max_steps, ..self })
     }
 
     /// The step size the driver uses.
@@ -64,7 +64,7 @@ impl<const M: usize> Integrator<M> for Rk4 {
     /// the configured step size.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] for a zero or non-finite `h` or `t`;
+    /// [`IntegrationError::Invalid`] for a zero or non-finite `h` or `t`;
     /// [`IntegrationError::Rhs`] when the field fails, [`IntegrationError::NonFinite`] when the
     /// state or a stage is not finite.
     fn step<F: VectorField<M> + ?Sized>(

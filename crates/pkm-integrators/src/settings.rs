@@ -1,8 +1,6 @@
 //! Settings of the adaptive Dormand–Prince integrator.
 
-use pkm_traits::IntegrationError;
-
-use crate::require_positive;
+use pkm_traits::{IntegrationError, InvalidInput};
 
 /// Error control and step limits of [`crate::DormandPrince54`].
 ///
@@ -53,7 +51,7 @@ impl AdaptiveSettings {
     /// Validated settings from all fields.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] when a tolerance is not finite and positive, a step
+    /// [`IntegrationError::Invalid`] when a tolerance is not finite and positive, a step
     /// limit is negative or NaN, `h_min > h_max`, or `max_steps` is 0.
     pub fn new(
         rtol: f64,
@@ -75,10 +73,10 @@ impl AdaptiveSettings {
     /// Relative tolerance.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless finite and `> 0`.
+    /// [`IntegrationError::Invalid`] unless finite and `> 0`.
     pub fn with_rtol(self, rtol: f64) -> Result<Self, IntegrationError> {
         Ok(Self {
-            rtol: require_positive("rtol", rtol)?,
+            rtol: InvalidInput::require_positive("rtol", rtol)?,
             ..self
         })
     }
@@ -86,10 +84,10 @@ impl AdaptiveSettings {
     /// Absolute tolerance.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless finite and `> 0`.
+    /// [`IntegrationError::Invalid`] unless finite and `> 0`.
     pub fn with_atol(self, atol: f64) -> Result<Self, IntegrationError> {
         Ok(Self {
-            atol: require_positive("atol", atol)?,
+            atol: InvalidInput::require_positive("atol", atol)?,
             ..self
         })
     }
@@ -97,28 +95,25 @@ impl AdaptiveSettings {
     /// First step to try; 0 chooses it automatically.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless finite and `≥ 0`.
+    /// [`IntegrationError::Invalid`] unless finite and `≥ 0`.
     pub fn with_h_initial(self, h_initial: f64) -> Result<Self, IntegrationError> {
-        require_non_negative(
-            "h_initial",
-            h_initial,
-            "must be finite and >= 0 (0 = automatic)",
-        )?;
+        if !(h_initial.is_finite() && h_initial >= 0.0) {
+            let requirement = "must be finite and >= 0 (0 = automatic)";
+            return Err(InvalidInput::new("h_initial", h_initial, requirement).into());
+        }
         Ok(Self { h_initial, ..self })
     }
 
     /// Smallest admissible step.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless finite, `≥ 0` and `≤ h_max`.
+    /// [`IntegrationError::Invalid`] unless finite, `≥ 0` and `≤ h_max`.
     pub fn with_h_min(self, h_min: f64) -> Result<Self, IntegrationError> {
-        require_non_negative("h_min", h_min, "must be finite and >= 0")?;
+        if !(h_min.is_finite() && h_min >= 0.0) {
+            return Err(InvalidInput::new("h_min", h_min, "must be finite and >= 0").into());
+        }
         if h_min > self.h_max {
-            return Err(IntegrationError::InvalidSetting {
-                setting: "h_min",
-                value: h_min,
-                requirement: "must not exceed h_max",
-            });
+            return Err(InvalidInput::new("h_min", h_min, "must not exceed h_max").into());
         }
         Ok(Self { h_min, ..self })
     }
@@ -126,14 +121,10 @@ impl AdaptiveSettings {
     /// Largest admissible step (`∞` allowed).
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] unless `> 0` and `≥ h_min`.
+    /// [`IntegrationError::Invalid`] unless `> 0` and `≥ h_min`.
     pub fn with_h_max(self, h_max: f64) -> Result<Self, IntegrationError> {
         if !(h_max > 0.0 && h_max >= self.h_min) {
-            return Err(IntegrationError::InvalidSetting {
-                setting: "h_max",
-                value: h_max,
-                requirement: "must be > 0 and >= h_min",
-            });
+            return Err(InvalidInput::new("h_max", h_max, "must be > 0 and >= h_min").into());
         }
         Ok(Self { h_max, ..self })
     }
@@ -141,14 +132,10 @@ impl AdaptiveSettings {
     /// Budget of accepted steps per run.
     ///
     /// # Errors
-    /// [`IntegrationError::InvalidSetting`] when 0.
+    /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
         if max_steps == 0 {
-            return Err(IntegrationError::InvalidSetting {
-                setting: "max_steps",
-                value: 0.0,
-                requirement: "must be >= 1",
-            });
+            return Err(InvalidInput::new("max_steps", 0.0, "must be >= 1").into());
         }
         Ok(Self { max_steps, ..self })
     }
@@ -179,22 +166,6 @@ impl AdaptiveSettings {
     }
 }
 
-fn require_non_negative(
-    setting: &'static str,
-    value: f64,
-    requirement: &'static str,
-) -> Result<(), IntegrationError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(IntegrationError::InvalidSetting {
-            setting,
-            value,
-            requirement,
-        })
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -202,8 +173,8 @@ mod tests {
     #[track_caller]
     fn assert_invalid(result: Result<AdaptiveSettings, IntegrationError>, name: &str) {
         match result {
-            Err(IntegrationError::InvalidSetting { setting, .. }) => assert_eq!(setting, name),
-            other => panic!("expected InvalidSetting({name}), got {other:?}"),
+            Err(IntegrationError::Invalid(e)) => assert_eq!(e.name, name),
+            other => panic!("expected Invalid({name}), got {other:?}"),
         }
     }
 

@@ -14,7 +14,6 @@
 #[doc = include_str!("../README.md")]
 mod readme {}
 
-mod jacobian_lanes;
 mod linear_delta;
 mod linear_delta_cross_section;
 pub mod presets;
@@ -29,9 +28,9 @@ mod tsai3dof;
 mod workspace_models;
 mod wrench_system;
 
-pub use jacobian_lanes::JacobianLanes;
 pub use linear_delta::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
 pub use linear_delta_cross_section::CrossSection;
+pub use pkm_traits::JacobianLanes;
 pub use rotary_delta::{
     ElbowMode, FOREARM_CLEARANCE_SPAN, Leg, Placement, RotaryDelta, RotaryDeltaDesign,
 };

@@ -7,8 +7,8 @@
 //! the abscissae of all pairwise intersections and of the disc extremes the bounding curves do not
 //! change, so the area is a sum of closed-form integrals of arcs and lines.
 
-use crate::linear_delta::LinearDelta;
-use pkm_traits::{Extents, SlicedRegion};
+use crate::linear_delta::{LinearDelta, LinearDeltaMode};
+use pkm_traits::{CrossSectionWorkspace, Extents, JacobianLanes, SlicedRegion};
 
 /// A disc $|p - c| \le r$.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -312,5 +312,28 @@ impl SlicedRegion for CrossSection {
 
     fn area(&self) -> f64 {
         self.area
+    }
+}
+
+/// The cross-section indices' view of the Linear Delta: $W$, the rails and the batch Jacobian
+/// ([`LinearDelta::velocity_jacobian_lanes`], the scalar closed form bit for bit).
+impl CrossSectionWorkspace for LinearDelta {
+    type CrossSection = CrossSection;
+
+    fn cross_section(&self) -> CrossSection {
+        LinearDelta::cross_section(self)
+    }
+
+    fn actuator_points(&self) -> Vec<[f64; 2]> {
+        self.rails().to_vec()
+    }
+
+    fn cross_section_jacobian_lanes<const N: usize>(
+        &self,
+        y: f64,
+        z: &[f64; N],
+        mode: LinearDeltaMode,
+    ) -> JacobianLanes<N> {
+        self.velocity_jacobian_lanes(y, z, mode)
     }
 }

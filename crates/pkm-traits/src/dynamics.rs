@@ -92,15 +92,8 @@ pub enum IntegrationError {
         t: f64,
     },
     /// Settings that cannot work (a non-positive tolerance or step).
-    #[error("invalid integrator setting: {setting} = {value} ({requirement})")]
-    InvalidSetting {
-        /// Name of the setting.
-        setting: &'static str,
-        /// The value given.
-        value: f64,
-        /// What it must satisfy.
-        requirement: &'static str,
-    },
+    #[error(transparent)]
+    Invalid(#[from] crate::InvalidInput),
     /// The computation was cancelled through [`crate::Progress`].
     #[error("cancelled")]
     Cancelled,

@@ -95,6 +95,18 @@ impl InvalidInput {
         }
     }
 
+    /// Checks that `value` is finite.
+    ///
+    /// # Errors
+    /// An [`InvalidInput`] naming `name` otherwise.
+    pub fn require_finite(name: &'static str, value: f64) -> Result<f64, Self> {
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(Self::new(name, value, "must be finite"))
+        }
+    }
+
     /// Checks that the count `value` is at most `max`, before anything of that size is
     /// allocated or iterated.
     ///

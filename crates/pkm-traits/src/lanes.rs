@@ -3,7 +3,8 @@
 //! which the compiler turns into SIMD instructions (SSE2 on the baseline target, AVX where
 //! enabled), so a kernel written once in `Lanes<N>` is vectorised without `unsafe` or a SIMD
 //! crate. Conditions are selects ([`Lanes::select_gt`]); lanes never interact, so NaN or
-//! infinity in one lane cannot reach another.
+//! infinity in one lane cannot reach another. [`JacobianLanes`] is what the batch Jacobian
+//! kernels of the mechanisms return.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -137,6 +138,29 @@ impl<const N: usize> Neg for Lanes<N> {
     #[inline(always)]
     fn neg(self) -> Self {
         self.map(|v| -v)
+    }
+}
+
+/// `N` velocity Jacobians $J = -J_q^{-1}J_x$ of a 3-DOF mechanism in structure-of-arrays form,
+/// lanes innermost, with the reachability of each lane: the output of the batch Jacobian
+/// kernels. The layout is `pkm_workspace_indices::Matrix3Lanes`, so `jacobian` feeds
+/// `inverse_condition_number_3x3_lanes` directly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JacobianLanes<const N: usize> {
+    /// Entry $(i, j)$ of the Jacobian in lane `l` is `jacobian[3 * i + j][l]`; meaningless (often
+    /// NaN or infinite) in a lane that is not reachable.
+    pub jacobian: [[f64; N]; 9],
+    /// Whether lane `l` is a finite point where every leg's inverse kinematics has a solution
+    /// at which $J$ is defined.
+    pub reachable: [bool; N],
+}
+
+impl<const N: usize> JacobianLanes<N> {
+    /// The Jacobian of lane `lane` as a matrix, `None` when that lane is not reachable or
+    /// `lane >= N`.
+    pub fn matrix(&self, lane: usize) -> Option<nalgebra::Matrix3<f64>> {
+        (*self.reachable.get(lane)?)
+            .then(|| nalgebra::Matrix3::from_fn(|i, j| self.jacobian[3 * i + j][lane]))
     }
 }
 

@@ -8,7 +8,7 @@
 //! | [`kinematics`] | closed-chain loop closure $\Phi(x, q) = 0$, $J_x$, $J_q$, inverse and forward kinematics |
 //! | [`objective`] | objectives, residuals and inequality constraints for optimisers |
 //! | [`dynamics`] | vector fields $\dot z = f(t, z)$, integrator steps, extended-space inertia models |
-//! | [`region`] | planar regions by vertical slices (workspace cross-sections) |
+//! | [`region`] | planar regions by vertical slices, and mechanisms whose workspace is such a cross-section |
 //! | [`workspace`] | workspace constraints (half-spaces, joint ranges, cone limits, clearance) |
 //! | [`progress`] | progress reporting and cooperative cancellation |
 //! | [`error`] | typed errors that carry the offending numbers |
@@ -55,8 +55,8 @@ pub use kinematics::{
     ClosedChain, ForwardKinematics, InverseKinematics, Joints, NewtonSettings, Task,
     newton_forward_kinematics,
 };
-pub use lanes::Lanes;
+pub use lanes::{JacobianLanes, Lanes};
 pub use objective::{Bounds, Constraints, Objective, Residuals};
 pub use progress::{CancelOnly, Cancelled, Progress, Silent};
-pub use region::{Extents, SlicedRegion};
+pub use region::{CrossSectionWorkspace, Extents, SlicedRegion};
 pub use workspace::{ConstrainedWorkspace, ConstraintError, ConstraintKind, WorkspaceConstraint};

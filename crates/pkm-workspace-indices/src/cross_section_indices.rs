@@ -4,7 +4,7 @@
 //! grid rule.
 
 use crate::{IndexError, LANES, gauss_legendre::GaussLegendre};
-use pkm_traits::SlicedRegion;
+use pkm_traits::{InvalidInput, SlicedRegion};
 
 /// Nodes of one slice $y$ gathered [`LANES`] at a time for a batch integrand
 /// $f(y, [z_0, \dots, z_{L-1}])$, with their weights; [`LaneBatch::flush`] adds
@@ -62,11 +62,12 @@ fn require_area(region: &impl SlicedRegion) -> Result<f64, IndexError> {
     if area > 0.0 && area.is_finite() {
         Ok(area)
     } else {
-        Err(IndexError::Invalid {
-            what: "workspace cross-section area",
-            value: area,
-            requirement: "must be > 0 (the workspace is empty)",
-        })
+        Err(InvalidInput::new(
+            "workspace cross-section area",
+            area,
+            "must be > 0 (the workspace is empty)",
+        )
+        .into())
     }
 }
 
@@ -119,11 +120,7 @@ pub fn mean_by_quadrature_lanes(
 ) -> Result<f64, IndexError> {
     let area = require_area(region)?;
     if rule.is_empty() {
-        return Err(IndexError::Invalid {
-            what: "quadrature points",
-            value: 0.0,
-            requirement: "must be >= 1",
-        });
+        return Err(InvalidInput::new("quadrature points", 0.0, "must be >= 1").into());
     }
     let mut integral = 0.0;
     let mut batch = LaneBatch::new();
@@ -210,32 +207,30 @@ pub fn mean_by_grid_lanes(
 ) -> Result<GridMean, IndexError> {
     let area = require_area(region)?;
     if !(rule.shrink > 0.0 && rule.shrink < 1.0) || rule.target_points == 0 {
-        return Err(IndexError::Invalid {
-            what: "grid rule shrink factor",
-            value: rule.shrink,
-            requirement: "must lie in (0, 1) with target_points >= 1",
-        });
+        return Err(InvalidInput::new(
+            "grid rule shrink factor",
+            rule.shrink,
+            "must lie in (0, 1) with target_points >= 1",
+        )
+        .into());
     }
     for (what, count) in [
         ("grid rule min_points", rule.min_points),
         ("grid rule target_points", rule.target_points),
     ] {
         if count > MAX_GRID_POINTS {
-            return Err(IndexError::Invalid {
-                what,
-                value: count as f64,
-                requirement: "must be at most 2^22",
-            });
+            return Err(InvalidInput::new(what, count as f64, "must be at most 2^22").into());
         }
     }
     let e = region.extents();
     let (width, height) = (e.y_max - e.y_min, e.z_max - e.z_min);
     if !(width.is_finite() && height.is_finite() && width >= 0.0 && height >= 0.0) {
-        return Err(IndexError::Invalid {
-            what: "cross-section extents",
-            value: if width.is_finite() { height } else { width },
-            requirement: "must be finite and ordered",
-        });
+        return Err(InvalidInput::new(
+            "cross-section extents",
+            if width.is_finite() { height } else { width },
+            "must be finite and ordered",
+        )
+        .into());
     }
     let mut h = (area / rule.target_points as f64).sqrt();
     for _ in 0..MAX_GRID_PASSES {
@@ -271,11 +266,12 @@ pub fn mean_by_grid_lanes(
         }
         h *= rule.shrink;
     }
-    Err(IndexError::Invalid {
-        what: "grid rule shrink factor",
-        value: rule.shrink,
-        requirement: "must reach more than min_points nodes within 1000 grids of at most 2^26 nodes",
-    })
+    Err(InvalidInput::new(
+        "grid rule shrink factor",
+        rule.shrink,
+        "must reach more than min_points nodes within 1000 grids of at most 2^26 nodes",
+    )
+    .into())
 }
 
 /// Largest [`GridRule::min_points`] and [`GridRule::target_points`] of [`mean_by_grid`]: 2²².

@@ -1,4 +1,4 @@
-use pkm_traits::{Cancelled, ConstraintError, DesignError};
+use pkm_traits::{Cancelled, ConstraintError, DesignError, InvalidInput};
 use thiserror::Error;
 
 /// Failures of index computations.
@@ -12,15 +12,8 @@ pub enum IndexError {
         n_samples: u64,
     },
     /// A region or setting that cannot be used (empty box, non-finite bound).
-    #[error("invalid {what}: {value} ({requirement})")]
-    Invalid {
-        /// Which input.
-        what: &'static str,
-        /// The value given.
-        value: f64,
-        /// What it must satisfy.
-        requirement: &'static str,
-    },
+    #[error(transparent)]
+    Invalid(#[from] InvalidInput),
     /// A count that cannot be allocated or computed in reasonable time.
     #[error("too many {what}: {requested} (at most {limit})")]
     TooLarge {

@@ -1,6 +1,7 @@
 //! Gauss–Legendre nodes and weights on $[-1, 1]$.
 
 use crate::IndexError;
+use pkm_traits::InvalidInput;
 
 /// An $n$-point Gauss–Legendre rule, exact for polynomials of degree $2n - 1$.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,11 +22,12 @@ impl GaussLegendre {
     /// allocating).
     pub fn new(n: usize) -> Result<Self, IndexError> {
         if n > Self::MAX_ORDER {
-            return Err(IndexError::Invalid {
-                what: "quadrature order",
-                value: n as f64,
-                requirement: "must be at most GaussLegendre::MAX_ORDER",
-            });
+            return Err(InvalidInput::new(
+                "quadrature order",
+                n as f64,
+                "must be at most GaussLegendre::MAX_ORDER",
+            )
+            .into());
         }
         let mut nodes = Vec::with_capacity(n);
         let mut weights = Vec::with_capacity(n);

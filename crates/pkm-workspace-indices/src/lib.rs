@@ -14,7 +14,8 @@
 //! | $1/\kappa$, $\sigma_{\min}$, $\sigma_{\max}$, manipulability $\sqrt{\det JJ^\top}$ at a pose | [`local_indices`] |
 //! | volume $W$, $\eta = \int 1/\kappa\,dW$ and GCI $= \eta/W$ over a [`Domain`] | [`Workspace::volume`], [`Workspace::volume_and_eta`], [`VolumeEstimate::gci`] |
 //! | the same on unit points scaled per design (Stamper's hemisphere) | [`Workspace::hemisphere_estimate`], [`HemisphereEstimate::gci`] |
-//! | $1/\kappa$ on a plane $z = z_0$ | [`Workspace::inverse_condition_slice`] |
+//! | $1/\kappa$ on a coordinate plane $x$, $y$ or $z = c$ | [`Workspace::inverse_condition_slice`] |
+//! | $\eta_1$, $\eta_2$ and the area of a workspace cross-section (Miller 2004, eqs. 1–2) | [`SectionIndices`], cached per exact design by [`SectionIndexCache`] |
 //!
 //! ```
 //! use nalgebra::Vector3;
@@ -64,6 +65,8 @@ mod parallel;
 mod points;
 mod region;
 mod sampler;
+mod section_cache;
+mod section_indices;
 mod slice;
 mod sobol;
 mod space_utilization;
@@ -87,9 +90,11 @@ pub use gauss_legendre::GaussLegendre;
 pub use local::{LocalIndices, inverse_condition_at, local_indices};
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
 pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
-pub use region::{Domain, Region};
+pub use region::{BoundingBox, Domain, Region};
 pub use sampler::Sampler;
-pub use slice::Slice;
+pub use section_cache::SectionIndexCache;
+pub use section_indices::{Eta1Rule, SectionIndex, SectionIndices};
+pub use slice::{Plane, Slice};
 pub use space_utilization::space_utilization;
 pub use sweep::{ratio_standard_error, sweep_volumes};
 pub use volume::{HemisphereEstimate, hemisphere_estimate};

@@ -8,6 +8,7 @@
 
 use crate::{Domain, IndexError, Sampler};
 use nalgebra::Vector3;
+use pkm_traits::InvalidInput;
 use rayon::prelude::*;
 
 /// Largest number of points a set may hold (2.4 GB of coordinates): larger requests are
@@ -64,11 +65,12 @@ impl PointSet {
         if let Sampler::Grid { per_axis } = sampler {
             let cells = u64::from(per_axis).pow(3);
             if replicates != 1 || cells != per_replicate {
-                return Err(IndexError::Invalid {
-                    what: "grid points",
-                    value: per_replicate as f64,
-                    requirement: "a grid takes per_axis³ points and one replicate",
-                });
+                return Err(InvalidInput::new(
+                    "grid points",
+                    per_replicate as f64,
+                    "a grid takes per_axis³ points and one replicate",
+                )
+                .into());
             }
         }
         let points = (0..total)

@@ -16,6 +16,8 @@
 
 use crate::IndexError;
 use nalgebra::Vector3;
+use pkm_traits::InvalidInput;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 
 /// The shape of a bounding region (validated by [`Domain::new`]).
@@ -70,6 +72,57 @@ impl Region {
             z_max,
         }
     }
+
+    /// The smallest axis-aligned box that contains the region (the hemisphere's from its flat
+    /// face up).
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Vector3;
+    /// use pkm_workspace_indices::Region;
+    /// let b = Region::Hemisphere { center: Vector3::new(0.0, 0.0, 1.0), radius: 2.0 }.bounding_box();
+    /// assert_eq!((b.lower, b.upper), (Vector3::new(-2.0, -2.0, 1.0), Vector3::new(2.0, 2.0, 3.0)));
+    /// ```
+    pub fn bounding_box(&self) -> BoundingBox {
+        let (lower, upper) = match *self {
+            Self::Box { lower, upper } => (lower, upper),
+            Self::Cylinder {
+                axis_x,
+                axis_y,
+                radius,
+                z_min,
+                z_max,
+            } => (
+                Vector3::new(axis_x - radius, axis_y - radius, z_min),
+                Vector3::new(axis_x + radius, axis_y + radius, z_max),
+            ),
+            Self::Hemisphere { center, radius } => (
+                center - Vector3::new(radius, radius, 0.0),
+                center + Vector3::repeat(radius),
+            ),
+            Self::Ball { center, radius } => (
+                center - Vector3::repeat(radius),
+                center + Vector3::repeat(radius),
+            ),
+        };
+        BoundingBox { lower, upper }
+    }
+}
+
+/// The axis-aligned box `[lower, upper]` (from [`Region::bounding_box`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoundingBox {
+    /// Lower corner.
+    pub lower: Vector3<f64>,
+    /// Upper corner.
+    pub upper: Vector3<f64>,
+}
+
+impl BoundingBox {
+    /// The centre $(l + h)/2$.
+    pub fn centre(&self) -> Vector3<f64> {
+        (self.lower + self.upper) / 2.0
+    }
 }
 
 /// A validated [`Region`], possibly restricted to a symmetry sector.
@@ -80,32 +133,10 @@ pub struct Domain {
     start_azimuth: f64,
 }
 
-fn invalid(what: &'static str, value: f64, requirement: &'static str) -> IndexError {
-    IndexError::Invalid {
-        what,
-        value,
-        requirement,
-    }
-}
-
-fn finite(what: &'static str, v: f64) -> Result<f64, IndexError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(invalid(what, v, "must be finite"))
-    }
-}
-
-fn positive(what: &'static str, v: f64) -> Result<f64, IndexError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(invalid(what, v, "must be finite and > 0"))
-    }
-}
-
-fn finite_point(what: &'static str, p: &Vector3<f64>) -> Result<(), IndexError> {
-    p.iter().try_for_each(|v| finite(what, *v).map(|_| ()))
+fn finite_point(name: &'static str, p: &Vector3<f64>) -> Result<(), IndexError> {
+    p.iter()
+        .try_for_each(|v| InvalidInput::require_finite(name, *v).map(drop))
+        .map_err(Into::into)
 }
 
 impl Domain {
@@ -120,7 +151,7 @@ impl Domain {
                 finite_point("box corner", &lower)?;
                 finite_point("box corner", &upper)?;
                 for k in 0..3 {
-                    positive("box extent", upper[k] - lower[k])?;
+                    InvalidInput::require_positive("box extent", upper[k] - lower[k])?;
                 }
             }
             Region::Cylinder {
@@ -130,15 +161,15 @@ impl Domain {
                 z_min,
                 z_max,
             } => {
-                finite("cylinder axis", axis_x)?;
-                finite("cylinder axis", axis_y)?;
-                positive("cylinder radius", radius)?;
-                finite("z_min", z_min)?;
-                positive("cylinder height", z_max - z_min)?;
+                InvalidInput::require_finite("cylinder axis", axis_x)?;
+                InvalidInput::require_finite("cylinder axis", axis_y)?;
+                InvalidInput::require_positive("cylinder radius", radius)?;
+                InvalidInput::require_finite("z_min", z_min)?;
+                InvalidInput::require_positive("cylinder height", z_max - z_min)?;
             }
             Region::Hemisphere { center, radius } | Region::Ball { center, radius } => {
                 finite_point("centre", &center)?;
-                positive("radius", radius)?;
+                InvalidInput::require_positive("radius", radius)?;
             }
         }
         let domain = Self {
@@ -146,7 +177,7 @@ impl Domain {
             folds: 1,
             start_azimuth: 0.0,
         };
-        positive("region volume", domain.volume())?;
+        InvalidInput::require_positive("region volume", domain.volume())?;
         Ok(domain)
     }
 
@@ -157,18 +188,15 @@ impl Domain {
     /// non-finite start azimuth.
     pub fn with_sector(self, folds: u32, start_azimuth: f64) -> Result<Self, IndexError> {
         if matches!(self.region, Region::Box { .. }) {
-            return Err(invalid(
-                "sector",
-                f64::from(folds),
-                "a box is not a region of revolution",
-            ));
+            let requirement = "a box is not a region of revolution";
+            return Err(InvalidInput::new("sector", f64::from(folds), requirement).into());
         }
         if folds == 0 {
-            return Err(invalid("folds", 0.0, "must be at least 1"));
+            return Err(InvalidInput::new("folds", 0.0, "must be at least 1").into());
         }
         Ok(Self {
             folds,
-            start_azimuth: finite("start azimuth", start_azimuth)?,
+            start_azimuth: InvalidInput::require_finite("start azimuth", start_azimuth)?,
             ..self
         })
     }
@@ -237,4 +265,62 @@ fn spherical(cos_polar: f64, azimuth: f64, u: f64) -> Vector3<f64> {
     let (sin_az, cos_az) = azimuth.sin_cos();
     let horizontal = (1.0 - cos_polar * cos_polar).max(0.0).sqrt();
     Vector3::new(horizontal * cos_az, horizontal * sin_az, cos_polar) * u.cbrt()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    /// Every sampled point of each region lies in its bounding box, and the samples come
+    /// within 1 % of the extent of every face (the box is the smallest one).
+    #[test]
+    fn the_bounding_box_is_the_tightest_box_around_the_sampled_points() {
+        let center = Vector3::new(0.3, -0.2, 1.5);
+        for region in [
+            Region::Box {
+                lower: Vector3::new(-1.0, 0.0, 2.0),
+                upper: Vector3::new(1.0, 0.5, 4.0),
+            },
+            Region::Cylinder {
+                axis_x: 0.3,
+                axis_y: -0.2,
+                radius: 0.7,
+                z_min: -1.0,
+                z_max: 0.5,
+            },
+            Region::Hemisphere {
+                center,
+                radius: 0.8,
+            },
+            Region::Ball {
+                center,
+                radius: 0.8,
+            },
+        ] {
+            let b = region.bounding_box();
+            let domain = Domain::new(region).unwrap();
+            let n = 40;
+            let (mut low, mut high) = (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN));
+            for i in 0..(n + 1) * (n + 1) * (n + 1) {
+                let u = [
+                    i % (n + 1),
+                    (i / (n + 1)) % (n + 1),
+                    i / ((n + 1) * (n + 1)),
+                ]
+                .map(|k| k as f64 / n as f64);
+                let p = domain.map(u);
+                low = low.inf(&p);
+                high = high.sup(&p);
+            }
+            let tol = 1e-2 * (b.upper - b.lower).amax();
+            for k in 0..3 {
+                assert!(b.lower[k] <= low[k] + 1e-12 && high[k] <= b.upper[k] + 1e-12);
+                assert!(
+                    low[k] - b.lower[k] < tol && b.upper[k] - high[k] < tol,
+                    "{region:?}"
+                );
+            }
+        }
+    }
 }

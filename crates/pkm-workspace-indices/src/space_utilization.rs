@@ -1,7 +1,7 @@
 //! Space utilisation $\eta_2$ (Miller 2004, eq. 2) of a translation-invariant workspace.
 
 use crate::IndexError;
-use pkm_traits::SlicedRegion;
+use pkm_traits::{InvalidInput, SlicedRegion};
 
 /// $\eta_2 = A_W / A_{bb}$: the cross-section area over the area of the smallest axis-aligned
 /// rectangle containing the workspace and every fixed actuator point `(y, z)` (Miller 2004,
@@ -30,30 +30,28 @@ pub fn space_utilization(
 ) -> Result<f64, IndexError> {
     let area = region.area();
     if !(area > 0.0 && area.is_finite()) {
-        return Err(IndexError::Invalid {
-            what: "workspace cross-section area",
-            value: area,
-            requirement: "must be > 0 (the workspace is empty)",
-        });
+        return Err(InvalidInput::new(
+            "workspace cross-section area",
+            area,
+            "must be > 0 (the workspace is empty)",
+        )
+        .into());
     }
     let mut bounding_box = region.extents();
     for p in fixed_points {
         if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
-            return Err(IndexError::Invalid {
-                what: "actuator position",
-                value,
-                requirement: "must be finite",
-            });
+            return Err(InvalidInput::new("actuator position", value, "must be finite").into());
         }
         bounding_box = bounding_box.including(p[0], p[1]);
     }
     let utilisation = area / bounding_box.area();
     if !(utilisation > 0.0 && utilisation.is_finite()) {
-        return Err(IndexError::Invalid {
-            what: "bounding box area",
-            value: bounding_box.area(),
-            requirement: "must be finite and small enough that area / box area is representable",
-        });
+        return Err(InvalidInput::new(
+            "bounding box area",
+            bounding_box.area(),
+            "must be finite and small enough that area / box area is representable",
+        )
+        .into());
     }
     Ok(utilisation)
 }

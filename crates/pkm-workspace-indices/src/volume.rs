@@ -10,7 +10,7 @@
 use crate::IndexError;
 use crate::estimator::integrate_slice;
 use nalgebra::Vector3;
-use pkm_traits::Progress;
+use pkm_traits::{InvalidInput, Progress};
 use std::f64::consts::PI;
 
 /// Volume and global index estimated from one point set.
@@ -71,19 +71,16 @@ where
         return Err(IndexError::EmptySample { n_samples: 0 });
     }
     if !(radius.is_finite() && radius > 0.0) {
-        return Err(IndexError::Invalid {
-            what: "radius",
-            value: radius,
-            requirement: "must be finite and > 0",
-        });
+        return Err(InvalidInput::new("radius", radius, "must be finite and > 0").into());
     }
     let v_h = 2.0 * PI * radius.powi(3) / 3.0;
     if !v_h.is_finite() {
-        return Err(IndexError::Invalid {
-            what: "radius",
-            value: radius,
-            requirement: "the hemisphere's volume 2πR³/3 must be finite",
-        });
+        return Err(InvalidInput::new(
+            "radius",
+            radius,
+            "the hemisphere's volume 2πR³/3 must be finite",
+        )
+        .into());
     }
     let e = integrate_slice(unit_points, 1, v_h, progress, |p| local(&(p * radius)))?;
     Ok(HemisphereEstimate {

@@ -3,9 +3,9 @@
 //! [`WorkspaceConstraint`] holds; its volume $W$, the condition integral
 //! $\eta = \int 1/\kappa\, dW$ and the global condition index $\mathrm{GCI} = \eta / W$ over a
 //! [`PointSet`] of any [`crate::Domain`] ([`Workspace::volume_and_eta`]) or over unit points
-//! scaled per design ([`Workspace::hemisphere_estimate`]), and planar sections of $1/\kappa$
-//! ([`Workspace::inverse_condition_slice`]). This is the one path from a mechanism to its
-//! workspace indices: mechanism → velocity Jacobian → $1/\kappa$ → estimator.
+//! scaled per design ([`Workspace::hemisphere_estimate`]), and sections of $1/\kappa$ on any
+//! coordinate plane ([`Workspace::inverse_condition_slice`]). This is the one path from a
+//! mechanism to its workspace indices: mechanism → velocity Jacobian → $1/\kappa$ → estimator.
 //!
 //! The local index is $1/\kappa(J)$ of the velocity Jacobian $J = -J_q^{-1} J_x$ at the first
 //! mode that assembles ([`crate::inverse_condition_at`], through
@@ -18,11 +18,14 @@
 //! $\sigma_3/\sigma_1$ of its singular values ([`TranslationalCondition`]). `NQ` defaults to 3.
 
 use crate::{
-    Dim, HemisphereEstimate, IndexError, PointSet, Slice, TranslationalCondition, VolumeEstimate,
-    hemisphere_estimate, workspace_volume, workspace_volume_and_eta,
+    BoundingBox, Dim, HemisphereEstimate, IndexError, Plane, PointSet, Slice,
+    TranslationalCondition, VolumeEstimate, hemisphere_estimate, workspace_volume,
+    workspace_volume_and_eta,
 };
 use nalgebra::Vector3;
-use pkm_traits::{ConstrainedWorkspace, Joints, KinematicsError, Progress, WorkspaceConstraint};
+use pkm_traits::{
+    ConstrainedWorkspace, InvalidInput, Joints, KinematicsError, Progress, WorkspaceConstraint,
+};
 
 /// A mechanism, the working modes it may use and the constraints of its workspace.
 ///
@@ -70,11 +73,7 @@ where
         constraints: &[WorkspaceConstraint],
     ) -> Result<Self, IndexError> {
         if modes.is_empty() {
-            return Err(IndexError::Invalid {
-                what: "working modes",
-                value: 0.0,
-                requirement: "at least one mode",
-            });
+            return Err(InvalidInput::new("working modes", 0.0, "at least one mode").into());
         }
         for c in constraints {
             c.check_applies(mechanism)?;
@@ -207,19 +206,32 @@ where
         hemisphere_estimate(unit_points, radius, progress, |x| self.inverse_condition(x))
     }
 
-    /// $1/\kappa$ on the `n × n` cell centres of $[-h, h]^2$ in the plane $z$ = `z`
-    /// ([`Slice::square`]), `None` outside the workspace.
+    /// $1/\kappa$ on the `n × n` cell centres of `plane` at offset `at` over the extent of
+    /// `bounds` in that plane ([`Slice::on_plane`]), `None` outside the workspace.
     ///
     /// # Errors
-    /// As [`Slice::square`].
+    /// As [`Slice::on_plane`].
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
+    /// use pkm_workspace_indices::{Plane, Region, Workspace};
+    /// let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
+    /// let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[])?;
+    /// let reach = Region::Ball { center: nalgebra::Vector3::zeros(), radius: tsai.reach() };
+    /// let side = ws.inverse_condition_slice(Plane::Xz, 0.0, &reach.bounding_box(), 24)?;
+    /// let (best, _, _) = side.max().unwrap();
+    /// assert!(best > 0.0 && best <= 1.0);
+    /// assert!(side.values.iter().any(Option::is_none)); // the corners of the box are outside
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn inverse_condition_slice(
         &self,
-        z: f64,
-        half_width: f64,
+        plane: Plane,
+        at: f64,
+        bounds: &BoundingBox,
         n: usize,
     ) -> Result<Slice, IndexError> {
-        Slice::square(z, half_width, n, |x, y, z| {
-            self.inverse_condition(&Vector3::new(x, y, z))
-        })
+        Slice::on_plane(plane, at, bounds, n, |p| self.inverse_condition(p))
     }
 }

@@ -8,7 +8,7 @@ use pkm_traits::{
     ClosedChain, ConstrainedWorkspace, InverseKinematics, Joints, KinematicsError, Silent, Task,
 };
 use pkm_workspace_indices::{
-    Domain, PointSet, Region, Sampler, Workspace, inverse_condition_at, local_indices,
+    Domain, Plane, PointSet, Region, Sampler, Workspace, inverse_condition_at, local_indices,
 };
 
 /// Actuators that track scaled task coordinates, $q = Dx$ inside the unit ball:
@@ -252,24 +252,31 @@ fn gci_is_eta_over_the_volume() {
 }
 
 #[test]
-fn a_slice_of_a_constant_index_is_the_index_inside_the_ball() {
+fn a_slice_of_a_constant_index_is_the_index_inside_the_ball_on_every_plane() {
     let m = Diagonal {
         scales: [4.0, -2.0, 0.5],
     };
     let ws = Workspace::new(&m, &[()], &[]).unwrap();
-    let slice = ws.inverse_condition_slice(0.5, 1.0, 8).unwrap();
-    let mut inside = 0;
-    for (k, v) in slice.values.iter().enumerate() {
-        let (x, y) = (slice.x[k % 8], slice.y[k / 8]);
-        let expected = (x * x + y * y + 0.25 <= 1.0).then_some(0.125);
-        match (v, expected) {
-            (Some(v), Some(e)) => {
-                assert!((v - e).abs() < 1e-14);
-                inside += 1;
-            }
-            (None, None) => {}
-            _ => panic!("({x}, {y}): {v:?} vs {expected:?}"),
-        }
+    let bounds = Region::Ball {
+        center: Vector3::zeros(),
+        radius: 1.0,
     }
-    assert!(inside > 10, "vacuous: {inside}");
+    .bounding_box();
+    for plane in [Plane::Xy, Plane::Xz, Plane::Yz] {
+        let slice = ws.inverse_condition_slice(plane, 0.5, &bounds, 8).unwrap();
+        let mut inside = 0;
+        for (k, v) in slice.values.iter().enumerate() {
+            let (u, w) = (slice.u[k % 8], slice.v[k / 8]);
+            let expected = (u * u + w * w + 0.25 <= 1.0).then_some(0.125);
+            match (v, expected) {
+                (Some(v), Some(e)) => {
+                    assert!((v - e).abs() < 1e-14);
+                    inside += 1;
+                }
+                (None, None) => {}
+                _ => panic!("{plane:?} ({u}, {w}): {v:?} vs {expected:?}"),
+            }
+        }
+        assert!(inside > 10, "vacuous: {inside}");
+    }
 }

@@ -3,9 +3,10 @@
 
 use super::problem::design;
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source};
+use nalgebra::Vector3;
 use pkm_draw::chart::{Chart, Heatmap, Series};
 use pkm_mechanisms::Elbow;
-use pkm_workspace_indices::{Sampler, Workspace};
+use pkm_workspace_indices::{Plane, Region, Sampler, Workspace};
 
 /// The paper's maximum-volume design (sec. 5).
 pub(super) const MAX_VOLUME_DESIGN: [f64; 6] = [0.4, 0.6, 0.0, 0.0, 5.0, 355.0];
@@ -63,8 +64,17 @@ pub(super) fn run_slice(
 ) -> Result<Outcome, ExperimentError> {
     let d = design(&paper_design)?;
     let n = ctx.mode.pick(60, 240);
-    let slice =
-        Workspace::new(&d, &[[Elbow::Out; 3]], &[])?.inverse_condition_slice(0.5, d.reach(), n)?;
+    // The square [-R, R]² of the reach R: the extent of the reach ball in the plane.
+    let reach = Region::Ball {
+        center: Vector3::zeros(),
+        radius: d.reach(),
+    };
+    let slice = Workspace::new(&d, &[[Elbow::Out; 3]], &[])?.inverse_condition_slice(
+        Plane::Xy,
+        0.5,
+        &reach.bounding_box(),
+        n,
+    )?;
     let (max, x, y) = slice.max().unwrap_or((0.0, f64::NAN, f64::NAN));
     let source = Source::new(id, Paper::Stamper1997, figure);
     let row = source
@@ -76,8 +86,8 @@ pub(super) fn run_slice(
         .with_note(format!("at (x, y) = ({x:.3}, {y:.3}), {n}x{n} grid"));
     let heatmap = Heatmap {
         colour_axis: "1/κ".into(),
-        x: slice.x,
-        y: slice.y,
+        x: slice.u,
+        y: slice.v,
         values: slice.values,
     };
     let title = format!("1/κ on z = 0.5 ({figure})");

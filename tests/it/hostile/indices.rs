@@ -10,9 +10,10 @@ use pkm_mechanisms::{
 };
 use pkm_traits::{Extents, Silent, SlicedRegion};
 use pkm_workspace_indices::{
-    GaussLegendre, GridRule, LocalIndices, Slice, Workspace, condition_number,
-    inverse_condition_at, inverse_condition_number, inverse_condition_number_3x3, local_indices,
-    mean_by_grid, mean_by_quadrature, space_utilization,
+    BoundingBox, Eta1Rule, GaussLegendre, GridRule, LocalIndices, Plane, SectionIndex,
+    SectionIndexCache, SectionIndices, Slice, Workspace, condition_number, inverse_condition_at,
+    inverse_condition_number, inverse_condition_number_3x3, local_indices, mean_by_grid,
+    mean_by_quadrature, space_utilization,
 };
 use proptest::prelude::*;
 
@@ -85,11 +86,42 @@ proptest! {
     fn slices_and_space_utilisation(
         z in hostile_f64(), half_width in hostile_f64(), n in 0..20usize, points in prop::collection::vec((hostile_f64(), hostile_f64()), 0..3),
     ) {
-        judge("Slice::square", || Slice::square(z, half_width, n, |x, y, _| Some(x + y)), |s| {
-            s.values.len() == n * n && s.x.iter().all(|x| x.is_finite())
-        })?;
+        let square = BoundingBox { lower: Vector3::repeat(-half_width), upper: Vector3::repeat(half_width) };
+        for plane in [Plane::Xy, Plane::Xz, Plane::Yz] {
+            judge("Slice::on_plane", || Slice::on_plane(plane, z, &square, n, |p| Some(p.x + p.y)), |s| {
+                s.values.len() == n * n && s.u.iter().chain(&s.v).all(|x| x.is_finite())
+            })?;
+        }
         let points: Vec<[f64; 2]> = points.into_iter().map(|(a, b)| [a, b]).collect();
         judge("space_utilization", || space_utilization(&Square, &points), |u| *u > 0.0 && *u <= 1.0)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// The cross-section indices of hostile Linear Delta designs (those the constructor
+    /// accepts) with hostile quadrature orders, directly and through the exact cache.
+    #[test]
+    fn section_indices_end_typed_or_finite(
+        ratios in (hostile_f64(), hostile_f64(), hostile_f64(), hostile_f64()),
+        yr in hostile_f64(),
+        n in hostile_count(),
+    ) {
+        let design = [ratios.0, ratios.1, ratios.2, ratios.3];
+        let build = || LinearDelta::new(LinearDeltaDesign { ratios: LinearDeltaRatios::from_slice(&design), yr });
+        let cache = SectionIndexCache::new();
+        let wanted = [SectionIndex::Eta1(Eta1Rule::Quadrature(n)), SectionIndex::Eta2, SectionIndex::Area];
+        for (index, value) in wanted.iter().zip(cache.values(&design, &wanted, LinearDeltaMode::PAPER, build)) {
+            let check = |v: &f64| if *index == SectionIndex::Area { v.is_finite() && *v >= 0.0 } else { ratio(v) };
+            judge("SectionIndexCache::values", || value, check)?;
+        }
+        if let Ok(delta) = build() {
+            let indices = SectionIndices::new(&delta, LinearDeltaMode::PAPER);
+            judge("SectionIndices::eta1", || indices.eta1(Eta1Rule::Quadrature(n)), ratio)?;
+            judge("SectionIndices::eta2", || indices.eta2(), ratio)?;
+            judge_value("SectionIndices::area", || indices.area(), |a| a.is_finite() && *a >= 0.0)?;
+        }
     }
 }
 
@@ -145,7 +177,8 @@ proptest! {
             judge("local_indices (hostile Tsai3Dof)", || local_indices(&d, &x, [Elbow::Out; 3]), local_indices_hold)?;
         }
         let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
-        judge("Workspace::inverse_condition_slice", || ws.inverse_condition_slice(z, radius, n), |s| {
+        let reach = BoundingBox { lower: Vector3::repeat(-radius), upper: Vector3::repeat(radius) };
+        judge("Workspace::inverse_condition_slice", || ws.inverse_condition_slice(Plane::Xz, z, &reach, n), |s| {
             s.values.len() == n * n && s.values.iter().flatten().all(ratio)
         })?;
         let unit = [Vector3::new(0.1, 0.2, 0.3), Vector3::new(0.0, 0.0, 0.5), x];
@@ -184,8 +217,12 @@ fn huge_counts_are_refused_before_allocating() {
         super::expect(judge_err("mean_by_quadrature (huge)", || {
             mean_by_quadrature(&Square, |y, z| y + z, n)
         }));
-        super::expect(judge_err("Slice::square (huge)", || {
-            Slice::square(0.5, 1.0, n, |_, _, _| Some(1.0))
+        let unit = BoundingBox {
+            lower: Vector3::repeat(-1.0),
+            upper: Vector3::repeat(1.0),
+        };
+        super::expect(judge_err("Slice::on_plane (huge)", || {
+            Slice::on_plane(Plane::Xy, 0.5, &unit, n, |_| Some(1.0))
         }));
         let rule = GridRule {
             min_points: n,
@@ -202,7 +239,7 @@ fn huge_counts_are_refused_before_allocating() {
         let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
         super::expect(judge_err(
             "Workspace::inverse_condition_slice (huge)",
-            || ws.inverse_condition_slice(0.5, 1.0, n),
+            || ws.inverse_condition_slice(Plane::Xy, 0.5, &unit, n),
         ));
     }
 }

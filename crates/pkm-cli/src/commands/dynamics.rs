@@ -19,16 +19,16 @@ use crate::plot;
 use crate::study::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
 use crate::study::StudyFile;
-use nalgebra::{Vector3, Vector6};
-use pkm::dynamics_hamilton::forward::{ForwardForm, HamiltonForm, SampledTorques};
-use pkm::dynamics_hamilton::inverse::{self, Accelerations, Differencing, SPACING_TOLERANCE};
-use pkm::dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
-use pkm::papers::miller2004::dynamics::{CycleReading, pick_and_place};
-use pkm::dynamics_hamilton::{
+use nalgebra::Vector3;
+use pkm_dynamics_hamilton::forward::retrace_sampled;
+use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing, SPACING_TOLERANCE};
+use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
+use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
+use pkm_dynamics_hamilton::{
     DynamicsError, ExtendedModel, ExtendedState, ForearmModel, MassParameters,
 };
-use pkm::integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, integrate};
 use pkm_draw::chart::{Chart, Colour, Series, SeriesStyle};
+use pkm_integrators::{AdaptiveSettings, DormandPrince54};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -122,14 +122,14 @@ pub struct PickAndPlaceSpec {
     pub reading: ReadingSpec,
 }
 
-/// [`CycleReading`] in a study file.
+/// How the cycle time of Miller's cycle is read (Miller 2004, §3.5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ReadingSpec {
-    /// [`CycleReading::RoundTrip`].
+    /// There and back in the cycle time.
     #[default]
     RoundTrip,
-    /// [`CycleReading::EachLeg`].
+    /// Each way in the cycle time (a round trip in twice it).
     EachLeg,
 }
 
@@ -405,13 +405,10 @@ pub fn path_of(p: &PathSpec) -> Result<Path, DynamicsError> {
 /// The library's reason for an invalid cycle time, segment or path.
 pub fn builtin_trajectory(spec: &TrajectorySpec) -> Result<Trajectory, DynamicsError> {
     match &spec.pick_and_place {
-        Some(p) => pick_and_place(
-            p.cycle_time.0,
-            match p.reading {
-                ReadingSpec::RoundTrip => CycleReading::RoundTrip,
-                ReadingSpec::EachLeg => CycleReading::EachLeg,
-            },
-        ),
+        Some(p) => miller_pick_and_place(match p.reading {
+            ReadingSpec::RoundTrip => p.cycle_time.0,
+            ReadingSpec::EachLeg => 2.0 * p.cycle_time.0,
+        }),
         None => Trajectory::new(
             spec.segments
                 .iter()
@@ -432,22 +429,13 @@ pub fn builtin_trajectory(spec: &TrajectorySpec) -> Result<Trajectory, DynamicsE
     }
 }
 
-/// Positions sampled at equally spaced times, as read from a trajectory CSV.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SampledPositions {
-    /// Times (s).
-    pub times: Vec<f64>,
-    /// Positions (m).
-    pub positions: Vec<Vector3<f64>>,
-}
-
 /// Reads `t, x, y, z` rows (s, m) after a header line; every interval must equal the first
 /// to the library's relative [`SPACING_TOLERANCE`] (plus the rounding of the times).
 ///
 /// # Errors
 /// A message naming the line for a row that is not four finite numbers, times that are not
 /// equally spaced and increasing, or fewer than 3 rows.
-pub fn parse_positions(text: &str) -> Result<SampledPositions, String> {
+pub fn parse_positions(text: &str) -> Result<Vec<(f64, Vector3<f64>)>, String> {
     let mut times: Vec<f64> = Vec::new();
     let mut positions = Vec::new();
     for (k, line) in text.lines().enumerate().skip(1) {
@@ -489,40 +477,7 @@ pub fn parse_positions(text: &str) -> Result<SampledPositions, String> {
             times.len()
         ));
     }
-    Ok(SampledPositions { times, positions })
-}
-
-/// The extended states of positions sampled every `dt`: $\dot p$ and $\ddot p$ by central
-/// differences (applied once and twice), then the inverse kinematics of each sample.
-///
-/// # Errors
-/// [`DynamicsError`] for a point out of reach or a singular leg, with its time.
-pub fn states_from_positions(
-    model: &ExtendedModel,
-    sampled: &SampledPositions,
-) -> Result<Vec<(f64, ExtendedState)>, DynamicsError> {
-    let dt = sampled.times[1] - sampled.times[0];
-    let padded: Vec<Vector6<f64>> = sampled
-        .positions
-        .iter()
-        .map(|p| Vector6::new(p.x, p.y, p.z, 0.0, 0.0, 0.0))
-        .collect();
-    let velocities = Differencing::Central.apply(&padded, dt);
-    let accelerations = Differencing::Central.apply(&velocities, dt);
-    let head = |v: &Vector6<f64>| Vector3::new(v[0], v[1], v[2]);
-    (0..padded.len())
-        .map(|k| {
-            let t = sampled.times[k];
-            model
-                .joint_motion(
-                    &sampled.positions[k],
-                    &head(&velocities[k]),
-                    &head(&accelerations[k]),
-                )
-                .map(|s| (t, s))
-                .map_err(|e| e.at(t))
-        })
-        .collect()
+    Ok(times.into_iter().zip(positions).collect())
 }
 
 fn dynamics_error(e: DynamicsError) -> CliError {
@@ -564,13 +519,13 @@ pub fn samples_of(
         let text = std::fs::read_to_string(&path).map_err(|e| CliError::io(&path, e))?;
         let sampled = parse_positions(&text)
             .map_err(|m| file.error_at(csv.span(), format!("{}: {m}", path.display())))?;
-        let states = states_from_positions(model, &sampled).map_err(dynamics_error)?;
-        return Ok((states, sampled.positions));
+        let states = inverse::sample_positions(model, &sampled).map_err(dynamics_error)?;
+        return Ok((states, sampled.into_iter().map(|(_, p)| p).collect()));
     }
     let dt = spec.dt.as_ref().map_or(DEFAULT_DT, |d| *d.get_ref());
     let trajectory = builtin_trajectory(spec).map_err(dynamics_error)?;
     let samples = inverse::sample(model, &trajectory, dt).map_err(|e| match (&spec.dt, e) {
-        (Some(d), e @ DynamicsError::InvalidSetting { .. }) => {
+        (Some(d), e @ DynamicsError::Invalid(_)) => {
             file.error_at(d.span(), format!("dt (s): {e}"))
         }
         (_, e) => dynamics_error(e),
@@ -610,7 +565,7 @@ impl TorquePeaks {
 
 /// The forward retrace's numbers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Retrace {
+pub struct RetraceSummary {
     /// Largest |p(t) − p_commanded(t)| at the sample times (m).
     pub max_position_error: f64,
     /// Largest constraint drift max_i |Φ_i| / (2 L_b) (m).
@@ -641,7 +596,7 @@ pub struct DynamicsResult {
     /// Largest |τ_Hamilton − τ_Lagrange| over samples and motors (N m).
     pub max_difference: f64,
     /// The forward retrace, when asked for.
-    pub forward: Option<Retrace>,
+    pub forward: Option<RetraceSummary>,
 }
 
 /// What the inverse dynamics computed.
@@ -686,7 +641,7 @@ pub fn inverse_dynamics(
 type RetraceSamples = Vec<(f64, Vector3<f64>, f64)>;
 
 /// The Hamilton form fed with the Hamilton torques (Catmull–Rom between samples) from the
-/// first sample's state, sampled at the sample times.
+/// first sample's state, sampled at the sample times ([`retrace_sampled`]).
 ///
 /// # Errors
 /// Invalid settings, an integration failure, [`CliError::Cancelled`].
@@ -695,53 +650,33 @@ pub fn retrace(
     torques: &Torques,
     spec: &ForwardSpec,
     progress: &dyn pkm_traits::Progress,
-) -> Result<(Retrace, RetraceSamples), CliError> {
-    let samples = &torques.samples;
-    let (t0, dt) = (samples[0].0, samples[1].0 - samples[0].0);
-    let t_end = samples[samples.len() - 1].0;
-    let tau = SampledTorques::new(dt, torques.hamilton.clone()).map_err(dynamics_error)?;
-    let form =
-        HamiltonForm::new(model, |t| tau.at(t - t0), spec.kappa.0).map_err(dynamics_error)?;
-    let z0 = form.initial_state(&samples[0].1.q, &samples[0].1.qd);
-    let invalid = |e: pkm_traits::IntegrationError| CliError::Invalid(format!("[dynamics.forward]: {e}"));
+) -> Result<(RetraceSummary, RetraceSamples), CliError> {
+    let invalid = |e: &dyn std::fmt::Display| CliError::Invalid(format!("[dynamics.forward]: {e}"));
     let settings = AdaptiveSettings::default()
         .with_rtol(spec.rtol.0)
         .and_then(|s| s.with_atol(spec.atol.0))
         .and_then(|s| s.with_max_steps(spec.max_steps))
-        .map_err(invalid)?;
-    let times = OutputTimes::Times(samples.iter().map(|(t, _)| *t).collect());
+        .map_err(|e| invalid(&e))?;
+    let (samples, hamilton) = (&torques.samples, &torques.hamilton);
     progress.start("forward retrace", 1);
-    let run = integrate(
-        &form,
-        &mut DormandPrince54::new(settings),
-        (t0, t_end),
-        &z0,
-        &times,
-        progress,
-    );
+    let scheme = &mut DormandPrince54::new(settings);
+    let run = retrace_sampled(model, samples, hamilton, spec.kappa.0, scheme, progress);
     progress.finish();
-    let run = run.map_err(|e| {
-        if progress.is_cancelled() {
-            CliError::Cancelled
-        } else {
-            invalid(e)
-        }
+    let run = run.map_err(|e| match e {
+        _ if progress.is_cancelled() => CliError::Cancelled,
+        DynamicsError::Integration(e) => invalid(&e),
+        e => dynamics_error(e),
     })?;
-    let balance = |t: f64, z: &nalgebra::SVector<f64, 13>| form.energy_minus_work(t, z).map_err(|e| invalid(e.into()));
-    let e0 = balance(run.times[0], &run.states[0])?;
-    let mut per_sample = Vec::with_capacity(run.times.len());
-    let mut energy = 0.0_f64;
-    for ((t, z), commanded) in run.times.iter().zip(&run.states).zip(&torques.commanded) {
-        let error = z.fixed_rows::<3>(0) - commanded;
-        per_sample.push((*t, error, form.drift(z)));
-        energy = energy.max((balance(*t, z)? - e0).abs());
-    }
-    let summary = Retrace {
-        max_position_error: per_sample.iter().map(|s| s.1.norm()).fold(0.0, f64::max),
-        max_drift: per_sample.iter().map(|s| s.2).fold(0.0, f64::max),
-        max_energy_balance: energy,
-        steps: run.stats.steps,
-        evaluations: run.stats.evaluations,
+    let errors = run.position_errors(&torques.commanded);
+    let per_sample = (run.times.iter().zip(&errors).zip(&run.drift))
+        .map(|((t, e), d)| (*t, *e, *d))
+        .collect();
+    let summary = RetraceSummary {
+        max_position_error: run.max_position_error(&torques.commanded),
+        max_drift: run.max_drift(),
+        max_energy_balance: run.max_energy_balance(),
+        steps: run.steps,
+        evaluations: run.evaluations,
     };
     Ok((summary, per_sample))
 }

@@ -11,12 +11,11 @@ use crate::study::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, Worksp
 use crate::study::sampling::SamplingSpec;
 use crate::study::units::Metres;
 use crate::study::StudyFile;
-use nalgebra::Vector3;
 use pkm_traits::{ConstrainedWorkspace, Progress};
 use pkm_workspace_indices::{
-    Dim, ErrorModel, PointSet, Region, TranslationalCondition, VolumeEstimate, Workspace,
+    BoundingBox, Dim, ErrorModel, Plane, PointSet, Slice, TranslationalCondition, VolumeEstimate,
+    Workspace,
 };
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -54,29 +53,6 @@ pub struct WorkspaceSection {
     pub slices: Vec<SliceSpec>,
 }
 
-/// A coordinate plane.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Plane {
-    /// z = at (a horizontal slice).
-    Xy,
-    /// y = at (a vertical cross-section).
-    Xz,
-    /// x = at (a vertical cross-section).
-    Yz,
-}
-
-impl Plane {
-    /// (first in-plane axis, second in-plane axis, normal axis).
-    fn axes(self) -> (usize, usize, usize) {
-        match self {
-            Self::Xy => (0, 1, 2),
-            Self::Xz => (0, 2, 1),
-            Self::Yz => (1, 2, 0),
-        }
-    }
-}
-
 /// One `[[workspace.slices]]` entry.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -96,17 +72,6 @@ fn default_cells() -> toml::Spanned<usize> {
 
 /// Largest number of cells per slice side.
 pub const MAX_SLICE_CELLS: usize = 1024;
-
-/// A slice as computed: 1/κ (`None` outside the workspace) on `cells × cells` centres.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SliceValues {
-    /// Centres along the first in-plane axis (m).
-    pub u: Vec<f64>,
-    /// Centres along the second in-plane axis (m).
-    pub v: Vec<f64>,
-    /// `values[iv * u.len() + iu]`.
-    pub values: Vec<Option<f64>>,
-}
 
 /// The numbers of one workspace estimate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -220,47 +185,16 @@ impl WorkspaceVisitor for CheckOnly {
     }
 }
 
-/// The axis-aligned box around a region (m).
-pub fn bounding_box(region: &Region) -> (Vector3<f64>, Vector3<f64>) {
-    match *region {
-        Region::Box { lower, upper } => (lower, upper),
-        Region::Cylinder {
-            axis_x,
-            axis_y,
-            radius,
-            z_min,
-            z_max,
-        } => (
-            Vector3::new(axis_x - radius, axis_y - radius, z_min),
-            Vector3::new(axis_x + radius, axis_y + radius, z_max),
-        ),
-        Region::Hemisphere { center, radius } => (
-            center - Vector3::new(radius, radius, 0.0),
-            center + Vector3::repeat(radius),
-        ),
-        Region::Ball { center, radius } => {
-            (center - Vector3::repeat(radius), center + Vector3::repeat(radius))
-        }
-    }
-}
-
-/// The centres of `n` equal cells over `[lo, hi]`.
-fn centres(lo: f64, hi: f64, n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|k| lo + (k as f64 + 0.5) * (hi - lo) / n as f64)
-        .collect()
-}
-
 /// What the workspace command computes on a built workspace.
 struct Compute<'a> {
     points: &'a PointSet,
     slices: &'a [(Plane, f64, usize)],
-    bounds: (Vector3<f64>, Vector3<f64>),
+    bounds: BoundingBox,
     progress: &'a dyn Progress,
 }
 
 impl WorkspaceVisitor for Compute<'_> {
-    type Output = Result<(VolumeEstimate, Vec<SliceValues>), CliError>;
+    type Output = Result<(VolumeEstimate, Vec<Slice>), CliError>;
 
     fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
         self,
@@ -279,38 +213,11 @@ impl WorkspaceVisitor for Compute<'_> {
             .iter()
             .map(|&(plane, at, n)| {
                 self.progress.check()?;
-                Ok(slice(workspace, plane, at, n, self.bounds))
+                Ok(workspace.inverse_condition_slice(plane, at, &self.bounds, n)?)
             })
             .collect::<Result<Vec<_>, CliError>>()?;
         Ok((estimate, slices))
     }
-}
-
-/// 1/κ on `n × n` cell centres of `plane` at `at`, over the bounding box (rows in parallel).
-fn slice<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
-    workspace: &Workspace<'_, M, NQ>,
-    plane: Plane,
-    at: f64,
-    n: usize,
-    (lower, upper): (Vector3<f64>, Vector3<f64>),
-) -> SliceValues
-where
-    Dim<NQ>: TranslationalCondition<NQ>,
-{
-    let (a, b, normal) = plane.axes();
-    let u = centres(lower[a], upper[a], n);
-    let v = centres(lower[b], upper[b], n);
-    let values = (0..n * n)
-        .into_par_iter()
-        .map(|k| {
-            let mut p = Vector3::zeros();
-            p[a] = u[k % n];
-            p[b] = v[k / n];
-            p[normal] = at;
-            workspace.inverse_condition(&p)
-        })
-        .collect();
-    SliceValues { u, v, values }
 }
 
 const AXIS_NAMES: [&str; 3] = ["x (m)", "y (m)", "z (m)"];
@@ -349,7 +256,7 @@ pub fn compute(
     let compute = Compute {
         points: &points,
         slices: &slices,
-        bounds: bounding_box(&domain.region()),
+        bounds: domain.region().bounding_box(),
         progress: &context.progress,
     };
     let (estimate, values) = study.mechanism.with_workspace(&constraints, compute)??;
@@ -396,7 +303,7 @@ fn write_slice(
     plane: Plane,
     at: f64,
     n: usize,
-    s: &SliceValues,
+    s: &Slice,
 ) -> Result<SliceSummary, CliError> {
     let (a, b, normal) = plane.axes();
     let stem = format!("slice-{number}-{plane:?}").to_lowercase();

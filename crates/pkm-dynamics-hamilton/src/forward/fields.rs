@@ -3,7 +3,7 @@
 use crate::kernel::{acceleration_rhs, momentum_rate};
 use crate::{Configuration, DynamicsError, ExtendedModel};
 use nalgebra::{SVector, Vector3, Vector6};
-use pkm_traits::{RhsError, VectorField};
+use pkm_traits::{InvalidInput, RhsError, VectorField};
 
 type State = SVector<f64, 13>;
 
@@ -88,11 +88,7 @@ fn baumgarte_gain(setting: &'static str, value: f64) -> Result<f64, DynamicsErro
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(DynamicsError::InvalidSetting {
-            setting,
-            value,
-            requirement: "a Baumgarte gain must be finite and >= 0",
-        })
+        Err(InvalidInput::new(setting, value, "a Baumgarte gain must be finite and >= 0").into())
     }
 }
 
@@ -109,7 +105,7 @@ impl<'a, F: Fn(f64) -> Vector3<f64>> HamiltonForm<'a, F> {
     /// gain `kappa` $= \kappa$ (1/s; 0 = unstabilised).
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] (setting `"kappa"`) for a gain that is NaN, infinite or
+    /// [`DynamicsError::Invalid`] (name `"kappa"`) for a gain that is NaN, infinite or
     /// negative.
     ///
     /// ```
@@ -202,7 +198,7 @@ impl<'a, F: Fn(f64) -> Vector3<f64>> AccelerationForm<'a, F> {
     /// gain `omega` $= \omega$ (1/s; 0 = unstabilised).
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] (setting `"omega"`) for a gain that is NaN, infinite or
+    /// [`DynamicsError::Invalid`] (name `"omega"`) for a gain that is NaN, infinite or
     /// negative.
     pub fn new(model: &'a ExtendedModel, torque: F, omega: f64) -> Result<Self, DynamicsError> {
         Ok(Self {
@@ -357,13 +353,13 @@ mod tests {
         ] {
             let e = HamiltonForm::new(&model, torque, bad).err();
             assert!(
-                matches!(e, Some(DynamicsError::InvalidSetting { setting: "kappa", value, .. })
+                matches!(e, Some(DynamicsError::Invalid(InvalidInput { name: "kappa", value, .. }))
                     if value.to_bits() == bad.to_bits()),
                 "{e:?}"
             );
             let e = AccelerationForm::new(&model, torque, bad).err();
             assert!(
-                matches!(e, Some(DynamicsError::InvalidSetting { setting: "omega", value, .. })
+                matches!(e, Some(DynamicsError::Invalid(InvalidInput { name: "omega", value, .. }))
                     if value.to_bits() == bad.to_bits()),
                 "{e:?}"
             );

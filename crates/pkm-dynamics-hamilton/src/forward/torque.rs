@@ -2,6 +2,7 @@
 
 use crate::DynamicsError;
 use nalgebra::Vector3;
+use pkm_traits::InvalidInput;
 
 /// Torques $\tau_k$ at $t_k = k\,\Delta t$, read between samples by Catmull–Rom cubic
 /// interpolation (exact for cubics, $C^1$).
@@ -23,14 +24,15 @@ impl SampledTorques {
     /// Wraps samples taken every `dt`.
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for a non-positive step or fewer than 2 samples.
+    /// [`DynamicsError::Invalid`] for a non-positive step or fewer than 2 samples.
     pub fn new(dt: f64, values: Vec<Vector3<f64>>) -> Result<Self, DynamicsError> {
         if !(dt > 0.0 && dt.is_finite() && values.len() >= 2) {
-            return Err(DynamicsError::InvalidSetting {
-                setting: "dt",
-                value: dt,
-                requirement: "must be finite and > 0 with at least 2 samples",
-            });
+            return Err(InvalidInput::new(
+                "dt",
+                dt,
+                "must be finite and > 0 with at least 2 samples",
+            )
+            .into());
         }
         Ok(Self { dt, values })
     }

@@ -1,20 +1,21 @@
 //! Task-space trajectories: motion programs ([`MotionLaw`]: parabolic, cycloidal, 3-4-5)
 //! composed with path shapes ([`Path`]: straight line, ellipse, sheared ellipse, clothoid), with
-//! analytic velocity and acceleration (Miller 2004 §3.5). Miller's own cycle, with the two
-//! readings of its cycle time, is a preset of the reproduction (`pkm::papers::miller2004::
-//! dynamics::pick_and_place`), not of this library.
+//! analytic velocity and acceleration (Miller 2004 §3.5). Named trajectories of the literature
+//! are in [`presets`] (Miller's pick-and-place cycle: [`presets::miller_pick_and_place`]).
 //!
 //! On a segment of duration $T$ with path parameter $u = s(t/T)$:
 //! $\dot p = p'(u)\,s'/T$, $\ddot p = p''(u)\,(s'/T)^2 + p'(u)\,s''/T^2$.
 
 mod motion_law;
 mod path;
+pub mod presets;
 
 pub use motion_law::MotionLaw;
 pub use path::Path;
 
 use crate::DynamicsError;
 use nalgebra::Vector3;
+use pkm_traits::InvalidInput;
 
 /// Position, velocity and acceleration of the plate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,25 +69,17 @@ impl Trajectory {
     /// Chains segments.
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for no segment, a non-positive duration or a path that
+    /// [`DynamicsError::Invalid`] for no segment, a non-positive duration or a path that
     /// fails [`Path::validate`].
     pub fn new(segments: Vec<Segment>) -> Result<Self, DynamicsError> {
         if segments.is_empty() {
-            return Err(DynamicsError::InvalidSetting {
-                setting: "segments",
-                value: 0.0,
-                requirement: "at least one segment",
-            });
+            return Err(InvalidInput::new("segments", 0.0, "at least one segment").into());
         }
         if let Some(s) = segments
             .iter()
             .find(|s| !(s.duration > 0.0 && s.duration.is_finite()))
         {
-            return Err(DynamicsError::InvalidSetting {
-                setting: "duration",
-                value: s.duration,
-                requirement: "must be finite and > 0",
-            });
+            return Err(InvalidInput::new("duration", s.duration, "must be finite and > 0").into());
         }
         for s in &segments {
             s.path.validate()?;
@@ -117,27 +110,9 @@ impl Trajectory {
 pub(crate) mod tests {
     use super::*;
 
-    /// A half ellipse there and back (3-4-5), each way in half of `duration`: the test cycle of
-    /// this crate's unit tests.
+    /// Miller's cycle in `duration`: the test cycle of this crate's unit tests.
     pub(crate) fn ellipse_cycle(duration: f64) -> Trajectory {
-        let path = Path::Ellipse {
-            centre: Vector3::new(0.0, 0.0, -0.9),
-            axis_1: Vector3::new(0.0, -0.2, 0.0),
-            axis_2: Vector3::new(0.0, 0.0, 0.4),
-            start_angle: 0.0,
-            sweep: std::f64::consts::PI,
-        };
-        let go = Segment {
-            path,
-            law: MotionLaw::Polynomial345,
-            duration: duration / 2.0,
-            reverse: false,
-        };
-        let back = Segment {
-            reverse: true,
-            ..go
-        };
-        Trajectory::new(vec![go, back]).unwrap_or_else(|e| panic!("{e}"))
+        presets::miller_pick_and_place(duration).unwrap_or_else(|e| panic!("{e}"))
     }
 
     #[test]
@@ -147,5 +122,13 @@ pub(crate) mod tests {
         assert!((t.sample(0.25).p.z + 0.9).abs() < 1e-12);
         assert!((t.sample(0.125).p.z + 0.5).abs() < 1e-12);
         assert!((t.sample(0.0).p - t.sample(0.5).p).norm() < 1e-12);
+        // There and back: the same point at the same time from either end.
+        for k in 0..=10 {
+            let t1 = 0.025 * f64::from(k);
+            assert!(
+                (t.sample(t1).p - t.sample(0.5 - t1).p).norm() < 1e-12,
+                "t = {t1}"
+            );
+        }
     }
 }

@@ -7,6 +7,7 @@
 
 use crate::DynamicsError;
 use nalgebra::Vector3;
+use pkm_traits::InvalidInput;
 
 /// A geometric path.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,27 +71,10 @@ const GAUSS_LEGENDRE_8: [(f64, f64); 4] = [
 /// Smallest admissible sine of the angle between two spanning vectors.
 const MIN_SINE: f64 = 1e-9;
 
-fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> DynamicsError {
-    DynamicsError::InvalidSetting {
-        setting,
-        value,
-        requirement,
-    }
-}
-
 fn finite_vector(setting: &'static str, v: &Vector3<f64>) -> Result<(), DynamicsError> {
-    match v.iter().find(|x| !x.is_finite()) {
-        Some(x) => Err(invalid(setting, *x, "must be finite")),
-        None => Ok(()),
-    }
-}
-
-fn finite(setting: &'static str, x: f64) -> Result<(), DynamicsError> {
-    if x.is_finite() {
-        Ok(())
-    } else {
-        Err(invalid(setting, x, "must be finite"))
-    }
+    v.iter()
+        .try_for_each(|x| InvalidInput::require_finite(setting, *x).map(drop))
+        .map_err(Into::into)
 }
 
 /// $|a \times b| / (|a|\,|b|)$, 0 when either vector is zero.
@@ -142,7 +126,7 @@ impl Path {
     /// A validated straight line.
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for a non-finite point.
+    /// [`DynamicsError::Invalid`] for a non-finite point.
     pub fn line(start: Vector3<f64>, end: Vector3<f64>) -> Result<Self, DynamicsError> {
         let path = Self::Line { start, end };
         path.validate()?;
@@ -152,7 +136,7 @@ impl Path {
     /// A validated ellipse arc $c + \cos\varphi\, a_1 + \sin\varphi\, a_2$.
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for a non-finite value, a zero sweep, or axes that are
+    /// [`DynamicsError::Invalid`] for a non-finite value, a zero sweep, or axes that are
     /// zero or parallel.
     pub fn ellipse(
         centre: Vector3<f64>,
@@ -177,7 +161,7 @@ impl Path {
     /// [`Path::Ellipse`] with second axis $a_2 + k\,(|a_2|/|a_1|)\,a_1$. $k = 0$ is the ellipse.
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for a non-finite value, a zero sweep, or semi-axes that
+    /// [`DynamicsError::Invalid`] for a non-finite value, a zero sweep, or semi-axes that
     /// are zero or not orthogonal (|cos| > 1e-9).
     ///
     /// # Example
@@ -198,24 +182,26 @@ impl Path {
         start_angle: f64,
         sweep: f64,
     ) -> Result<Self, DynamicsError> {
-        finite("sheared_ellipse.shear", shear)?;
+        InvalidInput::require_finite("sheared_ellipse.shear", shear)?;
         finite_vector("sheared_ellipse.semi_axis_1", &semi_axis_1)?;
         finite_vector("sheared_ellipse.semi_axis_2", &semi_axis_2)?;
         let (a, b) = (semi_axis_1.norm(), semi_axis_2.norm());
         if !(a > 0.0 && b > 0.0) {
-            return Err(invalid(
+            return Err(InvalidInput::new(
                 "sheared_ellipse.semi_axis",
                 a.min(b),
                 "semi-axes must be non-zero",
-            ));
+            )
+            .into());
         }
         let cosine = semi_axis_1.dot(&semi_axis_2) / (a * b);
         if cosine.abs() > MIN_SINE {
-            return Err(invalid(
+            return Err(InvalidInput::new(
                 "sheared_ellipse.semi_axes_cosine",
                 cosine,
                 "semi-axes must be orthogonal",
-            ));
+            )
+            .into());
         }
         Self::ellipse(
             centre,
@@ -229,7 +215,7 @@ impl Path {
     /// A validated clothoid (see [`Path::Clothoid`]).
     ///
     /// # Errors
-    /// [`DynamicsError::InvalidSetting`] for a non-finite value, a length that is not positive,
+    /// [`DynamicsError::Invalid`] for a non-finite value, a length that is not positive,
     /// a zero `tangent`, or a `normal` that is zero or parallel to `tangent`.
     ///
     /// # Example
@@ -282,18 +268,21 @@ impl Path {
                 finite_vector("ellipse.centre", centre)?;
                 finite_vector("ellipse.axis_1", axis_1)?;
                 finite_vector("ellipse.axis_2", axis_2)?;
-                finite("ellipse.start_angle", *start_angle)?;
-                finite("ellipse.sweep", *sweep)?;
+                InvalidInput::require_finite("ellipse.start_angle", *start_angle)?;
+                InvalidInput::require_finite("ellipse.sweep", *sweep)?;
                 if *sweep == 0.0 {
-                    return Err(invalid("ellipse.sweep", *sweep, "must be non-zero"));
+                    return Err(
+                        InvalidInput::new("ellipse.sweep", *sweep, "must be non-zero").into(),
+                    );
                 }
                 let sine = sine_between(axis_1, axis_2);
                 if sine < MIN_SINE {
-                    return Err(invalid(
+                    return Err(InvalidInput::new(
                         "ellipse.axes_sine",
                         sine,
                         "axes must be non-zero and not parallel",
-                    ));
+                    )
+                    .into());
                 }
                 Ok(())
             }
@@ -308,22 +297,24 @@ impl Path {
                 finite_vector("clothoid.start", start)?;
                 finite_vector("clothoid.tangent", tangent)?;
                 finite_vector("clothoid.normal", normal)?;
-                finite("clothoid.curvature", *curvature)?;
-                finite("clothoid.sharpness", *sharpness)?;
+                InvalidInput::require_finite("clothoid.curvature", *curvature)?;
+                InvalidInput::require_finite("clothoid.sharpness", *sharpness)?;
                 if !(*length > 0.0 && length.is_finite()) {
-                    return Err(invalid(
+                    return Err(InvalidInput::new(
                         "clothoid.length",
                         *length,
                         "must be finite and > 0",
-                    ));
+                    )
+                    .into());
                 }
                 let sine = sine_between(tangent, normal);
                 if sine < MIN_SINE {
-                    return Err(invalid(
+                    return Err(InvalidInput::new(
                         "clothoid.tangent_normal_sine",
                         sine,
                         "tangent and normal must be non-zero and not parallel",
-                    ));
+                    )
+                    .into());
                 }
                 Ok(())
             }
@@ -515,8 +506,8 @@ mod tests {
     fn bad_parameters_are_typed_errors() {
         let z = Vector3::zeros;
         let setting = |r: Result<Path, DynamicsError>| match r {
-            Err(DynamicsError::InvalidSetting { setting, .. }) => setting,
-            other => panic!("expected InvalidSetting, got {other:?}"),
+            Err(DynamicsError::Invalid(e)) => e.name,
+            other => panic!("expected Invalid, got {other:?}"),
         };
         assert_eq!(
             setting(Path::line(z(), Vector3::new(f64::NAN, 0.0, 0.0))),

@@ -1,10 +1,10 @@
-//! Miller's elliptical pick-and-place cycle (§3.5) and the two readings of its cycle time,
-//! built from the general [`Trajectory`] of `pkm-dynamics-hamilton`.
+//! The two readings of the cycle time of Miller's elliptical pick-and-place cycle (§3.5); the
+//! cycle itself is the library's preset
+//! ([`pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place`]).
 
-use nalgebra::Vector3;
 use pkm_dynamics_hamilton::DynamicsError;
-use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
-use std::f64::consts::PI;
+use pkm_dynamics_hamilton::trajectory::Trajectory;
+use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
 
 /// How "time to traverse the ellipse … and back to the start point → 0.5 s" is read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -15,12 +15,10 @@ pub enum CycleReading {
     EachLeg,
 }
 
-/// Miller's elliptical pick-and-place cycle (§3.5): the half ellipse through
-/// $(0, -0.2, -0.9)$, $(0, 0, -0.5)$, $(0, 0.2, -0.9)$ (centre $(0, 0, -0.9)$, semi-axes
-/// 0.2 in $y$ and 0.4 in $z$), 3-4-5 on the eccentric angle, there and back.
+/// Miller's cycle with the paper's `cycle_time` read as `reading`.
 ///
 /// # Errors
-/// [`DynamicsError::InvalidSetting`] for a cycle time that is not finite and positive.
+/// [`DynamicsError::Invalid`] for a cycle time that is not finite and positive.
 ///
 /// # Example
 /// ```
@@ -33,28 +31,9 @@ pub enum CycleReading {
 /// assert!(pick_and_place(-1.0, CycleReading::RoundTrip).is_err());
 /// ```
 pub fn pick_and_place(cycle_time: f64, reading: CycleReading) -> Result<Trajectory, DynamicsError> {
-    let leg = match reading {
-        CycleReading::RoundTrip => cycle_time / 2.0,
-        CycleReading::EachLeg => cycle_time,
-    };
-    let path = Path::Ellipse {
-        centre: Vector3::new(0.0, 0.0, -0.9),
-        axis_1: Vector3::new(0.0, -0.2, 0.0),
-        axis_2: Vector3::new(0.0, 0.0, 0.4),
-        start_angle: 0.0,
-        sweep: PI,
-    };
-    let go = Segment {
-        path,
-        law: MotionLaw::Polynomial345,
-        duration: leg,
-        reverse: false,
-    };
-    Trajectory::new(vec![
-        go,
-        Segment {
-            reverse: true,
-            ..go
-        },
-    ])
+    miller_pick_and_place(match reading {
+        CycleReading::RoundTrip => cycle_time,
+        // Each leg in the cycle time is a round trip in twice it (exactly: 2t/2 = t).
+        CycleReading::EachLeg => 2.0 * cycle_time,
+    })
 }

@@ -6,13 +6,15 @@
 
 use super::{DT, Robot, canonical_trajectory, lines, model};
 use crate::papers::{Context, Experiment, ExperimentError, Figure, Outcome, Paper, Source};
-use nalgebra::{SVector, Vector3};
+use nalgebra::Vector3;
 use pkm_draw::chart::Quantity;
-use pkm_dynamics_hamilton::forward::{AccelerationForm, ForwardForm, HamiltonForm, SampledTorques};
+use pkm_dynamics_hamilton::forward::{
+    AccelerationForm, ForwardForm, HamiltonForm, Retrace, retrace, retrace_sampled,
+};
 use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing, lagrange_torques};
 use pkm_dynamics_hamilton::trajectory::Trajectory;
-use pkm_dynamics_hamilton::{ConfigurationError, ExtendedModel};
-use pkm_integrators::{AdaptiveSettings, DormandPrince54, OutputTimes, Solution, integrate};
+use pkm_dynamics_hamilton::{ConfigurationError, ExtendedModel, ExtendedState};
+use pkm_integrators::{AdaptiveSettings, DormandPrince54, OutputTimes};
 use pkm_mechanisms::Placement;
 
 pub(super) const EXPERIMENT: Experiment = Experiment {
@@ -43,45 +45,25 @@ fn dopri(rtol: f64) -> Result<DormandPrince54<13>, ExperimentError> {
     Ok(DormandPrince54::new(settings))
 }
 
+/// `form` from the cycle's start over `t_end`, sampled every [`DT`] with its drift and
+/// energy balance ([`retrace`]).
 fn simulate<F: ForwardForm>(
     form: &F,
-    trajectory: &Trajectory,
+    start: &ExtendedState,
     t_end: f64,
     rtol: f64,
     context: &Context<'_>,
-) -> Result<Solution<13>, ExperimentError> {
-    let m = trajectory.sample(0.0);
-    let s = (form.model().joint_motion(&m.p, &m.v, &m.a)).map_err(|e| e.at(0.0))?;
-    let z0 = form.initial_state(&s.q, &s.qd);
+) -> Result<Retrace, ExperimentError> {
     let out = OutputTimes::Uniform(DT);
-    Ok(integrate(
+    let scheme = &mut dopri(rtol)?;
+    Ok(retrace(
         form,
-        &mut dopri(rtol)?,
+        start,
         (0.0, t_end),
-        &z0,
         &out,
+        scheme,
         context.progress,
     )?)
-}
-
-/// Max drift and max |E − E(0) − W| along a run.
-fn diagnostics<F: ForwardForm>(
-    form: &F,
-    run: &Solution<13>,
-) -> Result<(f64, f64), ExperimentError> {
-    let e0 = form
-        .energy_minus_work(0.0, &run.states[0])
-        .map_err(pkm_traits::IntegrationError::from)?;
-    let mut drift: f64 = 0.0;
-    let mut energy: f64 = 0.0;
-    for (t, z) in run.times.iter().zip(&run.states) {
-        drift = drift.max(form.drift(z));
-        let e = form
-            .energy_minus_work(*t, z)
-            .map_err(pkm_traits::IntegrationError::from)?;
-        energy = energy.max((e - e0).abs());
-    }
-    Ok((drift, energy))
 }
 
 /// The exact (Lagrange, analytic accelerations) torque of the periodic cycle at `t`.
@@ -98,46 +80,13 @@ fn exact_torque<'a>(
     }
 }
 
-/// One retrace of the commanded cycle by the Hamilton form (Baumgarte [`GAIN`]) under a given
-/// torque: the position errors at the output times and the run's diagnostics.
-struct Retrace {
-    errors: Vec<(f64, Vector3<f64>)>,
-    drift: f64,
-    energy: f64,
-    evaluations: usize,
-}
-
-impl Retrace {
-    fn of(
-        torque: &dyn Fn(f64) -> Vector3<f64>,
-        m: &ExtendedModel,
-        trajectory: &Trajectory,
-        rtol: f64,
-        context: &Context<'_>,
-    ) -> Result<Self, ExperimentError> {
-        let form = HamiltonForm::new(m, torque, GAIN)?;
-        let run = simulate(&form, trajectory, trajectory.duration(), rtol, context)?;
-        let (drift, energy) = diagnostics(&form, &run)?;
-        Ok(Self {
-            errors: position_errors(trajectory, &run),
-            drift,
-            energy,
-            evaluations: run.stats.evaluations,
-        })
-    }
-}
-
-fn max_norm(errors: &[(f64, Vector3<f64>)]) -> f64 {
-    errors.iter().map(|(_, e)| e.norm()).fold(0.0, f64::max)
-}
-
-fn position_errors(trajectory: &Trajectory, run: &Solution<13>) -> Vec<(f64, Vector3<f64>)> {
+/// $p(t) - p_{\mathrm{commanded}}(t)$ at the output times of `run`.
+fn position_errors(trajectory: &Trajectory, run: &Retrace) -> Vec<(f64, Vector3<f64>)> {
+    let commanded: Vec<_> = run.times.iter().map(|t| trajectory.sample(*t).p).collect();
     run.times
         .iter()
-        .zip(&run.states)
-        .map(|(t, z): (&f64, &SVector<f64, 13>)| {
-            (*t, z.fixed_rows::<3>(0) - trajectory.sample(*t).p)
-        })
+        .copied()
+        .zip(run.position_errors(&commanded))
         .collect()
 }
 
@@ -178,18 +127,42 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     let torque_gap = (hamilton.iter().zip(&lagrange))
         .map(|(h, l)| (h - l).amax())
         .fold(0.0, f64::max);
-    let tau = SampledTorques::new(DT, hamilton)?;
-    let measured = Retrace::of(&|t| tau.at(t), &m, &trajectory, rtol, context)?;
+    let start = &samples[0].1;
+    let measured = retrace_sampled(
+        &m,
+        &samples,
+        &hamilton,
+        GAIN,
+        &mut dopri(rtol)?,
+        context.progress,
+    )?;
 
     // The same retrace fed with the exact torques, sampled at 1 ms (interpolation error only)
     // and continuous (integration error only): the error budget of the 1 ms row.
-    let sampled = SampledTorques::new(DT, lagrange)?;
-    let interpolated = Retrace::of(&|t| sampled.at(t), &m, &trajectory, rtol, context)?;
-    let exact = Retrace::of(&torque, &m, &trajectory, rtol, context)?;
+    let interpolated = retrace_sampled(
+        &m,
+        &samples,
+        &lagrange,
+        GAIN,
+        &mut dopri(rtol)?,
+        context.progress,
+    )?;
+    let exact = simulate(
+        &HamiltonForm::new(&m, &torque, GAIN)?,
+        start,
+        duration,
+        rtol,
+        context,
+    )?;
+    let errors = position_errors(&trajectory, &measured);
+    let largest_error = |run: &Retrace| {
+        let commanded: Vec<_> = run.times.iter().map(|t| trajectory.sample(*t).p).collect();
+        run.max_position_error(&commanded)
+    };
     let (max_error, sampled_error, exact_error) = (
-        max_norm(&measured.errors),
-        max_norm(&interpolated.errors),
-        max_norm(&exact.errors),
+        largest_error(&measured),
+        largest_error(&interpolated),
+        largest_error(&exact),
     );
 
     let setup = format!(
@@ -236,7 +209,8 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
         ("_exact_torques_sampled_1ms", &interpolated),
         ("_exact_torques", &exact),
     ] {
-        let (drift, energy, evaluations) = (run.drift, run.energy, run.evaluations);
+        let (drift, energy, evaluations) =
+            (run.max_drift(), run.max_energy_balance(), run.evaluations);
         comparisons.extend([
             source
                 .info(&format!("retrace_max_constraint_drift{label}"), "m", drift)
@@ -261,11 +235,11 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     for (gain, label) in [(0.0, ""), (GAIN, "_baumgarte")] {
         context.progress.check()?;
         let h = HamiltonForm::new(&m, &torque, gain)?;
-        let run_h = simulate(&h, &trajectory, cycles * duration, drift_rtol, context)?;
-        let (drift_h, energy_h) = diagnostics(&h, &run_h)?;
+        let run_h = simulate(&h, start, cycles * duration, drift_rtol, context)?;
+        let (drift_h, energy_h) = (run_h.max_drift(), run_h.max_energy_balance());
         let a = AccelerationForm::new(&m, &torque, gain)?;
-        let run_a = simulate(&a, &trajectory, cycles * duration, drift_rtol, context)?;
-        let (drift_a, energy_a) = diagnostics(&a, &run_a)?;
+        let run_a = simulate(&a, start, cycles * duration, drift_rtol, context)?;
+        let (drift_a, energy_a) = (run_a.max_drift(), run_a.max_energy_balance());
         let note =
             format!("{cycles} cycle(s), exact torques, DP54 rtol {drift_rtol:e}, gain {gain} /s");
         comparisons.extend([
@@ -286,12 +260,12 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
             source.info(
                 &format!("rhs_evaluations_hamilton{label}"),
                 "1",
-                run_h.stats.evaluations as f64,
+                run_h.evaluations as f64,
             ),
             source.info(
                 &format!("rhs_evaluations_lagrange{label}"),
                 "1",
-                run_a.stats.evaluations as f64,
+                run_a.evaluations as f64,
             ),
             source.info(
                 &format!("max_energy_balance_error_hamilton{label}"),
@@ -308,6 +282,6 @@ fn run(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     Ok(Outcome {
         comparisons,
         tables: Vec::new(),
-        figures: vec![fig9(&measured.errors)],
+        figures: vec![fig9(&errors)],
     })
 }

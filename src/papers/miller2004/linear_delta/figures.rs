@@ -1,12 +1,13 @@
 //! Figure data: Fig. 6 (η, η1, η2 on two planes through the optimum) and the optimal design's
 //! cross-section with its 1/κ map (the paper's missing Figs. 4–5).
 
-use super::evaluation::{Eta1Memo, Utility, inverse_condition, linear_delta};
+use super::evaluation::{Utility, inverse_condition, linear_delta};
 use super::search::{Optimum, Rules, search_box};
 use super::table2::{STATED_LIMITS, VARIABLES};
 use crate::papers::{ExperimentError, Figure, Mode};
 use pkm_draw::chart::{Chart, Heatmap};
 use pkm_traits::SlicedRegion;
+use pkm_workspace_indices::SectionIndexCache;
 use rayon::prelude::*;
 
 /// Evenly spaced values from `lo` to `hi` with `step`.
@@ -23,14 +24,14 @@ fn axis(lo: f64, hi: f64, step: f64) -> Vec<f64> {
 pub fn figure6(
     optimum: &Optimum,
     mode: Mode,
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
 ) -> Result<Vec<Figure>, ExperimentError> {
     let utility = Utility {
         w1: 1.0,
         w2: 1.0,
         rule: Rules::for_mode(mode).coarse,
         bounds: search_box(STATED_LIMITS)?,
-        memo,
+        cache,
     };
     let step = mode.pick(0.1, 0.05);
     let mut figures = Vec::new();

@@ -11,26 +11,18 @@ pub mod sensitivity;
 pub mod table2;
 
 use crate::papers::{Context, Experiment, ExperimentError, Outcome, Paper};
-use evaluation::Eta1Memo;
-use std::sync::OnceLock;
+use pkm_workspace_indices::SectionIndexCache;
 
-/// The memo of both experiments: Table 2 (rows 3 and 4, Fig. 6) and the sensitivity sweeps
-/// search the same lattices with the same rules, so whichever runs second reuses the indices of
-/// the first. A memoised index is a pure function of its design and rule, so the outcome of
-/// each experiment does not depend on which ran before it.
-fn shared_memo() -> &'static Eta1Memo {
-    static MEMO: OnceLock<Eta1Memo> = OnceLock::new();
-    MEMO.get_or_init(Eta1Memo::default)
-}
-
+/// Table 2 (four rows, Fig. 6) on one cache: rows 3 and 4 and the figure search the same
+/// lattices with the same rules, so each node's indices are computed once.
 fn run_table2(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
-    let memo = shared_memo();
-    let mut comparisons = table2::row1(context, memo)?;
-    comparisons.extend(table2::row2(context, memo)?);
-    comparisons.extend(table2::row3(context, memo)?);
-    let (row4, optimum) = table2::row4(context, memo)?;
+    let cache = SectionIndexCache::new();
+    let mut comparisons = table2::row1(context, &cache)?;
+    comparisons.extend(table2::row2(context, &cache)?);
+    comparisons.extend(table2::row3(context, &cache)?);
+    let (row4, optimum) = table2::row4(context, &cache)?;
     comparisons.extend(row4);
-    let mut figures = figures::figure6(&optimum, context.mode, memo)?;
+    let mut figures = figures::figure6(&optimum, context.mode, &cache)?;
     figures.push(figures::cross_section_map(&optimum.design, context.mode)?);
     Ok(Outcome {
         comparisons,
@@ -39,10 +31,11 @@ fn run_table2(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
     })
 }
 
+/// The sensitivity sweeps on one cache: every weighting searches the same lattices.
 fn run_sensitivity(context: &Context<'_>) -> Result<Outcome, ExperimentError> {
-    let memo = shared_memo();
-    let mut comparisons = sensitivity::w1_sweep(context, memo)?;
-    comparisons.extend(sensitivity::w2_sweep(context, memo)?);
+    let cache = SectionIndexCache::new();
+    let mut comparisons = sensitivity::w1_sweep(context, &cache)?;
+    comparisons.extend(sensitivity::w2_sweep(context, &cache)?);
     Ok(Outcome {
         comparisons,
         ..Outcome::default()

@@ -1,12 +1,13 @@
 //! The exhaustive design search of Miller 2004, §2.2.3: a coarse 4-D grid at step 0.1, then
 //! exhaustive local grids at 0.05 and 0.01 (Table 2 prints two decimals).
 
-use super::evaluation::{Eta1Memo, Eta1Rule, Utility};
+use super::evaluation::Utility;
 use crate::papers::{Context, ExperimentError, Mode};
 use pkm_optimizers::{
     GridAxis, GridSearch, LatticeLevel, Sense, lattice_refined_search, lattice_window,
 };
 use pkm_traits::Bounds;
+use pkm_workspace_indices::{Eta1Rule, SectionIndexCache};
 
 /// Step of the coarse grid.
 const COARSE_STEP: f64 = 0.1;
@@ -43,7 +44,7 @@ impl Rules {
     /// The same coarse rule, the paper's grid (eq. 4, $N_a > 5000$) at 0.01.
     pub fn with_paper_grid(self) -> Self {
         Self {
-            fine: Eta1Rule::PaperGrid,
+            fine: Eta1Rule::Grid,
             ..self
         }
     }
@@ -80,7 +81,7 @@ pub fn optimise(
     (w1, w2): (f64, f64),
     bounds: [Bounds; 4],
     rules: Rules,
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
     context: &Context<'_>,
 ) -> Result<Optimum, ExperimentError> {
     let utility = |rule| Utility {
@@ -88,7 +89,7 @@ pub fn optimise(
         w2,
         rule,
         bounds,
-        memo,
+        cache,
     };
     let coarse = bounds
         .iter()

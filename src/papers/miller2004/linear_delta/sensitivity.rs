@@ -1,10 +1,10 @@
 //! The two sensitivity statements of Miller 2004, §2.2.4: with w2 = 1, w1 must exceed 3 before
 //! the geometry changes considerably; with w1 = 1, raising w2 only lowers L2/L1, by at most 0.03.
 
-use super::evaluation::Eta1Memo;
 use super::search::{Optimum, Rules, optimise, search_box};
 use super::table2::STATED_LIMITS;
 use crate::papers::{Comparison, Context, ExperimentError, Mode, Paper, Source};
+use pkm_workspace_indices::SectionIndexCache;
 
 /// (L1/YR, YA/YR, ZR/YR) agree on the 0.01 lattice.
 const SAME_NODE: f64 = 0.005;
@@ -20,14 +20,14 @@ fn geometry_change(a: &Optimum, b: &Optimum) -> f64 {
 
 fn at_weights(
     w: (f64, f64),
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
     context: &Context<'_>,
 ) -> Result<Optimum, ExperimentError> {
     optimise(
         w,
         search_box(STATED_LIMITS)?,
         Rules::for_mode(context.mode),
-        memo,
+        cache,
         context,
     )
 }
@@ -39,7 +39,7 @@ fn at_weights(
 /// As [`optimise`].
 pub fn w1_sweep(
     context: &Context<'_>,
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
 ) -> Result<Vec<Comparison>, ExperimentError> {
     let source = Source::new(
         "miller2004.linear_delta.sensitivity.w1",
@@ -50,7 +50,7 @@ pub fn w1_sweep(
         &[1.0, 2.0, 3.0, 4.0, 5.0][..],
         &[1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 10.0],
     );
-    let base = at_weights((1.0, 1.0), memo, context)?;
+    let base = at_weights((1.0, 1.0), cache, context)?;
     let mut rows = Vec::new();
     let mut change_up_to_3: f64 = 0.0;
     // The first sweep interval (previous weight, weight) over which the geometry jumps, wherever
@@ -58,7 +58,7 @@ pub fn w1_sweep(
     let mut jump: Option<(f64, f64)> = None;
     let mut previous = 1.0;
     for &w1 in weights {
-        let optimum = at_weights((w1, 1.0), memo, context)?;
+        let optimum = at_weights((w1, 1.0), cache, context)?;
         rows.push(source.info(&format!("L2/L1 (w1={w1})"), "", optimum.design[3]));
         let change = geometry_change(&optimum, &base);
         if w1 <= 3.0 {
@@ -81,7 +81,7 @@ pub fn w1_sweep(
             .with_note("'w1 > 3 necessary before a considerable change in geometry'"),
     );
     let w1_jump = match jump {
-        Some((below, above)) => Some(bisect_jump(below, above, &base, memo, context)?),
+        Some((below, above)) => Some(bisect_jump(below, above, &base, cache, context)?),
         None => None,
     };
     let above_3 = w1_jump.is_some_and(|w| w > 3.0);
@@ -114,13 +114,13 @@ fn bisect_jump(
     mut below: f64,
     mut above: f64,
     base: &Optimum,
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
     context: &Context<'_>,
 ) -> Result<f64, ExperimentError> {
     let resolution = context.mode.pick(f64::INFINITY, 0.01);
     while above - below > resolution {
         let mid = 0.5 * (below + above);
-        if geometry_change(&at_weights((mid, 1.0), memo, context)?, base) > JUMP {
+        if geometry_change(&at_weights((mid, 1.0), cache, context)?, base) > JUMP {
             above = mid;
         } else {
             below = mid;
@@ -136,7 +136,7 @@ fn bisect_jump(
 /// As [`optimise`].
 pub fn w2_sweep(
     context: &Context<'_>,
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
 ) -> Result<Vec<Comparison>, ExperimentError> {
     let source = Source::new(
         "miller2004.linear_delta.sensitivity.w2",
@@ -147,13 +147,13 @@ pub fn w2_sweep(
         Mode::Quick => &[1.0, 2.0, 10.0][..],
         Mode::Full => &[1.0, 1.1, 1.2, 1.5, 2.0, 3.0, 5.0, 10.0, 100.0],
     };
-    let base = at_weights((1.0, 1.0), memo, context)?;
-    let limit = at_weights((0.0, 1.0), memo, context)?;
+    let base = at_weights((1.0, 1.0), cache, context)?;
+    let limit = at_weights((0.0, 1.0), cache, context)?;
     let mut rows = Vec::new();
     let mut change: f64 = geometry_change(&limit, &base);
     let mut decrease: f64 = base.design[3] - limit.design[3];
     for &w2 in weights {
-        let optimum = at_weights((1.0, w2), memo, context)?;
+        let optimum = at_weights((1.0, w2), cache, context)?;
         rows.push(source.info(&format!("L2/L1 (w2={w2})"), "", optimum.design[3]));
         change = change.max(geometry_change(&optimum, &base));
         decrease = decrease.max(base.design[3] - optimum.design[3]);

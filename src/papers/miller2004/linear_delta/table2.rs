@@ -1,8 +1,9 @@
 //! Table 2 of Miller 2004: the optimal Linear Delta for four pairs of weights.
 
-use super::evaluation::{DesignEvaluation, Eta1Memo, eta1};
+use super::evaluation::{area, eta1, eta1_by_grid, eta2};
 use super::search::{Optimum, Rules, optimise, search_box};
 use crate::papers::{Comparison, Context, ExperimentError, Mode, Paper, Source};
+use pkm_workspace_indices::SectionIndexCache;
 
 /// Design variables in the order of Table 2.
 pub const VARIABLES: [&str; 4] = ["L1/YR", "YA/YR", "ZR/YR", "L2/L1"];
@@ -37,7 +38,7 @@ fn report(
     optimum: &Optimum,
     paper: [f64; 4],
     tolerances: [f64; 4],
-    memo_rule_n: usize,
+    fine_rule_n: usize,
 ) -> Result<Vec<Comparison>, ExperimentError> {
     let source = source(row);
     let mut rows: Vec<Comparison> = (0..4)
@@ -48,9 +49,8 @@ fn report(
             rows.push(source.info(name, "", optimum.indices[k]));
         }
     }
-    let at_paper = DesignEvaluation::new(&paper)?;
-    rows.push(source.info("eta1 (paper design)", "", at_paper.eta1(memo_rule_n)?));
-    rows.push(source.info("eta2 (paper design)", "", at_paper.eta2()?));
+    rows.push(source.info("eta1 (paper design)", "", eta1(&paper, fine_rule_n)?));
+    rows.push(source.info("eta2 (paper design)", "", eta2(&paper)?));
     Ok(rows)
 }
 
@@ -59,12 +59,15 @@ fn report(
 ///
 /// # Errors
 /// As [`optimise`].
-pub fn row1(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, ExperimentError> {
+pub fn row1(
+    context: &Context<'_>,
+    cache: &SectionIndexCache,
+) -> Result<Vec<Comparison>, ExperimentError> {
     let rules = Rules::for_mode(context.mode);
     let full = search_box([(1.4, 2.7), (0.0, 0.7), (-1.0, 0.5), (0.01, 1.81)])?;
-    let approach = optimise((1.0, 0.0), full, rules, memo, context)?;
+    let approach = optimise((1.0, 0.0), full, rules, cache, context)?;
     let limit_box = search_box([(1.4, 2.7), (0.0, 0.7), (-1.0, 0.5), (L2_LIMIT, L2_LIMIT)])?;
-    let limit = optimise((1.0, 0.0), limit_box, rules, memo, context)?;
+    let limit = optimise((1.0, 0.0), limit_box, rules, cache, context)?;
     let n = fine_n(context.mode);
     let source = source(1);
     let paper = [1.55, 0.0, -0.75, L2_LIMIT];
@@ -126,10 +129,13 @@ pub fn fine_n(mode: Mode) -> usize {
 ///
 /// # Errors
 /// As [`optimise`].
-pub fn row2(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, ExperimentError> {
+pub fn row2(
+    context: &Context<'_>,
+    cache: &SectionIndexCache,
+) -> Result<Vec<Comparison>, ExperimentError> {
     let bounds = search_box([(1.4, 2.7), (0.0, 0.7), (0.0, 0.0), (0.05, 1.85)])?;
     let rules = Rules::for_mode(context.mode);
-    let optimum = optimise((1.0, 0.0), bounds, rules, memo, context)?;
+    let optimum = optimise((1.0, 0.0), bounds, rules, cache, context)?;
     let tolerances = [SAME_NODE, SAME_NODE, SAME_NODE, ONE_STEP];
     let paper = [1.48, 0.0, 0.0, 0.56];
     let mut rows = report(2, &optimum, paper, tolerances, fine_n(context.mode))?;
@@ -138,7 +144,7 @@ pub fn row2(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
         (1.0, 0.0),
         bounds,
         paper,
-        memo,
+        cache,
         context,
     )?);
     Ok(rows)
@@ -148,13 +154,16 @@ pub fn row2(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
 ///
 /// # Errors
 /// As [`optimise`].
-pub fn row3(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, ExperimentError> {
+pub fn row3(
+    context: &Context<'_>,
+    cache: &SectionIndexCache,
+) -> Result<Vec<Comparison>, ExperimentError> {
     let bounds = search_box(STATED_LIMITS)?;
     let optimum = optimise(
         (0.0, 1.0),
         bounds,
         Rules::for_mode(context.mode),
-        memo,
+        cache,
         context,
     )?;
     let paper = [2.0, 0.0, 0.0, 0.6];
@@ -170,22 +179,21 @@ pub fn row3(context: &Context<'_>, memo: &Eta1Memo) -> Result<Vec<Comparison>, E
 /// As [`optimise`].
 pub fn row4(
     context: &Context<'_>,
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
 ) -> Result<(Vec<Comparison>, Optimum), ExperimentError> {
     let bounds = search_box(STATED_LIMITS)?;
     let optimum = optimise(
         (1.0, 1.0),
         bounds,
         Rules::for_mode(context.mode),
-        memo,
+        cache,
         context,
     )?;
     let tolerances = [SAME_NODE, SAME_NODE, SAME_NODE, ONE_STEP];
     let paper = [2.0, 0.0, 0.0, 0.63];
     let mut rows = report(4, &optimum, paper, tolerances, fine_n(context.mode))?;
-    let at_optimum = DesignEvaluation::new(&optimum.design)?;
-    let grid = at_optimum.eta1_by_grid()?;
-    let exact = at_optimum.area();
+    let grid = eta1_by_grid(&optimum.design)?;
+    let exact = area(&optimum.design)?;
     let source = source(4);
     rows.push(source.info("area", "YR^2", exact));
     rows.push(
@@ -199,7 +207,7 @@ pub fn row4(
         (1.0, 1.0),
         bounds,
         paper,
-        memo,
+        cache,
         context,
     )?);
     Ok((rows, optimum))
@@ -212,14 +220,14 @@ fn paper_grid_rows(
     weights: (f64, f64),
     bounds: [pkm_traits::Bounds; 4],
     paper: [f64; 4],
-    memo: &Eta1Memo,
+    cache: &SectionIndexCache,
     context: &Context<'_>,
 ) -> Result<Vec<Comparison>, ExperimentError> {
     if context.mode == Mode::Quick {
         return Ok(Vec::new());
     }
     let rules = Rules::for_mode(context.mode).with_paper_grid();
-    let optimum = optimise(weights, bounds, rules, memo, context)?;
+    let optimum = optimise(weights, bounds, rules, cache, context)?;
     let source = source(row);
     Ok((0..4)
         .map(|k| {
