@@ -9,9 +9,8 @@ use crate::study::StudyFile;
 use crate::study::mechanism::{ConstraintsSpec, MechanismSpec};
 use crate::study::sampling::SamplingSpec;
 use crate::study::units::Real;
-use pkm_optimizers::{GridAxis, MAX_GRID_NODES};
+use pkm_optimizers::{GridAxis, GridSearch, MAX_GRID_NODES};
 use pkm_traits::Progress;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use std::str::FromStr;
@@ -61,46 +60,29 @@ pub struct VariableSpec {
 pub struct Grid {
     /// Variable names.
     pub names: Vec<String>,
-    /// Their axes.
-    pub axes: Vec<GridAxis>,
+    /// The grid of their axes.
+    pub search: GridSearch,
 }
 
 impl Grid {
-    /// Number of nodes.
-    pub fn len(&self) -> usize {
-        self.axes.iter().map(GridAxis::n).product()
+    /// Their axes.
+    pub fn axes(&self) -> &[GridAxis] {
+        self.search.axes()
     }
 
-    /// Whether the grid has no node (never, once validated).
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.search.nodes()
+    }
+
+    /// Whether the grid has no node (never: a grid has at least one).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
-    /// Node indices per axis of node `flat`.
-    pub fn multi_index(&self, mut flat: usize) -> Vec<usize> {
-        let mut index = vec![0; self.axes.len()];
-        for (k, axis) in self.axes.iter().enumerate().rev() {
-            index[k] = flat % axis.n();
-            flat /= axis.n();
-        }
-        index
-    }
-
-    /// The flat index of per-axis indices.
-    pub fn flat(&self, index: &[usize]) -> usize {
-        index
-            .iter()
-            .zip(&self.axes)
-            .fold(0, |flat, (i, axis)| flat * axis.n() + i)
-    }
-
-    /// The design at node `flat`.
+    /// The design at node `flat` (empty past the last node).
     pub fn design(&self, flat: usize) -> Vec<f64> {
-        self.multi_index(flat)
-            .iter()
-            .zip(&self.axes)
-            .map(|(i, axis)| axis.node(*i))
-            .collect()
+        self.search.node_design(flat).unwrap_or_default()
     }
 }
 
@@ -248,7 +230,8 @@ pub fn prepare(
             Some(sampling.get_ref().point_set(domain)?)
         }
     };
-    let grid = Grid { names, axes };
+    let search = GridSearch::new(axes)?;
+    let grid = Grid { names, search };
     let evaluator = Evaluator::new(
         study.mechanism.clone(),
         grid.names.clone(),
@@ -269,14 +252,11 @@ pub fn evaluate_nodes(
     range: Range<usize>,
     progress: &dyn Progress,
 ) -> Result<Vec<NodeOutcome>, CliError> {
-    progress.start("grid nodes", range.len() as u64);
-    let outcomes = range
-        .into_par_iter()
-        .map(|flat| {
-            progress.check()?;
-            let design = prepared.grid.design(flat);
-            let outcome = prepared.evaluator.evaluate(&design, indices, settings)?;
-            progress.advance(1);
+    prepared
+        .grid
+        .search
+        .evaluate_range(range, progress, |design| {
+            let outcome = prepared.evaluator.evaluate(design, indices, settings)?;
             Ok(outcome.and_then(|values| {
                 if values.iter().all(|v| v.is_finite()) {
                     Ok(values)
@@ -285,9 +265,6 @@ pub fn evaluate_nodes(
                 }
             }))
         })
-        .collect::<Result<Vec<_>, CliError>>();
-    progress.finish();
-    outcomes
 }
 
 /// The shard part of a `results.json`: what `pkm merge` joins.
@@ -420,24 +397,5 @@ mod tests {
         for bad in ["0/3", "4/3", "1/0", "x", "1/", "-1/3"] {
             assert!(bad.parse::<Shard>().is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn flat_and_multi_indices_are_inverse() {
-        let axes = vec![
-            GridAxis::new(0.0, 1.0, 3).unwrap(),
-            GridAxis::new(0.0, 1.0, 1).unwrap(),
-            GridAxis::new(-1.0, 1.0, 4).unwrap(),
-        ];
-        let grid = Grid {
-            names: vec!["a".into(), "b".into(), "c".into()],
-            axes,
-        };
-        assert_eq!(grid.len(), 12);
-        for flat in 0..grid.len() {
-            assert_eq!(grid.flat(&grid.multi_index(flat)), flat);
-        }
-        // The last variable runs fastest, as in pkm_optimizers::grid_search.
-        assert_eq!(grid.multi_index(5), [1, 0, 1]);
     }
 }

@@ -237,3 +237,28 @@ fn bad_shards_are_refused_by_the_argument_parser() {
         );
     }
 }
+
+#[test]
+fn hostile_check_steps_are_refused_before_any_start_runs() {
+    let text = std::fs::read_to_string(common::example("tsai_volume_optimize.toml")).unwrap();
+    for step in ["1e300", "0.9", "1e-300", "5e-324", "0.0", "-1e-2", "nan"] {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("bad.toml");
+        let hostile = replace(&text, "check_step = 1e-2", &format!("check_step = {step}"));
+        std::fs::write(&file, hostile).unwrap();
+        let out = dir.path().join("out");
+        let run = pkm(&[
+            "optimize",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!run.ok, "check_step = {step} accepted");
+        assert!(
+            run.stderr.contains("check_step") && !run.stderr.contains("panicked"),
+            "{step}: {}",
+            run.stderr
+        );
+        assert!(!out.join("results.json").exists());
+    }
+}

@@ -63,10 +63,10 @@ impl ImplicitMidpoint {
     /// # Errors
     /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
-        if max_steps == 0 {
-            return Err(InvalidInput::new("max_steps", 0.0, "must be >= 1").into());
-        }
-        Ok(Self { max_steps, ..self })
+        Ok(Self {
+            max_steps: InvalidInput::require_nonzero_count("max_steps", max_steps)?,
+            ..self
+        })
     }
 
     /// Stopping tolerance of the fixed-point stage solve (relative to `max(1, ‖z‖_∞)`).
@@ -85,9 +85,7 @@ impl ImplicitMidpoint {
     /// # Errors
     /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_iterations(self, max_iterations: usize) -> Result<Self, IntegrationError> {
-        if max_iterations == 0 {
-            return Err(InvalidInput::new("max_iterations", 0.0, "must be >= 1").into());
-        }
+        InvalidInput::require_nonzero_count("max_iterations", max_iterations)?;
         Ok(Self {
             max_iterations,
             ..self

@@ -47,10 +47,10 @@ impl Rk4 {
     /// # Errors
     /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
-        if max_steps == 0 {
-            return Err(InvalidInput::new("max_steps", 0.0, "must be >= 1").into());
-        }
-        Ok(Self { max_steps, ..self })
+        Ok(Self {
+            max_steps: InvalidInput::require_nonzero_count("max_steps", max_steps)?,
+            ..self
+        })
     }
 
     /// The step size the driver uses.

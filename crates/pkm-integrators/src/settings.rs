@@ -134,9 +134,7 @@ impl AdaptiveSettings {
     /// # Errors
     /// [`IntegrationError::Invalid`] when 0.
     pub fn with_max_steps(self, max_steps: usize) -> Result<Self, IntegrationError> {
-        if max_steps == 0 {
-            return Err(InvalidInput::new("max_steps", 0.0, "must be >= 1").into());
-        }
+        InvalidInput::require_nonzero_count("max_steps", max_steps)?;
         Ok(Self { max_steps, ..self })
     }
 

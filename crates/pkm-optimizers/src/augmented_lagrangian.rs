@@ -10,10 +10,12 @@
 
 use crate::OptimizeError;
 use crate::finite_differences::RELATIVE_STEP;
+use crate::multistart::LocalResult;
 use crate::sense::Sense;
 use crate::spg::{InnerSettings, minimise_in_box, project};
 use crate::termination::Termination;
-use pkm_traits::{Constraints, ObjectiveError, Progress};
+use pkm_traits::{Constraints, InvalidInput, ObjectiveError, Progress};
+use serde::{Deserialize, Serialize};
 use std::cell::Cell;
 
 /// Penalty $\rho$ of the first outer iteration.
@@ -30,8 +32,10 @@ pub const REQUIRED_VIOLATION_DECREASE: f64 = 0.25;
 /// $(1 + \max_i \mu_i)$ in the last outer iteration.
 pub const MULTIPLIER_TOLERANCE: f64 = 1e-6;
 
-/// Settings of [`augmented_lagrangian`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Settings of [`augmented_lagrangian`]. In a study file (e.g. `[optimize.solver]`) every key
+/// is optional, with the defaults below.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, default)]
 pub struct AugmentedLagrangianSettings {
     /// Relative finite-difference step (times each box width). Default
     /// [`crate::finite_differences::RELATIVE_STEP`]; use ~1e-3 for Monte Carlo objectives on
@@ -60,7 +64,7 @@ impl Default for AugmentedLagrangianSettings {
 }
 
 /// A constrained optimum.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ConstrainedResult {
     /// The design.
     pub design: Vec<f64>,
@@ -83,6 +87,18 @@ pub struct ConstrainedResult {
     pub evaluations: usize,
 }
 
+impl LocalResult for ConstrainedResult {
+    fn design(&self) -> &[f64] {
+        &self.design
+    }
+    fn value(&self) -> f64 {
+        self.value
+    }
+    fn termination(&self) -> Termination {
+        self.termination
+    }
+}
+
 /// Minimises (or, with [`Sense::Maximise`], maximises) `problem` from `start` subject to its
 /// bounds and inequalities.
 ///
@@ -90,7 +106,7 @@ pub struct ConstrainedResult {
 /// once per outer iteration, and is asked for cancellation before every inner iteration.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] for a start of the wrong length or settings that fail
+/// [`OptimizeError::Invalid`] for a start of the wrong length or settings that fail
 /// [`AugmentedLagrangianSettings::validate`];
 /// [`OptimizeError::NoFeasibleDesign`] when the final design still violates a constraint by
 /// more than `settings.feasibility` (an infeasible constraint set: no design is returned);
@@ -157,11 +173,7 @@ fn solve<P: Constraints>(
     let evaluations = Cell::new(0_usize);
     let objective = |p: &[f64]| -> Result<f64, ObjectiveError> {
         evaluations.set(evaluations.get() + 1);
-        let value = problem.value(p)?;
-        Ok(match sense {
-            Sense::Minimise => value,
-            Sense::Maximise => -value,
-        })
+        Ok(sense.minimised(problem.value(p)?))
     };
     let inner = InnerSettings {
         fd_step: settings.fd_step,
@@ -241,11 +253,12 @@ fn solve<P: Constraints>(
 
 fn check_start<P: Constraints>(problem: &P, start: &[f64]) -> Result<(), OptimizeError> {
     if start.len() != problem.dimension() || problem.bounds().len() != start.len() {
-        return Err(invalid(
+        return Err(InvalidInput::new(
             "start.len()",
             start.len() as f64,
             "must equal the problem dimension",
-        ));
+        )
+        .into());
     }
     Ok(())
 }
@@ -254,7 +267,7 @@ impl AugmentedLagrangianSettings {
     /// Checks the settings.
     ///
     /// # Errors
-    /// [`OptimizeError::InvalidSetting`] for a step, tolerance or feasibility that is not finite
+    /// [`OptimizeError::Invalid`] for a step, tolerance or feasibility that is not finite
     /// and positive, a step of 0.1 or more, or no outer or inner iteration.
     ///
     /// # Example
@@ -270,27 +283,13 @@ impl AugmentedLagrangianSettings {
             ("tolerance", self.tolerance),
             ("feasibility", self.feasibility),
         ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(invalid(setting, value, "must be finite and > 0"));
-            }
+            InvalidInput::require_positive(setting, value)?;
         }
         if !(self.fd_step < 0.1) {
-            return Err(invalid("fd_step", self.fd_step, "must be < 0.1"));
+            return Err(InvalidInput::new("fd_step", self.fd_step, "must be < 0.1").into());
         }
-        if self.max_outer == 0 {
-            return Err(invalid("max_outer", 0.0, "must be >= 1"));
-        }
-        if self.max_inner == 0 {
-            return Err(invalid("max_inner", 0.0, "must be >= 1"));
-        }
+        InvalidInput::require_nonzero_count("max_outer", self.max_outer)?;
+        InvalidInput::require_nonzero_count("max_inner", self.max_inner)?;
         Ok(())
-    }
-}
-
-fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
-    OptimizeError::InvalidSetting {
-        setting,
-        value,
-        requirement,
     }
 }

@@ -5,130 +5,17 @@
 //! count.
 
 use crate::error::OptimizeError;
+use crate::grid_axis::GridAxis;
 use crate::sense::Sense;
 use crate::termination::Termination;
-use pkm_traits::{Objective, ObjectiveError, Progress};
+use pkm_traits::{Bounds, InvalidInput, Objective, ObjectiveError, Progress};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::ops::Range;
 
 /// Most nodes of one grid search: the values of every node are collected (in order, for
 /// determinism) before the minimum is taken, so larger grids are refused before allocating.
 pub const MAX_GRID_NODES: usize = 1 << 24;
-
-/// Evenly spaced nodes `lower, lower + step, …, upper` of one design variable: finite bounds,
-/// `lower <= upper`, a finite spacing and at least one node (private fields, so every axis went
-/// through [`GridAxis::new`] or [`GridAxis::with_step`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct GridAxis {
-    lower: f64,
-    upper: f64,
-    n: usize,
-}
-
-impl GridAxis {
-    /// `n` nodes from `lower` to `upper`.
-    ///
-    /// # Errors
-    /// [`OptimizeError::InvalidSetting`] when `n = 0` or `n >` [`MAX_GRID_NODES`], a bound is not
-    /// finite, `lower > upper` or the width `upper − lower` overflows.
-    pub fn new(lower: f64, upper: f64, n: usize) -> Result<Self, OptimizeError> {
-        if n == 0 {
-            return Err(invalid("n", 0.0, "a grid axis needs at least one node"));
-        }
-        if !(lower.is_finite() && upper.is_finite() && lower <= upper) {
-            return Err(invalid(
-                "lower",
-                lower,
-                "bounds must be finite with lower <= upper",
-            ));
-        }
-        if !(upper - lower).is_finite() {
-            return Err(invalid(
-                "upper",
-                upper,
-                "the width upper - lower must be finite",
-            ));
-        }
-        if n > MAX_GRID_NODES {
-            return Err(invalid("n", n as f64, "at most MAX_GRID_NODES nodes"));
-        }
-        Ok(Self { lower, upper, n })
-    }
-
-    /// First node.
-    pub fn lower(&self) -> f64 {
-        self.lower
-    }
-
-    /// Last node.
-    pub fn upper(&self) -> f64 {
-        self.upper
-    }
-
-    /// Number of nodes (1 gives the single node `lower`).
-    pub fn n(&self) -> usize {
-        self.n
-    }
-
-    /// Nodes from `lower` to `upper` spaced by `step` (the count is rounded to the nearest whole
-    /// number of steps, so `upper` is a node up to round-off).
-    ///
-    /// # Errors
-    /// As [`GridAxis::new`], and when `step` is not finite and positive.
-    pub fn with_step(lower: f64, upper: f64, step: f64) -> Result<Self, OptimizeError> {
-        if !(step.is_finite() && step > 0.0) {
-            return Err(invalid("step", step, "must be finite and > 0"));
-        }
-        let intervals = ((upper - lower) / step).round();
-        if !(intervals >= 0.0) {
-            return Err(invalid(
-                "lower",
-                lower,
-                "bounds must be finite with lower <= upper",
-            ));
-        }
-        if !(intervals < MAX_GRID_NODES as f64) {
-            return Err(invalid(
-                "step",
-                step,
-                "must give at most MAX_GRID_NODES nodes over [lower, upper]",
-            ));
-        }
-        // `intervals` is a whole number in [0, MAX_GRID_NODES): the cast is exact.
-        Self::new(lower, upper, intervals as usize + 1)
-    }
-
-    /// Spacing of the nodes (0 for a single node).
-    pub fn step(&self) -> f64 {
-        if self.n > 1 {
-            (self.upper - self.lower) / (self.n - 1) as f64
-        } else {
-            0.0
-        }
-    }
-
-    /// Node `i`.
-    pub fn node(&self, i: usize) -> f64 {
-        if i + 1 == self.n {
-            self.upper
-        } else {
-            self.lower + i as f64 * self.step()
-        }
-    }
-
-    /// All nodes.
-    pub fn nodes(&self) -> Vec<f64> {
-        (0..self.n).map(|i| self.node(i)).collect()
-    }
-}
-
-fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
-    OptimizeError::InvalidSetting {
-        setting,
-        value,
-        requirement,
-    }
-}
 
 /// Objective values on every node of a grid (`None` where the design is infeasible), row-major:
 /// the last axis varies fastest.
@@ -172,15 +59,17 @@ pub struct GridResult {
 fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
     let mut design = vec![0.0; axes.len()];
     for (k, axis) in axes.iter().enumerate().rev() {
-        design[k] = axis.node(flat % axis.n);
-        flat /= axis.n;
+        design[k] = axis.node(flat % axis.n());
+        flat /= axis.n();
     }
     design
 }
 
 /// The grid of a [`grid_search`] (and the coarse grid of [`refined_grid_search`] and
 /// [`crate::lattice_refined_search`]): the axes, with at most [`MAX_GRID_NODES`] nodes in all,
-/// and whether the result keeps the value of every node.
+/// and whether the result keeps the value of every node. Node `flat` is numbered row-major, the
+/// last axis fastest. Serialised as `{ axes, keep_landscape }` (`keep_landscape` optional,
+/// default `false`) and checked by [`GridSearch::new`] when read.
 ///
 /// # Example
 /// ```
@@ -192,30 +81,62 @@ fn node_design(axes: &[GridAxis], mut flat: usize) -> Vec<f64> {
 /// let wide = GridAxis::new(0.0, 1.0, 1 << 13).unwrap();
 /// assert!(GridSearch::new(vec![wide; 2]).is_err());
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "GridFields", into = "GridFields")]
 pub struct GridSearch {
     axes: Vec<GridAxis>,
     nodes: usize,
     keep_landscape: bool,
 }
 
+/// The serialised form of a [`GridSearch`].
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GridFields {
+    axes: Vec<GridAxis>,
+    #[serde(default)]
+    keep_landscape: bool,
+}
+
+impl TryFrom<GridFields> for GridSearch {
+    type Error = OptimizeError;
+
+    fn try_from(f: GridFields) -> Result<Self, OptimizeError> {
+        let grid = Self::new(f.axes)?;
+        Ok(if f.keep_landscape {
+            grid.keeping_landscape()
+        } else {
+            grid
+        })
+    }
+}
+
+impl From<GridSearch> for GridFields {
+    fn from(grid: GridSearch) -> Self {
+        Self {
+            axes: grid.axes,
+            keep_landscape: grid.keep_landscape,
+        }
+    }
+}
+
 impl GridSearch {
     /// The grid spanned by `axes`, without its landscape.
     ///
     /// # Errors
-    /// [`OptimizeError::InvalidSetting`] for no axis or more than [`MAX_GRID_NODES`] nodes in all
+    /// [`OptimizeError::Invalid`] for no axis or more than [`MAX_GRID_NODES`] nodes in all
     /// (refused before anything is allocated).
     pub fn new(axes: Vec<GridAxis>) -> Result<Self, OptimizeError> {
         if axes.is_empty() {
-            return Err(invalid("axes", 0.0, "at least one axis"));
+            return Err(InvalidInput::new("axes", 0.0, "at least one axis").into());
         }
         let nodes = axes
             .iter()
-            .try_fold(1usize, |acc, a| acc.checked_mul(a.n))
+            .try_fold(1usize, |acc, a| acc.checked_mul(a.n()))
             .filter(|&n| n <= MAX_GRID_NODES)
             .ok_or_else(|| {
-                let nodes = axes.iter().map(|a| a.n as f64).product();
-                invalid("nodes", nodes, "a grid has at most MAX_GRID_NODES nodes")
+                let nodes = axes.iter().map(|a| a.n() as f64).product();
+                InvalidInput::new("nodes", nodes, "a grid has at most MAX_GRID_NODES nodes")
             })?;
         Ok(Self {
             axes,
@@ -237,6 +158,11 @@ impl GridSearch {
         &self.axes
     }
 
+    /// The box spanned, one [`Bounds`] per axis.
+    pub fn bounds(&self) -> Vec<Bounds> {
+        self.axes.iter().map(GridAxis::bounds).collect()
+    }
+
     /// Number of nodes.
     pub fn nodes(&self) -> usize {
         self.nodes
@@ -245,6 +171,119 @@ impl GridSearch {
     /// Whether the result keeps the landscape.
     pub fn keeps_landscape(&self) -> bool {
         self.keep_landscape
+    }
+
+    /// The node index on each axis of node `flat` (the last axis fastest); `None` past the last
+    /// node.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_optimizers::{GridAxis, GridSearch};
+    /// let axes = vec![GridAxis::new(0.0, 1.0, 3)?, GridAxis::new(0.0, 3.0, 4)?];
+    /// let grid = GridSearch::new(axes)?;
+    /// assert_eq!(grid.node_index(5), Some(vec![1, 1]));
+    /// assert_eq!(grid.flat_index(&[1, 1]), Some(5));
+    /// assert_eq!(grid.node_design(5), Some(vec![0.5, 1.0]));
+    /// assert_eq!((grid.node_index(12), grid.flat_index(&[3, 0])), (None, None));
+    /// # Ok::<(), pkm_optimizers::OptimizeError>(())
+    /// ```
+    pub fn node_index(&self, flat: usize) -> Option<Vec<usize>> {
+        (flat < self.nodes).then(|| {
+            let mut rest = flat;
+            let mut index = vec![0; self.axes.len()];
+            for (k, axis) in self.axes.iter().enumerate().rev() {
+                index[k] = rest % axis.n();
+                rest /= axis.n();
+            }
+            index
+        })
+    }
+
+    /// The flat number of the node with index `index[k]` on axis `k`; `None` for an index
+    /// outside its axis or of the wrong length.
+    pub fn flat_index(&self, index: &[usize]) -> Option<usize> {
+        if index.len() != self.axes.len() {
+            return None;
+        }
+        index
+            .iter()
+            .zip(&self.axes)
+            .try_fold(0, |flat, (&i, axis)| {
+                (i < axis.n()).then(|| flat * axis.n() + i)
+            })
+    }
+
+    /// The design at node `flat`; `None` past the last node.
+    pub fn node_design(&self, flat: usize) -> Option<Vec<f64>> {
+        (flat < self.nodes).then(|| node_design(&self.axes, flat))
+    }
+
+    /// `evaluate` at the nodes `range` (of `0..nodes()`), in parallel, returned in node order
+    /// (so the result, and any best chosen from it with [`Sense::best`], does not depend on the
+    /// thread count). This is the evaluation of [`grid_search`]; on a range it evaluates one
+    /// shard of a grid split over several runs.
+    ///
+    /// `progress` hears one task (`"grid nodes"`) of one unit per node and is asked for
+    /// cancellation before every evaluation.
+    ///
+    /// # Errors
+    /// [`OptimizeError::Invalid`] (converted into `E`) for a range that does not lie in
+    /// `0..nodes()`; [`OptimizeError::Cancelled`] (converted into `E`) once `progress` is
+    /// cancelled (the nodes not begun by then are skipped); else the error of the first node, in
+    /// node order, whose evaluation failed (every node is evaluated, so the error does not
+    /// depend on scheduling).
+    ///
+    /// # Example
+    /// Two shards evaluate what the whole grid does:
+    /// ```
+    /// use pkm_optimizers::{GridAxis, GridSearch, OptimizeError, Sense};
+    /// use pkm_traits::Silent;
+    /// let grid = GridSearch::new(vec![GridAxis::new(-1.0, 1.0, 5)?; 2])?;
+    /// let f = |p: &[f64]| Ok::<_, OptimizeError>((p[0] - 0.5).powi(2) + p[1] * p[1]);
+    /// let whole = grid.evaluate_range(0..25, &Silent, f)?;
+    /// let mut shards = grid.evaluate_range(0..12, &Silent, f)?;
+    /// shards.extend(grid.evaluate_range(12..25, &Silent, f)?);
+    /// assert_eq!(whole, shards);
+    /// let (best, _) = Sense::Minimise.best(whole.iter().map(|v| Some(*v))).unwrap();
+    /// assert_eq!(grid.node_design(best), Some(vec![0.5, 0.0]));
+    /// assert!(grid.evaluate_range(20..26, &Silent, f).is_err());
+    /// # Ok::<(), OptimizeError>(())
+    /// ```
+    pub fn evaluate_range<T, E, F>(
+        &self,
+        range: Range<usize>,
+        progress: &dyn Progress,
+        evaluate: F,
+    ) -> Result<Vec<T>, E>
+    where
+        T: Send,
+        E: Send + From<OptimizeError>,
+        F: Fn(&[f64]) -> Result<T, E> + Sync,
+    {
+        if range.end > self.nodes {
+            let end = range.end as f64;
+            return Err(OptimizeError::from(InvalidInput::new(
+                "range.end",
+                end,
+                "the nodes evaluated lie in 0..nodes()",
+            ))
+            .into());
+        }
+        progress.start("grid nodes", range.len() as u64);
+        let values: Vec<Result<T, E>> = range
+            .into_par_iter()
+            .map(|flat| {
+                progress.check().map_err(OptimizeError::from)?;
+                let value = evaluate(&node_design(&self.axes, flat))?;
+                progress.advance(1);
+                Ok(value)
+            })
+            .collect();
+        progress.finish();
+        if progress.is_cancelled() {
+            return Err(OptimizeError::Cancelled.into());
+        }
+        values.into_iter().collect()
     }
 }
 
@@ -255,7 +294,7 @@ impl GridSearch {
 /// evaluation.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] when the grid does not match the objective's dimension;
+/// [`OptimizeError::Invalid`] when the grid does not match the objective's dimension;
 /// [`OptimizeError::NoFeasibleDesign`] when every node is infeasible;
 /// [`OptimizeError::Objective`] for an objective failure other than infeasibility;
 /// [`OptimizeError::Cancelled`] once `progress` is cancelled (a cancelled search returns no
@@ -288,53 +327,34 @@ pub fn grid_search<O: Objective + ?Sized>(
 ) -> Result<GridResult, OptimizeError> {
     let (axes, keep_landscape, n_nodes) = (&grid.axes[..], grid.keep_landscape, grid.nodes);
     if axes.len() != objective.dimension() {
-        return Err(invalid(
-            "axes",
-            axes.len() as f64,
-            "one axis per design variable",
-        ));
+        return Err(
+            InvalidInput::new("axes", axes.len() as f64, "one axis per design variable").into(),
+        );
     }
-    progress.start("grid search", n_nodes as u64);
-    let values = (0..n_nodes)
-        .into_par_iter()
-        .with_min_len(64)
-        .map(|flat| {
-            progress.check()?;
-            let value = objective.value(&node_design(axes, flat));
-            progress.advance(1);
-            Ok(value)
-        })
-        .collect::<Result<Vec<_>, OptimizeError>>();
-    progress.finish();
-    let values = values?;
-    let mut best: Option<(usize, f64)> = None;
-    let mut infeasible = 0;
+    let evaluated = grid.evaluate_range(0..n_nodes, progress, |design| {
+        Ok::<_, OptimizeError>(objective.value(design))
+    })?;
+    let mut values = Vec::with_capacity(n_nodes);
     let mut last_reason = String::new();
-    let mut landscape_values = Vec::with_capacity(if keep_landscape { n_nodes } else { 0 });
-    for (flat, value) in values.into_iter().enumerate() {
-        let value = match value {
+    for value in evaluated {
+        values.push(match value {
             Ok(v) if v.is_finite() => Some(v),
             Ok(v) => return Err(ObjectiveError::NonFinite { value: v }.into()),
             Err(ObjectiveError::Infeasible { reason, .. }) => {
-                infeasible += 1;
                 last_reason = reason;
                 None
             }
             Err(e) => return Err(e.into()),
-        };
-        if let Some(v) = value
-            && best.is_none_or(|(_, b)| sense.improves(v, b))
-        {
-            best = Some((flat, v));
-        }
-        if keep_landscape {
-            landscape_values.push(value);
-        }
+        });
     }
-    let (flat, best_value) = best.ok_or(OptimizeError::NoFeasibleDesign {
-        evaluations: n_nodes,
-        last_reason,
-    })?;
+    let infeasible = values.iter().filter(|v| v.is_none()).count();
+    let (flat, best_value) =
+        sense
+            .best(values.iter().copied())
+            .ok_or(OptimizeError::NoFeasibleDesign {
+                evaluations: n_nodes,
+                last_reason,
+            })?;
     Ok(GridResult {
         best: node_design(axes, flat),
         best_value,
@@ -342,7 +362,7 @@ pub fn grid_search<O: Objective + ?Sized>(
         infeasible,
         landscape: keep_landscape.then(|| Landscape {
             axes: axes.to_vec(),
-            values: landscape_values,
+            values,
         }),
         termination: Termination::Converged {
             criterion: "every node evaluated",
@@ -350,8 +370,10 @@ pub fn grid_search<O: Objective + ?Sized>(
     })
 }
 
-/// Settings of [`refined_grid_search`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Settings of [`refined_grid_search`]. In a study file every key is optional, with the
+/// defaults below.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, default)]
 pub struct RefinementSettings {
     /// Nodes per axis of every refined grid. Default 5: a ±2-step window around the incumbent.
     pub nodes_per_axis: usize,
@@ -364,16 +386,17 @@ impl RefinementSettings {
     /// Checks the settings.
     ///
     /// # Errors
-    /// [`OptimizeError::InvalidSetting`] for fewer than 3 nodes per axis or more than
+    /// [`OptimizeError::Invalid`] for fewer than 3 nodes per axis or more than
     /// [`MAX_GRID_NODES`] (no level at all is a plain grid search).
     pub fn validate(&self) -> Result<(), OptimizeError> {
         if !(3..=MAX_GRID_NODES).contains(&self.nodes_per_axis) {
             let n = self.nodes_per_axis as f64;
-            return Err(invalid(
+            return Err(InvalidInput::new(
                 "nodes_per_axis",
                 n,
                 "at least 3, at most MAX_GRID_NODES",
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -397,7 +420,7 @@ impl Default for RefinementSettings {
 /// coarse one.
 ///
 /// # Errors
-/// As [`grid_search`], and [`OptimizeError::InvalidSetting`] for a resolution that is not
+/// As [`grid_search`], and [`OptimizeError::Invalid`] for a resolution that is not
 /// positive or settings that fail [`RefinementSettings::validate`].
 pub fn refined_grid_search<O: Objective + ?Sized>(
     objective: &O,
@@ -408,11 +431,9 @@ pub fn refined_grid_search<O: Objective + ?Sized>(
     progress: &dyn Progress,
 ) -> Result<GridResult, OptimizeError> {
     if resolution.len() != coarse.axes.len() || resolution.iter().any(|r| !(*r > 0.0)) {
-        return Err(invalid(
-            "resolution",
-            f64::NAN,
-            "one positive resolution per axis",
-        ));
+        return Err(
+            InvalidInput::new("resolution", f64::NAN, "one positive resolution per axis").into(),
+        );
     }
     settings.validate()?;
     let mut result = grid_search(objective, sense, coarse, progress)?;

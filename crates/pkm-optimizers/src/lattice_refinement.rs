@@ -6,10 +6,12 @@
 //! that tabulates its designs to two decimals.
 
 use crate::{GridAxis, GridResult, GridSearch, OptimizeError, Sense, Termination, grid_search};
-use pkm_traits::{Bounds, Objective, Progress};
+use pkm_traits::{Bounds, InvalidInput, Objective, Progress};
+use serde::{Deserialize, Serialize};
 
-/// One refinement level of [`lattice_refined_search`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One refinement level of [`lattice_refined_search`] (in a study file `{ step, half_width }`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub struct LatticeLevel {
     /// The lattice step of this level (applied to every axis that has more than one node).
     pub step: f64,
@@ -27,7 +29,7 @@ pub struct LatticeLevel {
 /// it, is the coarse one.
 ///
 /// # Errors
-/// As [`grid_search`]; [`OptimizeError::InvalidSetting`] for a step that is not positive.
+/// As [`grid_search`]; [`OptimizeError::Invalid`] for a step that is not positive.
 pub fn lattice_refined_search<O: Objective + ?Sized>(
     objective: &O,
     sense: Sense,
@@ -79,7 +81,7 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
 /// still moved after its last repeat. Without levels it is `start`, with no evaluation.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] when `coarse` or `start.0` does not have one entry per
+/// [`OptimizeError::Invalid`] when `coarse` or `start.0` does not have one entry per
 /// design variable, `start.0` or `start.1` is not finite, or for a level as in
 /// [`lattice_window`]; otherwise as [`grid_search`] on a window.
 pub fn lattice_refine_from<O: Objective + ?Sized>(
@@ -92,24 +94,20 @@ pub fn lattice_refine_from<O: Objective + ?Sized>(
 ) -> Result<GridResult, OptimizeError> {
     let dimension = objective.dimension();
     if coarse.len() != dimension {
-        return Err(invalid(
-            "axes",
-            coarse.len() as f64,
-            "one axis per design variable",
-        ));
+        return Err(
+            InvalidInput::new("axes", coarse.len() as f64, "one axis per design variable").into(),
+        );
     }
     if best.len() != dimension {
-        return Err(invalid(
-            "start",
-            best.len() as f64,
-            "one value per design variable",
-        ));
+        return Err(
+            InvalidInput::new("start", best.len() as f64, "one value per design variable").into(),
+        );
     }
     if let Some(&x) = best.iter().find(|x| !x.is_finite()) {
-        return Err(invalid("start", x, "must be finite"));
+        return Err(InvalidInput::new("start", x, "must be finite").into());
     }
     if !best_value.is_finite() {
-        return Err(invalid("start value", best_value, "must be finite"));
+        return Err(InvalidInput::new("start value", best_value, "must be finite").into());
     }
     let mut result = GridResult {
         best,
@@ -158,7 +156,7 @@ const MAX_REPEATS: usize = 8;
 /// `bounds`; axes of `axes` with a single node are kept as they are.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] for a step that is not finite and positive, a centre that
+/// [`OptimizeError::Invalid`] for a step that is not finite and positive, a centre that
 /// is not finite, or a window of more than [`crate::MAX_GRID_NODES`] nodes on one axis.
 pub fn lattice_window(
     bounds: &[Bounds],
@@ -167,7 +165,7 @@ pub fn lattice_window(
     level: &LatticeLevel,
 ) -> Result<Vec<GridAxis>, OptimizeError> {
     if !(level.step > 0.0 && level.step.is_finite()) {
-        return Err(invalid("step", level.step, "must be finite and > 0"));
+        return Err(InvalidInput::new("step", level.step, "must be finite and > 0").into());
     }
     // At most this many steps either side, so that `below + above + 1` cannot overflow.
     let half_width = level.half_width.min(crate::MAX_GRID_NODES);
@@ -179,7 +177,7 @@ pub fn lattice_window(
                 return Ok(*axis);
             }
             if !c.is_finite() {
-                return Err(invalid("centre", c, "must be finite"));
+                return Err(InvalidInput::new("centre", c, "must be finite").into());
             }
             // The float-to-usize cast saturates; the `min` keeps the count small.
             let room = |d: f64| ((d / level.step + 1e-9).floor().max(0.0) as usize).min(half_width);
@@ -190,14 +188,6 @@ pub fn lattice_window(
             GridAxis::new(lower, upper, below + above + 1)
         })
         .collect()
-}
-
-fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
-    OptimizeError::InvalidSetting {
-        setting,
-        value,
-        requirement,
-    }
 }
 
 fn on_open_edge(axes: &[GridAxis], best: &[f64], bounds: &[Bounds], step: f64) -> bool {

@@ -19,14 +19,16 @@
 
 use crate::error::OptimizeError;
 use crate::finite_differences::{self, HESSIAN_RELATIVE_STEP, RELATIVE_STEP};
-use crate::multistart::{MAX_STARTS, run_multistart, uniform_start_points};
+use crate::multistart::{LocalResult, Multistart, multistart};
 use crate::sense::Sense;
 use crate::termination::Termination;
 use faer::Mat;
 use faer::Side;
 use faer::linalg::solvers::Solve;
-use pkm_traits::{Bounds, ObjectiveError, Progress, Residuals};
+use pkm_traits::{Bounds, InvalidInput, ObjectiveError, Progress, Residuals};
+use serde::{Deserialize, Serialize};
 use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Initial damping relative to the largest diagonal entry of $A^\top A$:
 /// $\mu_0 = 10^{-3} \max_k (A^\top A)_{kk}$ (Marquardt's usual scale).
@@ -46,7 +48,8 @@ pub const MAX_DAMPING: f64 = 1e16;
 pub const BOUND_TOLERANCE: f64 = 1e-12;
 
 /// Where a variable sits at the reported optimum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ActiveBound {
     /// Strictly inside its interval.
     Free,
@@ -56,8 +59,11 @@ pub enum ActiveBound {
     Upper,
 }
 
-/// Settings of [`levenberg_marquardt`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Settings of [`levenberg_marquardt`]. In a study file (e.g. `[task.solver]`) every key is
+/// optional, with the defaults below: `max_iterations = 200`, `tolerance = 1e-12`,
+/// `fd_step = 1e-6`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields, default)]
 pub struct LmSettings {
     /// Largest number of iterations (at least 1).
     pub max_iterations: usize,
@@ -84,7 +90,7 @@ impl LmSettings {
     /// Checks the settings.
     ///
     /// # Errors
-    /// [`OptimizeError::InvalidSetting`] for no iteration, a tolerance that is not finite and
+    /// [`OptimizeError::Invalid`] for no iteration, a tolerance that is not finite and
     /// positive, or a step outside $(0, 0.1)$.
     ///
     /// # Example
@@ -95,33 +101,17 @@ impl LmSettings {
     /// assert!(LmSettings { max_iterations: 0, ..LmSettings::default() }.validate().is_err());
     /// ```
     pub fn validate(&self) -> Result<(), OptimizeError> {
-        if self.max_iterations == 0 {
-            return Err(invalid("max_iterations", 0.0, "must be >= 1"));
-        }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
-            return Err(invalid(
-                "tolerance",
-                self.tolerance,
-                "must be finite and > 0",
-            ));
-        }
+        InvalidInput::require_nonzero_count("max_iterations", self.max_iterations)?;
+        InvalidInput::require_positive("tolerance", self.tolerance)?;
         if !(self.fd_step > 0.0 && self.fd_step < 0.1) {
-            return Err(invalid("fd_step", self.fd_step, "must be in (0, 0.1)"));
+            return Err(InvalidInput::new("fd_step", self.fd_step, "must be in (0, 0.1)").into());
         }
         Ok(())
     }
 }
 
-fn invalid(setting: &'static str, value: f64, requirement: &'static str) -> OptimizeError {
-    OptimizeError::InvalidSetting {
-        setting,
-        value,
-        requirement,
-    }
-}
-
 /// A local optimum with the first- and second-order checks the paper reports.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LocalOptimum {
     /// The design.
     pub design: Vec<f64>,
@@ -160,6 +150,18 @@ impl LocalOptimum {
     }
 }
 
+impl LocalResult for LocalOptimum {
+    fn design(&self) -> &[f64] {
+        &self.design
+    }
+    fn value(&self) -> f64 {
+        self.value
+    }
+    fn termination(&self) -> Termination {
+        self.termination
+    }
+}
+
 /// Runs bounded Levenberg–Marquardt from `start` (clamped into the box), toward the smallest or
 /// the largest $\lVert r \rVert^2$ as `sense` says.
 ///
@@ -167,8 +169,8 @@ impl LocalOptimum {
 /// iteration, and is asked for cancellation before every evaluation of a trial step.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] for settings that fail [`LmSettings::validate`] or a start
-/// of the wrong length or not finite; [`OptimizeError::Objective`] when the residuals fail;
+/// [`OptimizeError::Invalid`] for settings that fail [`LmSettings::validate`] or a start that
+/// is not finite; [`OptimizeError::Objective`] for a start of the wrong length; [`OptimizeError::Objective`] when the residuals fail;
 /// [`OptimizeError::Numerical`] when the damped normal matrix is not positive definite or the
 /// eigenvalues of the reduced Hessian do not converge; [`OptimizeError::Cancelled`] once
 /// `progress` is cancelled (a cancelled run returns no design, as every solver of this crate).
@@ -208,24 +210,9 @@ pub fn levenberg_marquardt<P: Residuals + ?Sized>(
     settings.validate()?;
     progress.start("Levenberg-Marquardt", settings.max_iterations as u64);
     let counted = Counted::new(problem);
-    let result = run(
-        &counted,
-        sense,
-        start,
-        settings,
-        progress,
-        Report::Iterations,
-    );
+    let result = run(&counted, sense, start, settings, progress);
     progress.finish();
     result
-}
-
-/// Where a local run reports: its own iterations (a single run), or nothing (one start of a
-/// multistart, which reports finished starts).
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Report {
-    Iterations,
-    Nothing,
 }
 
 /// The problem with a count of its residual evaluations.
@@ -267,7 +254,6 @@ fn run<P: Residuals + ?Sized>(
     start: &[f64],
     settings: &LmSettings,
     progress: &dyn Progress,
-    reporting: Report,
 ) -> Result<LocalOptimum, OptimizeError> {
     validate_start(problem.problem, start)?;
     progress.check()?;
@@ -281,9 +267,7 @@ fn run<P: Residuals + ?Sized>(
     while iterations < settings.max_iterations {
         progress.check()?;
         iterations += 1;
-        if reporting == Report::Iterations {
-            progress.advance(1);
-        }
+        progress.advance(1);
         let (r, a) = residuals_and_jacobian(problem, &p, settings.fd_step)?;
         let grad = gradient_from(&r, &a);
         let free = free_set(&p, &grad, bounds, sign);
@@ -340,157 +324,64 @@ fn run<P: Residuals + ?Sized>(
     report(problem, p, f, iterations, termination, settings)
 }
 
-/// The starts of [`multistart_levenberg_marquardt`]: `starts` seeded uniform points in the box
-/// ([`uniform_start_points`] with `seed`) after the `extra_starts` given, which run first.
-///
-/// # Example
-/// ```
-/// use pkm_optimizers::Multistart;
-/// let m = Multistart::new(32, 7).with_extra_starts(vec![vec![0.0, 1.0]]);
-/// assert_eq!(m.total(), 33);
-/// assert!(m.validate().is_ok());
-/// assert!(Multistart::new(0, 7).validate().is_err());
-/// assert!(Multistart::new(usize::MAX, 7).validate().is_err());
-/// ```
-#[derive(Debug, Clone, PartialEq)]
-pub struct Multistart {
-    /// Number of seeded uniform starts.
-    pub starts: usize,
-    /// Seed of the uniform starts (start `k` is a pure function of `(seed, k)`).
-    pub seed: u64,
-    /// Starts given by the caller, run before the seeded ones (each must have the problem's
-    /// dimension and be finite).
-    pub extra_starts: Vec<Vec<f64>>,
-}
-
-impl Multistart {
-    /// `starts` seeded uniform starts and no extra ones.
-    pub fn new(starts: usize, seed: u64) -> Self {
-        Self {
-            starts,
-            seed,
-            extra_starts: Vec::new(),
-        }
-    }
-
-    /// The same with `extra_starts` run first.
-    #[must_use]
-    pub fn with_extra_starts(mut self, extra_starts: Vec<Vec<f64>>) -> Self {
-        self.extra_starts = extra_starts;
-        self
-    }
-
-    /// Starts in all (saturating).
-    pub fn total(&self) -> usize {
-        self.starts.saturating_add(self.extra_starts.len())
-    }
-
-    /// Checks the counts (the extra starts themselves are checked by each run).
-    ///
-    /// # Errors
-    /// [`OptimizeError::InvalidSetting`] for no start at all or more than [`MAX_STARTS`].
-    pub fn validate(&self) -> Result<(), OptimizeError> {
-        let total = self.total();
-        if total == 0 {
-            return Err(invalid("starts", 0.0, "at least one start"));
-        }
-        if total > MAX_STARTS {
-            return Err(invalid(
-                "starts",
-                total as f64,
-                "at most MAX_STARTS start points",
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// The best of the local optima of a multistart, with the statistics of the whole run.
-#[derive(Debug, Clone, PartialEq)]
+/// The best of the local optima of a multistart, with the counts of the whole run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MultistartOptimum {
     /// The best local optimum (its [`LocalOptimum::termination`] says why that run stopped).
     pub best: LocalOptimum,
+    /// The start it came from (from 0, in [`Multistart::start_points`] order).
+    pub best_start: usize,
     /// Starts run.
     pub starts: usize,
     /// Starts that ended on an infeasible design ([`ObjectiveError::Infeasible`]).
     pub infeasible_starts: usize,
-    /// Residual evaluations over all starts.
+    /// Residual evaluations over all starts, failed ones included.
     pub evaluations: usize,
 }
 
-/// Multistart [`levenberg_marquardt`] over the starts of `multistart`, in parallel; returns the
-/// best optimum in the sense of `sense` (ties broken by start order, so the result is
-/// independent of the thread count).
+/// Multistart [`levenberg_marquardt`] over the starts of `starts`, in parallel
+/// ([`multistart()`]); returns the best optimum by [`crate::MultistartRun::best`] (in the sense of
+/// `sense`, ties to the earlier start, independent of the thread count). For every start's
+/// outcome, call [`multistart()`] with [`levenberg_marquardt`] directly.
 ///
 /// `progress` hears one task with a unit per start, advanced as each start finishes, and is
 /// asked for cancellation inside every start as in [`levenberg_marquardt`].
 ///
 /// # Errors
-/// As [`levenberg_marquardt`]; [`OptimizeError::NoFeasibleDesign`] when every start fails;
-/// [`OptimizeError::InvalidSetting`] when `multistart` fails [`Multistart::validate`];
+/// [`OptimizeError::Invalid`] when `starts` fails [`Multistart::start_points`] or
+/// `settings` [`LmSettings::validate`] (before any start runs); when no start succeeded, the
+/// first failure that is not an infeasible design, else [`OptimizeError::NoFeasibleDesign`];
 /// [`OptimizeError::Cancelled`] once `progress` is cancelled.
 pub fn multistart_levenberg_marquardt<P: Residuals + ?Sized>(
     problem: &P,
     sense: Sense,
-    multistart: &Multistart,
+    starts: &Multistart,
     settings: &LmSettings,
     progress: &dyn Progress,
 ) -> Result<MultistartOptimum, OptimizeError> {
-    multistart.validate()?;
+    let points = starts.start_points(problem.bounds())?;
     settings.validate()?;
-    let mut starts = multistart.extra_starts.clone();
-    starts.extend(uniform_start_points(
-        problem.bounds(),
-        multistart.starts,
-        multistart.seed,
-    )?);
-    progress.start("multistart Levenberg-Marquardt", starts.len() as u64);
-    let outcomes = run_multistart(&starts, |s| {
+    let evaluations = AtomicUsize::new(0);
+    let run = multistart(points, progress, |start, cancel| {
         let counted = Counted::new(problem);
-        let outcome = run(&counted, sense, s, settings, progress, Report::Nothing);
-        progress.advance(1);
-        (outcome, counted.evaluations.get())
-    });
-    progress.finish();
-    let mut best: Option<LocalOptimum> = None;
-    let mut last_error = None;
-    let mut infeasible_starts = 0;
-    let mut evaluations = 0;
-    for (outcome, n) in outcomes {
-        evaluations += n;
-        match outcome {
-            Ok(o) => {
-                if best
-                    .as_ref()
-                    .is_none_or(|b| sense.improves(o.value, b.value))
-                {
-                    best = Some(o);
-                }
-            }
-            Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason, .. })) => {
-                infeasible_starts += 1;
-                last_error = Some(reason);
-            }
-            Err(e) => return Err(e),
-        }
-    }
-    let best = best.ok_or(OptimizeError::NoFeasibleDesign {
-        evaluations: starts.len(),
-        // At least one start ran (validated), and every one ended infeasible.
-        last_reason: last_error.unwrap_or_default(),
+        let outcome = run(&counted, sense, start, settings, cancel);
+        evaluations.fetch_add(counted.evaluations.get(), Ordering::Relaxed);
+        outcome
     })?;
+    let (best_start, best) = run.best(sense)?;
     Ok(MultistartOptimum {
-        best,
-        starts: starts.len(),
-        infeasible_starts,
-        evaluations,
+        best: best.clone(),
+        best_start,
+        starts: run.starts.len(),
+        infeasible_starts: run.infeasible(),
+        evaluations: evaluations.into_inner(),
     })
 }
 
 fn validate_start<P: Residuals + ?Sized>(problem: &P, start: &[f64]) -> Result<(), OptimizeError> {
     problem.check_dimension(start)?;
-    if start.iter().any(|x| !x.is_finite()) {
-        return Err(invalid("start", f64::NAN, "must be finite"));
+    if let Some(&x) = start.iter().find(|x| !x.is_finite()) {
+        return Err(InvalidInput::new("start", x, "must be finite").into());
     }
     Ok(())
 }

@@ -6,25 +6,37 @@
 //!   negated to be maximised (Levenberg–Marquardt maximises $\lVert r \rVert^2$, which no
 //!   negation of residuals can express).
 //! - *Settings.* Counts, seeds and switches come in settings structs ([`LmSettings`],
-//!   [`Multistart`], [`GridSearch`], [`RefinementSettings`], [`AugmentedLagrangianSettings`]),
-//!   each with a `validate` (or a checked constructor) that refuses NaN, infinite, zero,
-//!   negative and oversized values with [`OptimizeError::InvalidSetting`].
+//!   [`Multistart`], [`GridSearch`], [`RefinementSettings`], [`AugmentedLagrangianSettings`],
+//!   [`kkt::KktSettings`]), each with a `validate` (or a checked constructor) that refuses NaN,
+//!   infinite, zero, negative and oversized values with [`OptimizeError::Invalid`]. They are
+//!   serde types with snake_case keys, unknown keys refused and every key with a default
+//!   optional, so a study file embeds them as they are (e.g. `[optimize.solver]`,
+//!   `[optimize.starts]`).
 //! - *Progress and cancellation.* Every solver takes a [`pkm_traits::Progress`], reports its
 //!   work through it and checks [`pkm_traits::Progress::is_cancelled`] at least once per
 //!   iteration (or per evaluation). A cancelled run returns [`OptimizeError::Cancelled`], never
 //!   a partial result, so `?` carries a Ctrl-C through a whole study.
 //! - *Why it stopped.* The result of every solver carries a [`Termination`] and its counts
 //!   (iterations and evaluations; nodes for the grid searches).
+//! - *The best of many.* Whatever compares values in order (the starts of a multistart, the
+//!   nodes of a grid) picks its best by [`Sense::best`]: NaN never best, a tie to the first, so
+//!   no result depends on the thread count.
 //! - *Derivatives.* Every finite difference goes through [`finite_differences`].
 //!
+//! The solvers and tools:
 //! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel
 //!   and deterministic, with the whole landscape on request and coarse-to-fine refinement
-//!   (Miller 2004 §2.2's 4-D search).
-//! - [`uniform_start_points`] and [`run_multistart`]: seeded starts for local optimisers, run in
-//!   parallel with outcomes in start order.
-//! - [`levenberg_marquardt`], [`multistart_levenberg_marquardt`] and [`augmented_lagrangian`]:
-//!   local solvers whose results say why they stopped ([`Termination`]: converged and by which
-//!   test, iteration limit, or stalled).
+//!   (Miller 2004 §2.2's 4-D search); [`GridSearch::evaluate_range`] evaluates any part of a
+//!   grid (a shard of a study split over several runs).
+//! - [`levenberg_marquardt`] and [`augmented_lagrangian`]: local solvers whose results say why
+//!   they stopped ([`Termination`]: converged and by which test, iteration limit, or stalled).
+//! - [`multistart`]: any local solver from the seeded starts of a [`Multistart`], in parallel,
+//!   keeping every start's outcome ([`MultistartRun`]); [`multistart_levenberg_marquardt`] is
+//!   its best for Levenberg–Marquardt.
+//! - [`kkt::check`]: first- and second-order optimality at a design of any constrained problem.
+//! - [`pareto_front`]: the non-dominated designs of two or more objectives, and for two the
+//!   weights that select each.
+//! - [`WeightedSum`]: least-squares problems over the same variables, weighted and stacked.
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -35,22 +47,27 @@ mod readme {}
 mod augmented_lagrangian;
 mod error;
 pub mod finite_differences;
+mod grid_axis;
 mod grid_search;
+pub mod kkt;
 mod lattice_refinement;
 mod levenberg_marquardt;
 mod multistart;
+mod pareto;
 mod sense;
 mod spg;
 mod termination;
 mod weighted_combination;
+mod weighted_sum;
 
 pub use augmented_lagrangian::{
     AugmentedLagrangianSettings, ConstrainedResult, INITIAL_PENALTY, MAX_PENALTY,
     MULTIPLIER_TOLERANCE, PENALTY_GROWTH, REQUIRED_VIOLATION_DECREASE, augmented_lagrangian,
 };
 pub use error::OptimizeError;
+pub use grid_axis::GridAxis;
 pub use grid_search::{
-    GridAxis, GridResult, GridSearch, Landscape, MAX_GRID_NODES, RefinementSettings, grid_search,
+    GridResult, GridSearch, Landscape, MAX_GRID_NODES, RefinementSettings, grid_search,
     refined_grid_search,
 };
 pub use lattice_refinement::{
@@ -58,10 +75,14 @@ pub use lattice_refinement::{
 };
 pub use levenberg_marquardt::{
     ActiveBound, BOUND_TOLERANCE, DAMPING_DECREASE, DAMPING_INCREASE, INITIAL_DAMPING_SCALE,
-    LmSettings, LocalOptimum, MAX_DAMPING, MIN_NORMAL_DIAGONAL, Multistart, MultistartOptimum,
+    LmSettings, LocalOptimum, MAX_DAMPING, MIN_NORMAL_DIAGONAL, MultistartOptimum,
     levenberg_marquardt, multistart_levenberg_marquardt,
 };
-pub use multistart::{MAX_STARTS, run_multistart, uniform_start_points};
+pub use multistart::{
+    LocalResult, MAX_STARTS, Multistart, MultistartRun, multistart, uniform_start_points,
+};
+pub use pareto::{ParetoFront, pareto_front};
 pub use sense::Sense;
 pub use termination::Termination;
 pub use weighted_combination::weighted_combination;
+pub use weighted_sum::WeightedSum;

@@ -2,12 +2,13 @@
 //! printed, divided by the number of tasks, is `eq15_as_printed` in the `pkm` facade's `papers::wolf2006`).
 
 use crate::error::OptimizeError;
+use pkm_traits::InvalidInput;
 
 /// The weighted mean $Q = \sum_i w_i q_i / \sum_i w_i$ of the optima `optima[i]` (each a design
 /// vector) of the tasks, with weights `weights`.
 ///
 /// # Errors
-/// [`OptimizeError::InvalidSetting`] when there are no tasks, the lengths differ, a weight is
+/// [`OptimizeError::Invalid`] when there are no tasks, the lengths differ, a weight is
 /// negative or not finite, an optimum is not finite, the weights sum to zero, or the weighted
 /// sum overflows.
 ///
@@ -25,37 +26,31 @@ pub fn weighted_combination(
     optima: &[Vec<f64>],
     weights: &[f64],
 ) -> Result<Vec<f64>, OptimizeError> {
-    let invalid = |setting, value, requirement| OptimizeError::InvalidSetting {
-        setting,
-        value,
-        requirement,
-    };
     let first = optima
         .first()
-        .ok_or(invalid("tasks", 0.0, "need at least one task"))?;
+        .ok_or(InvalidInput::new("tasks", 0.0, "need at least one task"))?;
     if weights.len() != optima.len() {
-        return Err(invalid(
-            "weights",
-            weights.len() as f64,
-            "one weight per task",
-        ));
+        return Err(
+            InvalidInput::new("weights", weights.len() as f64, "one weight per task").into(),
+        );
     }
     if let Some(q) = optima.iter().find(|q| q.len() != first.len()) {
-        return Err(invalid(
+        return Err(InvalidInput::new(
             "optimum length",
             q.len() as f64,
             "all optima the same length",
-        ));
+        )
+        .into());
     }
     if let Some(w) = weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
-        return Err(invalid("weight", *w, "must be finite and >= 0"));
+        return Err(InvalidInput::new("weight", *w, "must be finite and >= 0").into());
     }
     if let Some(v) = optima.iter().flatten().find(|v| !v.is_finite()) {
-        return Err(invalid("optimum", *v, "must be finite"));
+        return Err(InvalidInput::new("optimum", *v, "must be finite").into());
     }
     let denominator: f64 = weights.iter().sum();
     if !(denominator > 0.0) {
-        return Err(invalid("sum of weights", denominator, "must be > 0"));
+        return Err(InvalidInput::new("sum of weights", denominator, "must be > 0").into());
     }
     let mean = combine(optima, weights, denominator, first.len());
     if denominator.is_finite() && mean.iter().all(|v| v.is_finite()) {
@@ -67,11 +62,12 @@ pub fn weighted_combination(
     let scaled: Vec<f64> = weights.iter().map(|w| w / w_max).collect();
     let mean = combine(optima, &scaled, scaled.iter().sum(), first.len());
     match mean.iter().find(|v| !v.is_finite()) {
-        Some(v) => Err(invalid(
-            "weighted sum",
-            *v,
-            "must be representable (it overflows)",
-        )),
+        Some(v) => {
+            Err(
+                InvalidInput::new("weighted sum", *v, "must be representable (it overflows)")
+                    .into(),
+            )
+        }
         None => Ok(mean),
     }
 }

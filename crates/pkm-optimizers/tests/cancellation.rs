@@ -7,7 +7,9 @@ use pkm_optimizers::{
     AugmentedLagrangianSettings, GridAxis, GridSearch, LmSettings, Multistart, OptimizeError,
     Sense, augmented_lagrangian, grid_search, levenberg_marquardt, multistart_levenberg_marquardt,
 };
-use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Progress, Residuals, Silent};
+use pkm_traits::{
+    Bounds, Constraints, InvalidInput, Objective, ObjectiveError, Progress, Residuals, Silent,
+};
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 /// Cancels once `advance` has been called `after` times.
@@ -259,10 +261,7 @@ fn settings_refuse_hostile_values() {
             ..Default::default()
         };
         for e in [tolerance.validate(), step.validate(), al.validate()] {
-            assert!(
-                matches!(e, Err(OptimizeError::InvalidSetting { .. })),
-                "{bad}: {e:?}"
-            );
+            assert!(matches!(e, Err(OptimizeError::Invalid(_))), "{bad}: {e:?}");
         }
     }
     let none = LmSettings {
@@ -271,10 +270,10 @@ fn settings_refuse_hostile_values() {
     };
     assert!(matches!(
         none.validate(),
-        Err(OptimizeError::InvalidSetting {
-            setting: "max_iterations",
+        Err(OptimizeError::Invalid(InvalidInput {
+            name: "max_iterations",
             ..
-        })
+        }))
     ));
     for m in [Multistart::new(0, 1), Multistart::new(usize::MAX, 1)] {
         let e = multistart_levenberg_marquardt(
@@ -287,10 +286,7 @@ fn settings_refuse_hostile_values() {
         assert!(
             matches!(
                 e,
-                Err(OptimizeError::InvalidSetting {
-                    setting: "starts",
-                    ..
-                })
+                Err(OptimizeError::Invalid(InvalidInput { name: "count", .. }))
             ),
             "{e:?}"
         );

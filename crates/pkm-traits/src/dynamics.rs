@@ -91,7 +91,8 @@ pub enum IntegrationError {
         /// Time reached.
         t: f64,
     },
-    /// Settings that cannot work (a non-positive tolerance or step).
+    /// Settings that cannot work (a non-positive tolerance or step): the one invalid-input
+    /// shape `{ name, value, requirement }`.
     #[error(transparent)]
     Invalid(#[from] crate::InvalidInput),
     /// The computation was cancelled through [`crate::Progress`].

@@ -107,6 +107,19 @@ impl InvalidInput {
         }
     }
 
+    /// Checks that the count `value` is at least 1 (an iteration or step limit, a number of
+    /// nodes).
+    ///
+    /// # Errors
+    /// An [`InvalidInput`] naming `name` for 0.
+    pub fn require_nonzero_count(name: &'static str, value: usize) -> Result<usize, Self> {
+        if value > 0 {
+            Ok(value)
+        } else {
+            Err(Self::new(name, 0.0, "must be >= 1"))
+        }
+    }
+
     /// Checks that the count `value` is at most `max`, before anything of that size is
     /// allocated or iterated.
     ///

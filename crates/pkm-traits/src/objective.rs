@@ -143,6 +143,18 @@ pub trait Residuals: Objective {
     /// As [`Objective::value`].
     fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError>;
 
+    /// $f(p) = \sum_i r_i(p)^2$ from [`Residuals::residuals`], summed in order: what
+    /// [`Objective::value`] of a least-squares problem returns, so an implementation writes
+    /// `fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> { self.sum_of_squares(p) }`.
+    ///
+    /// # Errors
+    /// As [`Residuals::residuals`].
+    fn sum_of_squares(&self, design: &[f64]) -> Result<f64, ObjectiveError> {
+        let mut r = vec![0.0; self.n_residuals()];
+        self.residuals(design, &mut r)?;
+        Ok(r.iter().map(|x| x * x).sum())
+    }
+
     /// Writes $r(p)$ into `r` and, when the problem provides it, the Jacobian
     /// $A_{ij} = \partial r_i / \partial p_j$ into `jacobian`, row-major
     /// ([`Residuals::n_residuals`] rows × [`Objective::dimension`] columns, $A_{ij}$ at

@@ -8,11 +8,12 @@ use nalgebra::Vector3;
 use pkm_draw::{PathKind, Scene};
 use pkm_mechanisms::{LegBranch, Skeleton};
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, run_multistart,
+    AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, multistart,
     uniform_start_points,
 };
 use pkm_traits::{Bounds, CancelOnly, Objective};
 use pkm_workspace_indices::{HemisphereEstimate, Sampler};
+use rayon::prelude::*;
 
 /// One optimisation study and the design the paper reports.
 pub(super) struct Study {
@@ -101,19 +102,12 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     );
     ctx.progress.check()?;
     let cancel = CancelOnly(ctx.progress);
-    let polished = screened_starts(&problem, &starts, &settings, study.polished_starts, &cancel);
+    let polished = screened_starts(&problem, starts, &settings, study.polished_starts, &cancel)?;
     ctx.progress.check()?;
-    let best = run_multistart(&polished, |s| {
-        augmented_lagrangian(&problem, Sense::Maximise, s, &settings, &cancel)
-    })
-    .into_iter()
-    .filter_map(Result::ok)
-    // The first of the largest values (`max_by` would return the last).
-    .min_by(|a, b| b.value.total_cmp(&a.value))
-        .ok_or_else(|| OptimizeError::NoFeasibleDesign {
-            evaluations: polished.len(),
-            last_reason: "no start converged to a feasible design".into(),
-        })?;
+    let run = multistart(polished, &cancel, |s, cancel| {
+        augmented_lagrangian(&problem, Sense::Maximise, s, &settings, cancel)
+    })?;
+    let (_, best) = run.best(Sense::Maximise)?;
     ctx.progress.check()?;
     let fresh =
         Sampler::MonteCarlo { seed: 101 }.unit_hemisphere_points(ctx.mode.pick(20_000, 200_000))?;
@@ -237,7 +231,7 @@ fn coarse_grid_starts(problem: &StamperProblem<'_>, n_best: usize) -> Vec<Vec<f6
             })
         })
         .collect();
-    let values = run_multistart(&designs, |x| problem.value(x));
+    let values: Vec<_> = designs.par_iter().map(|x| problem.value(x)).collect();
     let mut ranked: Vec<(f64, usize)> = values
         .into_iter()
         .enumerate()
@@ -267,11 +261,11 @@ const SCREENING_FEASIBILITY: f64 = 1e-2;
 /// little from a start, and the lengths settle within a few outer iterations.
 fn screened_starts(
     problem: &StamperProblem<'_>,
-    starts: &[Vec<f64>],
+    starts: Vec<Vec<f64>>,
     settings: &AugmentedLagrangianSettings,
     polished_starts: usize,
     cancel: &CancelOnly<'_>,
-) -> Vec<Vec<f64>> {
+) -> Result<Vec<Vec<f64>>, OptimizeError> {
     let screening = problem.screening();
     let (max_outer, max_inner) = SCREENING_ITERATIONS;
     let short = AugmentedLagrangianSettings {
@@ -280,21 +274,22 @@ fn screened_starts(
         feasibility: SCREENING_FEASIBILITY,
         ..*settings
     };
-    let values = run_multistart(starts, |s| {
+    let run = multistart(starts, cancel, |s, cancel| {
         augmented_lagrangian(&screening, Sense::Maximise, s, &short, cancel)
-    });
-    let mut ranked: Vec<(f64, usize)> = values
-        .into_iter()
+    })?;
+    let mut ranked: Vec<(f64, usize)> = run
+        .outcomes
+        .iter()
         .enumerate()
-        .map(|(k, r)| (r.map_or(f64::NEG_INFINITY, |r| r.value), k))
+        .map(|(k, r)| (r.as_ref().map_or(f64::NEG_INFINITY, |r| r.value), k))
         .collect();
     // Largest values first (a failed run last), ties by the earlier start.
     ranked.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
-    ranked
+    Ok(ranked
         .into_iter()
         .take(polished_starts)
-        .map(|(_, k)| starts[k].clone())
-        .collect()
+        .map(|(_, k)| run.starts[k].clone())
+        .collect())
 }
 
 /// Moves a uniform start onto the length constraint $a + b + d + e = 1$ (always active: $W$

@@ -47,8 +47,8 @@ pub fn maximise_pose(
 ///
 /// # Errors
 /// As [`pkm_optimizers::weighted_combination`], and
-/// [`OptimizeError::InvalidSetting`](pkm_optimizers::OptimizeError::InvalidSetting) when the
-/// printed sum overflows.
+/// [`OptimizeError::Invalid`](pkm_optimizers::OptimizeError::Invalid) when the printed sum
+/// overflows.
 ///
 /// # Example
 /// ```
@@ -67,11 +67,12 @@ pub fn eq15_as_printed(
     let scale: f64 = weights.iter().map(|w| w / n).sum();
     let printed: Vec<f64> = mean.iter().map(|m| m * scale).collect();
     match printed.iter().find(|v| !v.is_finite()) {
-        Some(&value) => Err(pkm_optimizers::OptimizeError::InvalidSetting {
-            setting: "weighted sum",
+        Some(&value) => Err(pkm_traits::InvalidInput::new(
+            "weighted sum",
             value,
-            requirement: "must be representable (it overflows)",
-        }),
+            "must be representable (it overflows)",
+        )
+        .into()),
         None => Ok(printed),
     }
 }

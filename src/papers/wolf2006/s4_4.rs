@@ -79,9 +79,7 @@ impl Objective for UpperAxesProblem {
         &self.bounds
     }
     fn value(&self, design: &[f64]) -> Result<f64, ObjectiveError> {
-        let mut r = [0.0; 6];
-        self.residuals(design, &mut r)?;
-        Ok(r.iter().map(|x| x * x).sum())
+        self.sum_of_squares(design)
     }
 }
 

@@ -1,19 +1,21 @@
 //! `pkm-optimizers`: grid search, lattice refinement, LM multistart, augmented Lagrangian (and
 //! its SPG inner solver), weighted combination.
 
-use super::{all_finite, config, hostile_count, hostile_f64, judge, judge_err};
+use super::{all_finite, config, hostile_count, hostile_f64, judge, judge_err, judge_value};
 use pkm::papers::wolf2006::eq15_as_printed;
+use pkm_optimizers::kkt::{self, KktSettings};
 use pkm_optimizers::{
     AugmentedLagrangianSettings, GridAxis, GridSearch, LatticeLevel, LmSettings, Multistart,
-    RefinementSettings, Sense, augmented_lagrangian, grid_search, lattice_refine_from,
-    lattice_refined_search, levenberg_marquardt, multistart_levenberg_marquardt,
-    refined_grid_search, weighted_combination,
+    OptimizeError, RefinementSettings, Sense, WeightedSum, augmented_lagrangian, grid_search,
+    lattice_refine_from, lattice_refined_search, levenberg_marquardt,
+    multistart_levenberg_marquardt, pareto_front, refined_grid_search, weighted_combination,
 };
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent};
 use proptest::prelude::*;
 
 /// $f(p) = \sum_k (p_k - c_k)^2$ with residuals $r_k = p_k - c_k$ and one constraint
 /// $p_0 + p_1 \ge 1$ (feasible inside the box).
+#[derive(Debug)]
 struct Bowl {
     bounds: Vec<Bounds>,
     centre: Vec<f64>,
@@ -87,7 +89,7 @@ fn sense(maximise: bool) -> Sense {
     }
 }
 
-fn grid(axes: Vec<GridAxis>, keep: bool) -> Result<GridSearch, pkm_optimizers::OptimizeError> {
+fn grid(axes: Vec<GridAxis>, keep: bool) -> Result<GridSearch, OptimizeError> {
     let grid = GridSearch::new(axes)?;
     Ok(if keep { grid.keeping_landscape() } else { grid })
 }
@@ -221,6 +223,82 @@ proptest! {
         } else {
             judge("weighted_combination", || weighted_combination(&optima, &weights), |q| all_finite(q.iter()))?;
         }
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn optimality_checks_are_finite_or_typed(
+        design in prop::collection::vec(hostile_f64(), 0..4), multipliers in prop::collection::vec(hostile_f64(), 0..3),
+        step in hostile_f64(), active_tolerance in hostile_f64(), maximise in prop::bool::ANY,
+    ) {
+        let bowl = Bowl::new(3);
+        let settings = KktSettings { step, active_tolerance };
+        judge("KktSettings::validate", || settings.validate(), |_| {
+            step > 0.0 && step < 0.5 && active_tolerance.is_finite() && active_tolerance >= 0.0
+        })?;
+        judge("kkt::check", || kkt::check(&bowl, sense(maximise), &design, &multipliers, &settings, &Silent), |c| {
+            design.len() == 3 && multipliers.len() == 1
+                && all_finite(c.lagrangian_gradient.iter().chain(&c.least_squares_multipliers))
+                && all_finite(c.hessian_eigenvalues.iter().chain(&c.reduced_hessian_eigenvalues))
+                && c.projected_gradient_max.is_finite() && c.stationarity_residual.is_finite()
+        })?;
+    }
+
+    #[test]
+    fn pareto_fronts_are_checked(
+        values in prop::collection::vec(prop::collection::vec(hostile_f64(), 0..4), 0..6),
+        k in 0..4usize, maximise in prop::bool::ANY,
+    ) {
+        let senses = vec![sense(maximise); k];
+        judge("pareto_front", || pareto_front(&values, &senses), |front| {
+            k >= 2 && front.members.iter().all(|&i| i < values.len())
+                && front.weight_intervals.as_ref().is_none_or(|w| {
+                    w.len() == front.members.len()
+                        && w.iter().flatten().all(|(lo, hi)| 0.0 <= *lo && lo <= hi && *hi <= 1.0)
+                })
+        })?;
+    }
+
+    #[test]
+    fn the_best_of_hostile_values_is_a_number(values in prop::collection::vec(prop::option::of(hostile_f64()), 0..8), maximise in prop::bool::ANY) {
+        judge_value("Sense::best", || sense(maximise).best(values.iter().copied()), |best| {
+            best.is_none_or(|(k, v)| !v.is_nan() && values.get(k).copied().flatten().is_some_and(|x| x.to_bits() == v.to_bits()))
+        })?;
+    }
+
+    #[test]
+    fn grid_ranges_and_indices_are_checked(n in hostile_count(), start in hostile_count(), end in hostile_count(), flat in hostile_count()) {
+        let Ok(axis) = GridAxis::new(-1.0, 1.0, n.min(1 << 12)) else { return Ok(()) };
+        let grid = GridSearch::new(vec![axis, GridAxis::new(0.0, 1.0, 3).unwrap()]).unwrap();
+        let range = start.min(1 << 16)..end.min(1 << 16);
+        judge("GridSearch::evaluate_range", || grid.evaluate_range(range.clone(), &Silent, |p| Ok::<_, OptimizeError>(p[0] + p[1])), |v| {
+            range.end <= grid.nodes() && v.len() == range.len() && all_finite(v.iter())
+        })?;
+        judge_value("GridSearch::node_index", || grid.node_index(flat), |i| {
+            i.as_ref().is_none_or(|i| grid.flat_index(i) == Some(flat))
+        })?;
+        judge_value("GridSearch::node_design", || grid.node_design(flat), |d| {
+            d.as_ref().is_none_or(|d| design_inside(&grid.bounds(), d))
+        })?;
+    }
+
+    #[test]
+    fn start_points_and_weighted_sums_are_checked(
+        extra in prop::collection::vec(prop::collection::vec(hostile_f64(), 0..4), 0..3), count in 0..4usize,
+        weights in prop::collection::vec(hostile_f64(), 0..3),
+    ) {
+        let bowl = Bowl::new(3);
+        let starts = Multistart::new(count, 7).with_extra_starts(extra.clone());
+        judge("Multistart::start_points", || starts.start_points(bowl.bounds()), |points| {
+            points.len() == count + extra.len() && points.iter().all(|p| p.len() == 3 && all_finite(p.iter()))
+        })?;
+        let parts = weights.iter().map(|w| (*w, Bowl::new(3))).collect();
+        judge("WeightedSum::new", || WeightedSum::new(parts), |sum| {
+            sum.parts().all(|(w, _)| w.is_finite() && w >= 0.0) && sum.value(&[0.1, 0.2, 0.3]).is_ok_and(f64::is_finite)
+        })?;
     }
 }
 

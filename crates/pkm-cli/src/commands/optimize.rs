@@ -1,20 +1,11 @@
 //! `pkm optimize FILE`: multistart constrained optimisation of the Tsai platform's workspace
 //! volume or global condition index (Stamper, Tsai & Walsh 1997, §5) over any of its design
 //! variables $(a, b, d + e, c - r, \phi_2, \phi_3)$, with linear inequality constraints
-//! $\sum_j c_j x_j \le u$, by the augmented Lagrangian from seeded uniform starts, and the
-//! first- and second-order checks at the optimum.
-//!
-//! The checks use the Lagrangian $\mathcal L = f + \sum_i \mu_i g_i$ of the minimised
-//! $f = -W$ (or $-\mathrm{GCI}$) and $g_i = c_i \cdot x - u_i$:
-//! - *first order*: the projected gradient of $\mathcal L$ with the solver's multipliers
-//!   (central differences; on a lower bound only $\min(0, \partial_j\mathcal L)$ counts, on an
-//!   upper bound only $\max(0, \partial_j\mathcal L)$), and the stationarity residual
-//!   $\nabla f + \sum_{active} \mu_i \nabla g_i$ with least-squares multipliers, over the
-//!   variables off their bounds; each entry times the variable's range;
-//! - *second order*: the eigenvalues of the finite-difference Hessian of $\mathcal L$ over the
-//!   free variables (more than one difference step from both bounds), and of that Hessian on
-//!   the null space of the active constraints' gradients: all $\ge 0$ at a minimum of $f$, up
-//!   to finite-difference noise.
+//! $\sum_j c_j x_j \le u$, by the augmented Lagrangian from seeded uniform starts
+//! ([`pkm_optimizers::multistart`], every start kept), and the first- and second-order checks
+//! at the optimum ([`pkm_optimizers::kkt::check`] of the minimised $f = -W$ or $-\mathrm{GCI}$
+//! with $g_i = c_i \cdot x - u_i$, the solver's multipliers and the relative step
+//! `check_step`).
 
 use super::{Context, Report, Run};
 use crate::CliError;
@@ -23,13 +14,14 @@ use crate::output::Output;
 use crate::plot::{self, Marker, Scatter};
 use crate::study::mechanism::{MechanismSpec, TsaiSpec};
 use crate::study::StudyFile;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::Vector3;
 use pkm_mechanisms::{Elbow, Tsai3Dof, TsaiDesign};
+use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, ConstrainedResult, OptimizeError, Sense, augmented_lagrangian,
-    run_multistart, uniform_start_points,
+    AugmentedLagrangianSettings, ConstrainedResult, Multistart, OptimizeError, Sense,
+    augmented_lagrangian, multistart,
 };
-use pkm_traits::{Bounds, CancelOnly, Constraints, Objective, ObjectiveError, Progress, Silent};
+use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
 use pkm_workspace_indices::{Sampler, Workspace};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -75,10 +67,10 @@ pub struct OptimizeSection {
     #[serde(default)]
     pub constraints: Vec<toml::Spanned<LinearConstraint>>,
     /// The multistart.
-    pub starts: Starts,
-    /// Augmented-Lagrangian settings.
+    pub starts: Multistart,
+    /// Augmented-Lagrangian settings (defaults: the library's).
     #[serde(default)]
-    pub solver: SolverSettings,
+    pub solver: AugmentedLagrangianSettings,
     /// Finite-difference step of the optimality checks, relative to each variable's range
     /// (default 1e-2).
     #[serde(default = "default_check_step")]
@@ -132,62 +124,6 @@ pub struct LinearConstraint {
     pub coefficients: BTreeMap<String, f64>,
     /// $u$.
     pub at_most: f64,
-}
-
-/// Seeded uniform starts in the box, after the explicit ones.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct Starts {
-    /// Number of uniform starts.
-    pub count: usize,
-    /// Their seed.
-    pub seed: u64,
-    /// Starts given explicitly, each a vector of the optimised variables in the order the
-    /// command lists them; run first.
-    #[serde(default)]
-    pub extra: Vec<Vec<f64>>,
-}
-
-/// [`AugmentedLagrangianSettings`] as read from the file (defaults: the library's).
-#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SolverSettings {
-    /// Relative finite-difference step (times each range).
-    pub fd_step: f64,
-    /// Inner stopping tolerance, in ranges.
-    pub tolerance: f64,
-    /// Largest admissible constraint violation.
-    pub feasibility: f64,
-    /// Outer (multiplier) iterations.
-    pub max_outer: usize,
-    /// Inner iterations per outer one.
-    pub max_inner: usize,
-}
-
-impl Default for SolverSettings {
-    fn default() -> Self {
-        let d = AugmentedLagrangianSettings::default();
-        Self {
-            fd_step: d.fd_step,
-            tolerance: d.tolerance,
-            feasibility: d.feasibility,
-            max_outer: d.max_outer,
-            max_inner: d.max_inner,
-        }
-    }
-}
-
-impl SolverSettings {
-    /// The library's settings (the one place to adapt when they change).
-    pub fn to_library(self) -> AugmentedLagrangianSettings {
-        AugmentedLagrangianSettings {
-            fd_step: self.fd_step,
-            tolerance: self.tolerance,
-            feasibility: self.feasibility,
-            max_outer: self.max_outer,
-            max_inner: self.max_inner,
-        }
-    }
 }
 
 /// The Tsai design variables in design-vector order, as named in `[mechanism.tsai]`.
@@ -360,295 +296,6 @@ pub fn problem_of(file: &StudyFile<OptimizeStudy>) -> Result<TsaiProblem, CliErr
     })
 }
 
-/// The start points: the explicit ones, then `count` seeded uniform ones.
-///
-/// # Errors
-/// [`CliError::Invalid`] for an explicit start of the wrong length; [`CliError::Optimize`] for
-/// too many starts.
-pub fn start_points(starts: &Starts, bounds: &[Bounds]) -> Result<Vec<Vec<f64>>, CliError> {
-    if let Some(bad) = starts.extra.iter().find(|s| s.len() != bounds.len()) {
-        return Err(CliError::Invalid(format!(
-            "starts.extra: a start has {} values, expected {} (one per optimised variable)",
-            bad.len(),
-            bounds.len()
-        )));
-    }
-    let mut all = starts.extra.clone();
-    all.extend(uniform_start_points(bounds, starts.count, starts.seed)?);
-    Ok(all)
-}
-
-/// `local` at every start, in start order, in blocks of one start per thread, so that the
-/// progress bar advances and Ctrl-C stops between blocks.
-///
-/// # Errors
-/// [`CliError::Cancelled`].
-pub fn run_blocks<R: Send>(
-    starts: &[Vec<f64>],
-    label: &str,
-    progress: &dyn Progress,
-    local: impl Fn(&[f64]) -> R + Sync,
-) -> Result<Vec<R>, CliError> {
-    let block = rayon::current_num_threads().max(1);
-    progress.start(label, starts.len() as u64);
-    let mut outcomes = Vec::with_capacity(starts.len());
-    for chunk in starts.chunks(block) {
-        progress.check()?;
-        outcomes.extend(run_multistart(chunk, &local));
-        progress.advance(chunk.len() as u64);
-    }
-    progress.finish();
-    Ok(outcomes)
-}
-
-/// The best outcome: smallest value, the earlier start on ties.
-pub fn best_outcome(
-    outcomes: &[Result<ConstrainedResult, OptimizeError>],
-) -> Option<(usize, &ConstrainedResult)> {
-    let mut best: Option<(usize, &ConstrainedResult)> = None;
-    for (k, outcome) in outcomes.iter().enumerate() {
-        if let Ok(r) = outcome
-            && best.is_none_or(|(_, b)| r.value < b.value)
-        {
-            best = Some((k, r));
-        }
-    }
-    best
-}
-
-/// Where a variable sits at the optimum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Status {
-    /// On its lower bound.
-    Lower,
-    /// On its upper bound.
-    Upper,
-    /// Inside, but within one difference step of a bound (left out of the Hessian).
-    NearBound,
-    /// Inside.
-    Free,
-}
-
-/// The first- and second-order checks (module docs).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct OptimalityCheck {
-    /// $\nabla\mathcal L$ with the solver's multipliers (central differences, one-sided at a
-    /// bound), per optimised variable.
-    pub lagrangian_gradient: Vec<f64>,
-    /// Each optimised variable's status.
-    pub status: Vec<Status>,
-    /// Largest |projected entry of $\nabla\mathcal L$| × range.
-    pub projected_gradient_max: f64,
-    /// Indices of the active constraints ($\mu_i > 0$ or $g_i \ge -$feasibility).
-    pub active_constraints: Vec<usize>,
-    /// Multipliers of the active constraints that best cancel $\nabla f$ on the variables off
-    /// their bounds (least squares).
-    pub least_squares_multipliers: Vec<f64>,
-    /// Largest |entry| × range of $\nabla f + \sum_{active}\mu_i\nabla g_i$ with those
-    /// multipliers, over the variables off their bounds (0 at a KKT point).
-    pub stationarity_residual: f64,
-    /// Eigenvalues (ascending) of the Hessian of $\mathcal L$ on the free variables.
-    pub hessian_eigenvalues: Vec<f64>,
-    /// Eigenvalues (ascending) of that Hessian on the null space of the active constraints.
-    pub reduced_hessian_eigenvalues: Vec<f64>,
-}
-
-/// Relative distance to a bound (of the range) within which a variable is on it.
-const ON_BOUND: f64 = 1e-9;
-
-fn status_of(b: &Bounds, x: f64, h: f64) -> Status {
-    let tol = ON_BOUND * b.width();
-    if !(x > b.lower() + tol) {
-        Status::Lower
-    } else if !(x < b.upper() - tol) {
-        Status::Upper
-    } else if x - h <= b.lower() || x + h >= b.upper() {
-        Status::NearBound
-    } else {
-        Status::Free
-    }
-}
-
-fn lagrangian<P: Constraints>(
-    problem: &P,
-    multipliers: &[f64],
-    x: &[f64],
-) -> Result<f64, ObjectiveError> {
-    let mut g = vec![0.0; problem.n_constraints()];
-    problem.inequalities(x, &mut g)?;
-    let penalty: f64 = g.iter().zip(multipliers).map(|(g, m)| g * m).sum();
-    Ok(problem.value(x)? + penalty)
-}
-
-/// The checks of the module docs at `result` with relative step `step`; the constraint
-/// gradients by central differences too, so that any [`Constraints`] problem can be checked.
-///
-/// # Errors
-/// A failed evaluation.
-pub fn optimality_check<P: Constraints>(
-    problem: &P,
-    result: &ConstrainedResult,
-    step: f64,
-    feasibility: f64,
-) -> Result<OptimalityCheck, ObjectiveError> {
-    let (x, bounds, mu) = (&result.design, problem.bounds(), &result.multipliers);
-    let (n, m) = (x.len(), problem.n_constraints());
-    let l = |p: &[f64]| lagrangian(problem, mu, p);
-    let steps: Vec<f64> = bounds.iter().map(|b| step * b.width()).collect();
-    let status: Vec<Status> = (0..n)
-        .map(|j| status_of(&bounds[j], x[j], steps[j]))
-        .collect();
-    let mut gradient = vec![0.0; n];
-    let mut jacobian = DMatrix::zeros(m, n);
-    for j in 0..n {
-        let (hi, lo) = bounds[j].difference_points(x[j], step);
-        if !(hi > lo) {
-            continue;
-        }
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[j] = hi;
-        xm[j] = lo;
-        gradient[j] = (l(&xp)? - l(&xm)?) / (hi - lo);
-        let (mut gp, mut gm) = (vec![0.0; m], vec![0.0; m]);
-        problem.inequalities(&xp, &mut gp)?;
-        problem.inequalities(&xm, &mut gm)?;
-        for i in 0..m {
-            jacobian[(i, j)] = (gp[i] - gm[i]) / (hi - lo);
-        }
-    }
-    let projected_gradient_max = (0..n)
-        .map(|j| {
-            let g = gradient[j];
-            let projected = match status[j] {
-                Status::Lower => g.min(0.0),
-                Status::Upper => g.max(0.0),
-                Status::NearBound | Status::Free => g,
-            };
-            (projected * bounds[j].width()).abs()
-        })
-        .fold(0.0, f64::max);
-    let active: Vec<usize> = (0..m)
-        .filter(|&i| mu[i] > 0.0 || result.constraints[i] >= -feasibility)
-        .collect();
-    let (least_squares_multipliers, stationarity_residual) =
-        least_squares_stationarity(&gradient, &jacobian, mu, &active, &status, bounds);
-    let free: Vec<usize> = (0..n).filter(|&j| status[j] == Status::Free).collect();
-    let hessian = hessian_on(&l, x, &free, &steps)?;
-    let active_gradients =
-        DMatrix::from_fn(active.len(), free.len(), |r, c| jacobian[(active[r], free[c])]);
-    let basis = null_space(&active_gradients);
-    let reduced = basis.transpose() * &hessian * &basis;
-    Ok(OptimalityCheck {
-        lagrangian_gradient: gradient,
-        status,
-        projected_gradient_max,
-        active_constraints: active,
-        least_squares_multipliers,
-        stationarity_residual,
-        hessian_eigenvalues: ascending_eigenvalues(hessian),
-        reduced_hessian_eigenvalues: ascending_eigenvalues(reduced),
-    })
-}
-
-/// $\nabla f = \nabla\mathcal L - J^\top\mu$ on the variables off their bounds, the
-/// least-squares multipliers of the active constraints there, and the scaled residual.
-fn least_squares_stationarity(
-    lagrangian_gradient: &[f64],
-    jacobian: &DMatrix<f64>,
-    mu: &[f64],
-    active: &[usize],
-    status: &[Status],
-    bounds: &[Bounds],
-) -> (Vec<f64>, f64) {
-    let off: Vec<usize> = (0..status.len())
-        .filter(|&j| matches!(status[j], Status::Free | Status::NearBound))
-        .collect();
-    let grad_f = DVector::from_iterator(
-        off.len(),
-        off.iter().map(|&j| {
-            let correction: f64 = (0..mu.len()).map(|i| jacobian[(i, j)] * mu[i]).sum();
-            lagrangian_gradient[j] - correction
-        }),
-    );
-    let a_t = DMatrix::from_fn(off.len(), active.len(), |r, c| jacobian[(active[c], off[r])]);
-    let multipliers = if active.is_empty() || off.is_empty() {
-        DVector::zeros(active.len())
-    } else {
-        a_t.clone()
-            .svd(true, true)
-            .solve(&(-&grad_f), 1e-12)
-            .unwrap_or_else(|_| DVector::zeros(active.len()))
-    };
-    let residual = grad_f + &a_t * &multipliers;
-    let scaled = off
-        .iter()
-        .zip(residual.iter())
-        .map(|(&j, r)| (r * bounds[j].width()).abs())
-        .fold(0.0, f64::max);
-    (multipliers.as_slice().to_vec(), scaled)
-}
-
-fn ascending_eigenvalues(m: DMatrix<f64>) -> Vec<f64> {
-    if m.nrows() == 0 {
-        return Vec::new();
-    }
-    let mut v = m.symmetric_eigenvalues().as_slice().to_vec();
-    v.sort_by(f64::total_cmp);
-    v
-}
-
-/// The central-difference Hessian of `f` at `x` over the variables `free` with steps `steps`:
-/// $H_{jj} = [f(x + h_j e_j) - 2 f(x) + f(x - h_j e_j)] / h_j^2$ and
-/// $H_{jk} = [f(x + h_j e_j + h_k e_k) - f(x + h_j e_j - h_k e_k) - f(x - h_j e_j + h_k e_k)
-/// + f(x - h_j e_j - h_k e_k)] / (4 h_j h_k)$.
-fn hessian_on(
-    f: &dyn Fn(&[f64]) -> Result<f64, ObjectiveError>,
-    x: &[f64],
-    free: &[usize],
-    steps: &[f64],
-) -> Result<DMatrix<f64>, ObjectiveError> {
-    let k = free.len();
-    let mut h = DMatrix::zeros(k, k);
-    let f0 = f(x)?;
-    let at = |moves: &[(usize, f64)]| {
-        let mut p = x.to_vec();
-        for &(j, d) in moves {
-            p[j] += d;
-        }
-        f(&p)
-    };
-    for a in 0..k {
-        let (j, hj) = (free[a], steps[free[a]]);
-        h[(a, a)] = (at(&[(j, hj)])? - 2.0 * f0 + at(&[(j, -hj)])?) / (hj * hj);
-        for b in 0..a {
-            let (i, hi) = (free[b], steps[free[b]]);
-            let v = (at(&[(j, hj), (i, hi)])? - at(&[(j, hj), (i, -hi)])?
-                - at(&[(j, -hj), (i, hi)])?
-                + at(&[(j, -hj), (i, -hi)])?)
-                / (4.0 * hj * hi);
-            h[(a, b)] = v;
-            h[(b, a)] = v;
-        }
-    }
-    Ok(h)
-}
-
-/// An orthonormal basis (columns) of the null space of `a`: the eigenvectors of $A^\top A$
-/// whose eigenvalues are below $10^{-10}$ of the largest.
-fn null_space(a: &DMatrix<f64>) -> DMatrix<f64> {
-    let n = a.ncols();
-    if a.nrows() == 0 {
-        return DMatrix::identity(n, n);
-    }
-    let eig = (a.transpose() * a).symmetric_eigen();
-    let largest = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let keep: Vec<usize> = (0..n)
-        .filter(|&k| eig.eigenvalues[k].abs() <= 1e-10 * largest)
-        .collect();
-    DMatrix::from_fn(n, keep.len(), |r, c| eig.eigenvectors[(r, keep[c])])
-}
-
 /// One constraint at the optimum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ConstraintValue {
@@ -714,12 +361,21 @@ pub fn compute(
 ) -> Result<(OptimizeResult, Report, Output), CliError> {
     let o = &file.study.optimize;
     let problem = problem_of(file)?;
-    let settings = o.solver.to_library();
-    let starts = start_points(&o.starts, problem.bounds())?;
-    let outcomes = run_blocks(&starts, "augmented Lagrangian starts", &context.progress, |s| {
-        augmented_lagrangian(&problem, Sense::Minimise, s, &settings, &CancelOnly(&context.progress))
+    let settings = o.solver;
+    settings.validate()?;
+    let check = KktSettings {
+        step: o.check_step,
+        active_tolerance: settings.feasibility,
+    };
+    let check_error =
+        |e| CliError::Invalid(format!("optimality check (check_step = {}): {e}", o.check_step));
+    check.validate_for(problem.bounds()).map_err(check_error)?;
+    let starts = o.starts.start_points(problem.bounds())?;
+    let run = multistart(starts, &context.progress, |s, cancel| {
+        augmented_lagrangian(&problem, Sense::Minimise, s, &settings, cancel)
     })?;
-    let Some((best_start, best)) = best_outcome(&outcomes) else {
+    let (starts, outcomes) = (&run.starts, &run.outcomes);
+    let Ok((best_start, best)) = run.best(Sense::Minimise) else {
         let last = outcomes.iter().rev().find_map(|o| o.as_ref().err());
         return Err(CliError::Invalid(format!(
             "no start reached a feasible design ({} starts); last reason: {}",
@@ -728,8 +384,18 @@ pub fn compute(
         )));
     };
     context.progress.phase("optimality checks");
-    let optimality = optimality_check(&problem, best, o.check_step, settings.feasibility)
-        .map_err(|e| CliError::Optimize(e.into()))?;
+    let optimality = kkt::check(
+        &problem,
+        Sense::Minimise,
+        &best.design,
+        &best.multipliers,
+        &check,
+        &context.progress,
+    )
+    .map_err(|e| match e {
+        OptimizeError::Cancelled => CliError::Cancelled,
+        e => check_error(e),
+    })?;
     let names = problem.names();
     let quantity = o.objective.name();
     let design: BTreeMap<String, f64> = TSAI_VARIABLES
@@ -757,7 +423,7 @@ pub fn compute(
         failed: count(&|o| o.is_err()),
     };
     let mut out = Output::create(&context.out)?;
-    write_starts(&mut out, &names, quantity, &starts, &outcomes, best_start)?;
+    write_starts(&mut out, &names, quantity, starts, outcomes, best_start)?;
     let mut report = Report::default();
     report.line(format!(
         "max {quantity} = {:.6} from start {best_start} of {} ({}): {}",

@@ -15,6 +15,7 @@ use crate::output::{Output, StudyEcho, short};
 use crate::plot::{self, Marker, Scatter};
 use crate::study::units::Real;
 use crate::study::{self, StudyFile};
+use pkm_optimizers::{Sense, pareto_front};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -146,53 +147,6 @@ pub fn requested(file: &StudyFile<GridStudy>) -> Result<Vec<(IndexName, Range<us
     objectives(file)
 }
 
-fn dominates(a: &[f64], b: &[f64]) -> bool {
-    a.iter().zip(b).all(|(x, y)| x >= y) && a.iter().zip(b).any(|(x, y)| x > y)
-}
-
-/// The non-dominated nodes among `(node, values)`, by node. Candidates are visited in
-/// decreasing lexicographic order of their values, so a dominated candidate is always
-/// dominated by a member of the front found so far.
-pub fn non_dominated(points: &[(usize, &[f64])]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..points.len()).collect();
-    order.sort_by(|&i, &j| {
-        let (a, b) = (points[i].1, points[j].1);
-        b.iter()
-            .zip(a)
-            .map(|(x, y)| x.total_cmp(y))
-            .find(|o| o.is_ne())
-            .unwrap_or(std::cmp::Ordering::Equal)
-            .then(points[i].0.cmp(&points[j].0))
-    });
-    let mut front: Vec<usize> = Vec::new();
-    for i in order {
-        if !front.iter().any(|&f| dominates(points[f].1, points[i].1)) {
-            front.push(i);
-        }
-    }
-    let mut nodes: Vec<usize> = front.iter().map(|&i| points[i].0).collect();
-    nodes.sort_unstable();
-    nodes
-}
-
-/// `[w_min, w_max]` ⊂ [0, 1] of the weights w for which `p` maximises w·a + (1 − w)·b among
-/// `others` (pairs (a, b)): the intersection of w·(Δa − Δb) ≥ −Δb over every other point.
-pub fn weight_range(p: (f64, f64), others: impl Iterator<Item = (f64, f64)>) -> Option<(f64, f64)> {
-    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-    for (a, b) in others {
-        let (da, db) = (p.0 - a, p.1 - b);
-        let c = da - db;
-        if c > 0.0 {
-            lo = lo.max(-db / c);
-        } else if c < 0.0 {
-            hi = hi.min(-db / c);
-        } else if db < 0.0 {
-            return None;
-        }
-    }
-    (lo <= hi).then_some((lo, hi))
-}
-
 /// Finishes a Pareto study from every node's outcome (a single run and `pkm merge` both end
 /// here).
 ///
@@ -224,27 +178,21 @@ pub fn finish(
         return Err(CliError::Invalid(format!("no feasible design among {} nodes", outcomes.len())));
     }
     context.progress.phase("non-dominated set");
-    let front_nodes = non_dominated(&feasible);
+    let values: Vec<&[f64]> = feasible.iter().map(|(_, v)| *v).collect();
+    let pareto = pareto_front(&values, &vec![Sense::Maximise; m])?;
     let values_of = |node: usize| outcomes[node].as_ref().map(Vec::as_slice).unwrap_or(&[]);
     let grid = &prepared.grid;
-    let front: Vec<FrontPoint> = front_nodes
+    let front: Vec<FrontPoint> = pareto
+        .members
         .iter()
-        .map(|&node| {
-            let v = values_of(node);
-            let weight_range = (m == 2).then(|| {
-                weight_range(
-                    (v[0], v[1]),
-                    front_nodes.iter().filter(|&&o| o != node).map(|&o| {
-                        let w = values_of(o);
-                        (w[0], w[1])
-                    }),
-                )
-            });
+        .enumerate()
+        .map(|(k, &i)| {
+            let node = feasible[i].0;
             FrontPoint {
                 node,
                 design: grid.names.iter().cloned().zip(grid.design(node)).collect(),
-                values: v.to_vec(),
-                weight_range: weight_range.flatten(),
+                values: values_of(node).to_vec(),
+                weight_range: pareto.weight_intervals.as_ref().and_then(|w| w.get(k).copied().flatten()),
             }
         })
         .collect();
@@ -252,13 +200,8 @@ pub fn finish(
         .iter()
         .filter_map(|w| {
             let u = |v: &[f64]| w.iter().zip(v).fold(0.0, |s, (w, v)| s + w * v);
-            let (node, utility) = feasible.iter().fold(None, |best: Option<(usize, f64)>, (k, v)| {
-                let value = u(v);
-                match best {
-                    Some((_, b)) if !(value > b) => best,
-                    _ => Some((*k, value)),
-                }
-            })?;
+            let (best, utility) = Sense::Maximise.best(values.iter().map(|v| Some(u(v))))?;
+            let node = feasible[best].0;
             Some(WeightedOptimum {
                 weights: w.clone(),
                 node,
@@ -374,31 +317,4 @@ pub fn finish(
     let path = out.finish("pareto", echo, result)?;
     report.line(format!("wrote {}", path.display()));
     Ok(report)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_front_drops_dominated_points_and_keeps_ties() {
-        let v = [[1.0, 0.0], [0.0, 1.0], [0.5, 0.5], [0.4, 0.4], [0.5, 0.5], [1.0, -1.0]];
-        let points: Vec<(usize, &[f64])> = v.iter().enumerate().map(|(k, p)| (k, &p[..])).collect();
-        assert_eq!(non_dominated(&points), [0, 1, 2, 4]);
-    }
-
-    #[test]
-    fn weight_ranges_of_a_convex_front_tile_the_unit_interval() {
-        // (1, 0), (0.6, 0.6), (0, 1): the middle point wins for w in [0.4, 0.6].
-        let front = [(1.0, 0.0), (0.6, 0.6), (0.0, 1.0)];
-        let range = |i: usize| {
-            weight_range(front[i], front.iter().enumerate().filter(|(k, _)| *k != i).map(|(_, p)| *p))
-        };
-        let (a, b, c) = (range(0), range(1), range(2));
-        assert!(a.is_some_and(|(lo, hi)| (lo - 0.6).abs() < 1e-12 && (hi - 1.0).abs() < 1e-12));
-        assert!(b.is_some_and(|(lo, hi)| (lo - 0.4).abs() < 1e-12 && (hi - 0.6).abs() < 1e-12));
-        assert!(c.is_some_and(|(lo, hi)| lo.abs() < 1e-12 && (hi - 0.4).abs() < 1e-12));
-        // A point under the chord is never selected.
-        assert_eq!(weight_range((0.45, 0.45), front.into_iter()), None);
-    }
 }

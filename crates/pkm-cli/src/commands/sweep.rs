@@ -264,14 +264,10 @@ fn refine(
     (mut best, mut best_value): (Vec<f64>, f64),
     progress: &dyn Progress,
 ) -> Result<Refined, CliError> {
-    let grid_axes = &prepared.grid.axes;
-    let bounds = grid_axes
-        .iter()
-        .map(|a| Bounds::new(a.lower(), a.upper()))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| CliError::Invalid(e.to_string()))?;
+    let grid_axes = prepared.grid.axes();
+    let bounds = prepared.grid.search.bounds();
     let indices: Vec<IndexName> = terms.iter().map(|(i, _)| *i).collect();
-    let mut coarse = grid_axes.clone();
+    let mut coarse = grid_axes.to_vec();
     let mut evaluations = 0;
     for level in levels {
         let lattice = level.lattice();
@@ -364,16 +360,9 @@ pub fn finish(
         .iter()
         .map(|o| o.as_ref().ok().map(|v| utility(&terms, &indices, v)))
         .collect();
-    // The first node of largest utility, i.e. smallest −U with strict comparison, as
-    // `pkm_optimizers::grid_search`.
-    let best = utilities
-        .iter()
-        .enumerate()
-        .filter_map(|(k, u)| u.map(|u| (k, -u)))
-        .fold(None, |best: Option<(usize, f64)>, (k, v)| match best {
-            Some((_, b)) if !(v < b) => best,
-            _ => Some((k, v)),
-        });
+    // The first node of smallest −U, the rule of `pkm_optimizers::grid_search`.
+    let negated = utilities.iter().map(|u| u.map(|u| -u));
+    let best = Sense::Minimise.best(negated);
     let Some((best_node, best_value)) = best else {
         let reason = outcomes.iter().find_map(|o| o.as_ref().err()).cloned().unwrap_or_default();
         return Err(CliError::Invalid(format!(
@@ -437,7 +426,7 @@ pub fn finish(
         variables: grid
             .names
             .iter()
-            .zip(&grid.axes)
+            .zip(grid.axes())
             .map(|(n, a)| (n.clone(), a.lower(), a.upper(), a.n()))
             .collect(),
         objective: section
@@ -498,21 +487,24 @@ fn write_heatmap(
     optimum: &Point,
     (x, y): (usize, usize),
 ) -> Result<(), CliError> {
-    let through = grid.multi_index(best_node);
-    let (nx, ny) = (grid.axes[x].n(), grid.axes[y].n());
+    let Some(through) = grid.search.node_index(best_node) else {
+        return Ok(());
+    };
+    let (nx, ny) = (grid.axes()[x].n(), grid.axes()[y].n());
     let mut values = Vec::with_capacity(nx * ny);
     for iy in 0..ny {
         for ix in 0..nx {
             let mut index = through.clone();
             index[x] = ix;
             index[y] = iy;
-            values.push(utilities[grid.flat(&index)]);
+            let flat = grid.search.flat_index(&index);
+            values.push(flat.and_then(|k| utilities.get(k).copied().flatten()));
         }
     }
     let (xn, yn) = (&grid.names[x], &grid.names[y]);
     let stem = format!("heatmap-{xn}-{yn}");
-    let xs = grid.axes[x].nodes();
-    let ys = grid.axes[y].nodes();
+    let xs = grid.axes()[x].nodes();
+    let ys = grid.axes()[y].nodes();
     out.write_csv(
         &format!("{stem}.csv"),
         &[xn.as_str(), yn.as_str(), "utility"],

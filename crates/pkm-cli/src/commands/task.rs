@@ -6,10 +6,10 @@
 //! singular value (or the determinant) of the $6 \times 6$ matrix of eq. 18 (three leg lines,
 //! three constraint couples).
 //!
-//! Weighted twists enter as the stacked residuals $\sqrt{w_k}\,(L_i \wedge \chi_k)$, so the sum
-//! of squares is $F$, and one twist of weight 1 is exactly the library's problem.
+//! Weighted twists enter as the stacked residuals $\sqrt{w_k}\,(L_i \wedge \chi_k)$
+//! ([`pkm_optimizers::WeightedSum`]), so the sum of squares is $F$, and one twist of weight 1
+//! is exactly the library's problem.
 
-use super::optimize::{Starts, run_blocks, start_points};
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
@@ -26,9 +26,10 @@ use pkm_mechanisms::{
 };
 use pkm_draw::Scene;
 use pkm_optimizers::{
-    ActiveBound, LmSettings, LocalOptimum, OptimizeError, Sense, levenberg_marquardt,
+    ActiveBound, LmSettings, LocalOptimum, Multistart, MultistartRun, Sense, WeightedSum,
+    levenberg_marquardt, multistart,
 };
-use pkm_traits::{Bounds, CancelOnly, Objective, ObjectiveError, Residuals, Task};
+use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Task};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -156,10 +157,10 @@ pub struct TaskSection {
     #[serde(default)]
     pub twists: Vec<toml::Spanned<TwistSpec>>,
     /// The multistart.
-    pub starts: Starts,
-    /// Levenberg–Marquardt settings.
+    pub starts: Multistart,
+    /// Levenberg–Marquardt settings (defaults: the library's).
     #[serde(default)]
-    pub solver: LmSpec,
+    pub solver: LmSettings,
 }
 
 /// What `pkm task` seeks.
@@ -271,40 +272,6 @@ impl TwistSpec {
             )
             .map_err(|e| e.to_string()),
             _ => Err("expected either `vector` (rad/s, m/s) or `axis` and `point` (m)".into()),
-        }
-    }
-}
-
-/// [`LmSettings`] as read from the file (defaults: the library's).
-#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct LmSpec {
-    /// Iteration limit.
-    pub max_iterations: usize,
-    /// Tolerance on the scaled projected gradient and on the relative change of the objective.
-    pub tolerance: f64,
-    /// Relative finite-difference step (of each range).
-    pub fd_step: f64,
-}
-
-impl Default for LmSpec {
-    fn default() -> Self {
-        let d = LmSettings::default();
-        Self {
-            max_iterations: d.max_iterations,
-            tolerance: d.tolerance,
-            fd_step: d.fd_step,
-        }
-    }
-}
-
-impl LmSpec {
-    /// The library's settings (the one place to adapt when they change).
-    pub fn to_library(self) -> LmSettings {
-        LmSettings {
-            max_iterations: self.max_iterations,
-            tolerance: self.tolerance,
-            fd_step: self.fd_step,
         }
     }
 }
@@ -430,9 +397,7 @@ impl Objective for UpuProblem {
         &self.bounds
     }
     fn value(&self, v: &[f64]) -> Result<f64, ObjectiveError> {
-        let mut r = vec![0.0; self.n_residuals()];
-        self.residuals(v, &mut r)?;
-        Ok(r.iter().map(|x| x * x).sum())
+        self.sum_of_squares(v)
     }
 }
 
@@ -471,105 +436,6 @@ impl Residuals for UpuProblem {
 /// $\sigma_{min}$ of a 6×6 matrix.
 fn smallest_singular_value(rows: &Matrix6<f64>) -> f64 {
     rows.singular_values().iter().copied().fold(f64::INFINITY, f64::min)
-}
-
-/// Several problems with the same variables as one: residuals stacked, each part scaled by
-/// $\sqrt{w_k}$ (its Jacobian too), so the sum of squares is $\sum_k w_k F_k$.
-#[derive(Debug, Clone)]
-pub struct WeightedSum<P> {
-    parts: Vec<(f64, P)>,
-}
-
-impl<P: Residuals> WeightedSum<P> {
-    /// The weighted sum of `parts` (weight, problem); every part has the variables of the first.
-    ///
-    /// # Errors
-    /// No parts, a negative or non-finite weight, or parts of different dimensions.
-    pub fn new(parts: Vec<(f64, P)>) -> Result<Self, CliError> {
-        let invalid = |m: String| Err(CliError::Invalid(m));
-        let Some((_, first)) = parts.first() else {
-            return invalid("at least one [[task.twists]] is needed".into());
-        };
-        let n = first.dimension();
-        if let Some((w, _)) = parts.iter().find(|(w, _)| !(w.is_finite() && *w >= 0.0)) {
-            return invalid(format!("twist weight {w}: expected a finite number >= 0"));
-        }
-        if parts.iter().any(|(_, p)| p.dimension() != n) {
-            return invalid("every twist's problem must have the same variables".into());
-        }
-        Ok(Self {
-            parts: parts.into_iter().map(|(w, p)| (w.sqrt(), p)).collect(),
-        })
-    }
-
-    /// The parts with their weights $w_k$.
-    pub fn parts(&self) -> impl Iterator<Item = (f64, &P)> {
-        self.parts.iter().map(|(s, p)| (s * s, p))
-    }
-}
-
-impl<P: Residuals> Objective for WeightedSum<P> {
-    fn dimension(&self) -> usize {
-        self.parts[0].1.dimension()
-    }
-    fn bounds(&self) -> &[Bounds] {
-        self.parts[0].1.bounds()
-    }
-    fn value(&self, v: &[f64]) -> Result<f64, ObjectiveError> {
-        let mut r = vec![0.0; self.n_residuals()];
-        self.residuals(v, &mut r)?;
-        Ok(r.iter().map(|x| x * x).sum())
-    }
-}
-
-impl<P: Residuals> Residuals for WeightedSum<P> {
-    fn n_residuals(&self) -> usize {
-        self.parts.iter().map(|(_, p)| p.n_residuals()).sum()
-    }
-    fn residuals(&self, v: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
-        let total = self.n_residuals();
-        if r.len() != total {
-            return Err(ObjectiveError::Dimension {
-                expected: total,
-                got: r.len(),
-            });
-        }
-        let mut offset = 0;
-        for (s, p) in &self.parts {
-            let m = p.n_residuals();
-            let part = &mut r[offset..offset + m];
-            p.residuals(v, part)?;
-            part.iter_mut().for_each(|x| *x *= s);
-            offset += m;
-        }
-        Ok(())
-    }
-    fn residual_jacobian(
-        &self,
-        v: &[f64],
-        r: &mut [f64],
-        jacobian: &mut [f64],
-    ) -> Result<bool, ObjectiveError> {
-        let (total, n) = (self.n_residuals(), self.dimension());
-        for (expected, got) in [(total, r.len()), (total * n, jacobian.len())] {
-            if expected != got {
-                return Err(ObjectiveError::Dimension { expected, got });
-            }
-        }
-        let mut offset = 0;
-        for (s, p) in &self.parts {
-            let m = p.n_residuals();
-            let rows = &mut r[offset..offset + m];
-            let block = &mut jacobian[offset * n..(offset + m) * n];
-            if !p.residual_jacobian(v, rows, block)? {
-                return Ok(false);
-            }
-            rows.iter_mut().for_each(|x| *x *= s);
-            block.iter_mut().for_each(|x| *x *= s);
-            offset += m;
-        }
-        Ok(true)
-    }
 }
 
 /// The optimised variables of a study among `names`, each with its range, in `names` order;
@@ -703,44 +569,6 @@ pub fn upu_problem(
         bounds: free.iter().map(|(_, b)| *b).collect(),
         residuals,
     }
-}
-
-/// The best outcome as `pkm_optimizers::multistart_levenberg_marquardt` picks it: the first
-/// strictly better one in start order; an infeasible start is skipped, any other error stops.
-///
-/// # Errors
-/// [`CliError::Optimize`] for a start's error other than infeasibility, or when no start
-/// succeeded.
-pub fn best_outcome(
-    outcomes: &[Result<LocalOptimum, OptimizeError>],
-    sense: Sense,
-) -> Result<(usize, &LocalOptimum), CliError> {
-    let sign = match sense {
-        Sense::Minimise => -1.0,
-        Sense::Maximise => 1.0,
-    };
-    let mut best: Option<(usize, &LocalOptimum)> = None;
-    let mut last_reason = None;
-    for (k, outcome) in outcomes.iter().enumerate() {
-        match outcome {
-            Ok(o) => {
-                if best.is_none_or(|(_, b)| sign * (o.value - b.value) > 0.0) {
-                    best = Some((k, o));
-                }
-            }
-            Err(OptimizeError::Objective(ObjectiveError::Infeasible { reason, .. })) => {
-                last_reason = Some(reason.clone());
-            }
-            Err(e) => return Err(CliError::Invalid(format!("start {k}: {e}"))),
-        }
-    }
-    best.ok_or_else(|| {
-        OptimizeError::NoFeasibleDesign {
-            evaluations: outcomes.len(),
-            last_reason: last_reason.unwrap_or_else(|| "no starts".into()),
-        }
-        .into()
-    })
 }
 
 /// The Levenberg–Marquardt report at the optimum.
@@ -917,8 +745,7 @@ impl Run for Args {
 /// What one mechanism's run found, before the common report.
 struct Found {
     names: Vec<String>,
-    starts: Vec<Vec<f64>>,
-    outcomes: Vec<Result<LocalOptimum, OptimizeError>>,
+    run: MultistartRun<LocalOptimum>,
     best_start: usize,
     result: TaskResult,
     /// The robot at the optimal pose with the task twists' axes.
@@ -995,6 +822,28 @@ pub fn compute(
     Ok((found.result, report, out))
 }
 
+/// Levenberg–Marquardt from every start of the study, every outcome kept; the best start.
+///
+/// # Errors
+/// Invalid settings or starts (before any start runs), no successful start,
+/// [`CliError::Cancelled`].
+fn run_starts<P: Residuals>(
+    problem: &P,
+    sense: Sense,
+    task: &TaskSection,
+    context: &Context,
+) -> Result<(MultistartRun<LocalOptimum>, usize, LocalOptimum), CliError> {
+    let settings = task.solver;
+    settings.validate()?;
+    let starts = task.starts.start_points(problem.bounds())?;
+    let run = multistart(starts, &context.progress, |s, cancel| {
+        levenberg_marquardt(problem, sense, s, &settings, cancel)
+    })?;
+    let (best_start, best) = run.best(sense)?;
+    let best = best.clone();
+    Ok((run, best_start, best))
+}
+
 fn stewart(
     file: &StudyFile<TaskStudy>,
     spec: &StewartSpec,
@@ -1016,12 +865,7 @@ fn stewart(
         .collect::<Result<Vec<_>, CliError>>()?;
     let problem = WeightedSum::new(parts)?;
     let sense = task.goal.sense();
-    let settings = task.solver.to_library();
-    let starts = start_points(&task.starts, problem.bounds())?;
-    let outcomes = run_blocks(&starts, "Levenberg-Marquardt starts", &context.progress, |s| {
-        levenberg_marquardt(&problem, sense, s, &settings, &CancelOnly(&context.progress))
-    })?;
-    let (best_start, best) = best_outcome(&outcomes, sense)?;
+    let (run, best_start, best) = run_starts(&problem, sense, task, context)?;
     let (_, first) = problem.parts().next().ok_or_else(|| design_error("no twist"))?;
     let (mechanism, pose) = first.evaluate(&best.design).map_err(design_error)?;
     let mut names: Vec<String> = free
@@ -1053,8 +897,8 @@ fn stewart(
             .collect::<Result<_, CliError>>()?,
         leg_lengths: Some(leg_lengths(&mechanism, &pose)),
         wrench_matrix: wrench_matrix(&mechanism.wrench_rows(&pose).map_err(design_error)?, f)?,
-        optimality: Optimality::from(best),
-        starts: starts.len(),
+        optimality: Optimality::from(&best),
+        starts: run.starts.len(),
     };
     let scene = drawing::task_scene(
         Skeleton::stewart_gough(&mechanism, &pose),
@@ -1064,9 +908,8 @@ fn stewart(
     );
     Ok(Found {
         names,
+        run,
         best_start,
-        starts,
-        outcomes,
         result,
         scene,
     })
@@ -1104,12 +947,7 @@ fn upu(
     let free = chosen_variables(file, &UPU_VARIABLES)?;
     let problem = upu_problem(spec, &task.pose, &free, task.goal, twists);
     let sense = task.goal.sense();
-    let settings = task.solver.to_library();
-    let starts = start_points(&task.starts, problem.bounds())?;
-    let outcomes = run_blocks(&starts, "Levenberg-Marquardt starts", &context.progress, |s| {
-        levenberg_marquardt(&problem, sense, s, &settings, &CancelOnly(&context.progress))
-    })?;
-    let (best_start, best) = best_outcome(&outcomes, sense)?;
+    let (run, best_start, best) = run_starts(&problem, sense, task, context)?;
     let (mechanism, pose) = problem.evaluate(&best.design).map_err(design_error)?;
     let rows = mechanism.wrench_rows(&pose).map_err(design_error)?;
     let names: Vec<String> = free
@@ -1139,8 +977,8 @@ fn upu(
             .collect::<Result<_, CliError>>()?,
         leg_lengths: None,
         wrench_matrix: wrench_matrix(&rows, f)?,
-        optimality: Optimality::from(best),
-        starts: starts.len(),
+        optimality: Optimality::from(&best),
+        starts: run.starts.len(),
     };
     let reciprocal = most_reciprocal_twist(&rows);
     let scene = drawing::task_scene(
@@ -1151,9 +989,8 @@ fn upu(
     );
     Ok(Found {
         names,
+        run,
         best_start,
-        starts,
-        outcomes,
         result,
         scene,
     })
@@ -1168,9 +1005,9 @@ fn write_starts(out: &mut Output, found: &Found) -> Result<(), CliError> {
     header.extend(names.iter().cloned());
     header.extend(["objective".into(), "termination".into()]);
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
-    let rows = found.outcomes.iter().enumerate().map(|(k, o)| {
+    let rows = found.run.outcomes.iter().enumerate().map(|(k, o)| {
         let mut row = vec![k.to_string()];
-        row.extend(found.starts[k].iter().map(|v| format!("{v}")));
+        row.extend(found.run.starts[k].iter().map(|v| format!("{v}")));
         match o {
             Ok(r) => {
                 row.extend(r.design.iter().map(|v| format!("{v}")));
@@ -1187,6 +1024,7 @@ fn write_starts(out: &mut Output, found: &Found) -> Result<(), CliError> {
     out.write_csv("starts.csv", &header, rows)?;
     let maximise = found.result.goal == Goal::Maximise;
     let mut reached: Vec<f64> = found
+        .run
         .outcomes
         .iter()
         .filter_map(|o| o.as_ref().ok().map(|r| r.value))
