@@ -42,6 +42,18 @@ pub enum CliError {
     Invalid(String),
 }
 
+impl From<pkm_study::StudyError> for CliError {
+    fn from(e: pkm_study::StudyError) -> Self {
+        use pkm_study::StudyError as E;
+        match e {
+            E::Cancelled => Self::Cancelled,
+            E::Index(e) => Self::Index(e),
+            E::Optimize(e) => Self::Optimize(e),
+            e => Self::Invalid(e.to_string()),
+        }
+    }
+}
+
 impl From<IndexError> for CliError {
     fn from(e: IndexError) -> Self {
         match e {

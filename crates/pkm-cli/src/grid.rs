@@ -3,7 +3,6 @@
 //! order: bit-identical for any thread count), and the deterministic split into shards.
 
 use crate::CliError;
-use crate::commands::workspace::constraints_of;
 use crate::indices::{Evaluator, IndexName, IndexSettings};
 use crate::study::StudyFile;
 use crate::study::mechanism::{ConstraintsSpec, MechanismSpec};
@@ -209,7 +208,14 @@ pub fn prepare(
             ));
         }
     }
-    let constraints = constraints_of(file, &study.mechanism, study.constraints.as_ref())?;
+    let constraints = pkm_study::workspace::constraints_of(
+        &study.mechanism,
+        study.constraints.as_ref().map(Spanned::get_ref),
+    )
+    .map_err(|e| match &study.constraints {
+        Some(spanned) => file.error_at(spanned.span(), format!("[constraints]: {}", e.message())),
+        None => CliError::from(e),
+    })?;
     let points = match indices.iter().find(|(i, _)| i.needs_points()) {
         None => None,
         Some((index, span)) => {
@@ -373,6 +379,26 @@ pub fn evaluate_or_write_shard(
     let path = out.finish(command, echo, result)?;
     report.line(format!("wrote {}", path.display()));
     Ok(GridOutcome::Shard(report))
+}
+
+/// The drawing of the grid study's design `values` (in the order of its variables), under the
+/// study's constraints, in its sampling region if it gives one.
+///
+/// # Errors
+/// As [`pkm_study::scene::design_scene`].
+pub fn design_scene(
+    file: &StudyFile<GridStudy>,
+    prepared: &Prepared,
+    values: &[f64],
+) -> Result<pkm_draw::Scene, String> {
+    let spec = prepared.evaluator.mechanism_at(values)?;
+    let region = file
+        .study
+        .sampling
+        .as_ref()
+        .and_then(|s| s.get_ref().region)
+        .map(|r| r.region());
+    pkm_study::scene::design_scene(&spec, prepared.evaluator.constraints(), region)
 }
 
 #[cfg(test)]

@@ -202,7 +202,7 @@ impl Evaluator {
             match spec.with_workspace(&self.constraints, VolumeAndEta { points, with_eta }) {
                 Ok(values) => workspace = Some(values?),
                 Err(BuildError::Design(reason)) => return Ok(Err(reason)),
-                Err(e @ BuildError::Constraint(_)) => return Err(e.into()),
+                Err(e @ BuildError::Constraint(_)) => return Err(CliError::Invalid(e.to_string())),
             }
         }
         let mut values = Vec::with_capacity(indices.len());

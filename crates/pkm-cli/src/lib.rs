@@ -3,7 +3,7 @@
 //! [`run`] and prints; everything else is here, so tests call the same functions.
 
 pub mod commands;
-pub mod drawing;
+pub use pkm_study::scene as drawing;
 mod error;
 pub mod grid;
 pub mod indices;

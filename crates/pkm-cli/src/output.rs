@@ -7,7 +7,12 @@
 //! runs of the same study, or a sharded run and its merge, write the same bytes.
 
 use crate::CliError;
+use crate::commands::Report;
+use pkm_draw::chart::render_svg as render_chart;
+use pkm_draw::{DrawOptions, Scene, render_svg};
 use pkm_frontend::{OutputDir, OutputError};
+use pkm_study::Artifact;
+use pkm_study::scene::{ROBOT_CSV, ROBOT_SVG};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -120,6 +125,60 @@ impl Output {
         self.dir.write_with(name, draw).map_err(|e| error(name, e))
     }
 
+    /// Writes a study's artifacts in order: tables as CSV, charts as SVG, the robot as
+    /// [`ROBOT_SVG`] and [`ROBOT_CSV`] (a drawing that cannot be rendered becomes a warning
+    /// line of `report`).
+    ///
+    /// # Errors
+    /// [`CliError::Io`]; [`CliError::Invalid`] for a chart the renderer refuses.
+    pub fn write_artifacts(
+        &mut self,
+        artifacts: &[Artifact],
+        report: &mut Report,
+    ) -> Result<(), CliError> {
+        for artifact in artifacts {
+            match artifact {
+                Artifact::Table { name, table } => {
+                    self.write(name, table.to_csv().as_bytes())?;
+                }
+                Artifact::Chart { name, chart } => {
+                    let svg = render_chart(chart)
+                        .map_err(|e| CliError::Invalid(format!("{name}: {e}")))?;
+                    self.write(name, svg.as_bytes())?;
+                }
+                Artifact::Robot { caption, scene } => {
+                    self.write_robot(report, caption, Ok(scene.as_ref().clone()))?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Renders `scene` with the caption `title` and writes [`ROBOT_SVG`] and [`ROBOT_CSV`]; a
+    /// scene that could not be built or drawn becomes a warning line of `report` instead.
+    ///
+    /// # Errors
+    /// [`CliError::Io`] only: a failed drawing is a warning, not an error.
+    pub fn write_robot(
+        &mut self,
+        report: &mut Report,
+        title: &str,
+        scene: Result<Scene, String>,
+    ) -> Result<(), CliError> {
+        let drawn = scene.and_then(|scene| {
+            let svg = render_svg(&scene, &DrawOptions::titled(title)).map_err(|e| e.to_string())?;
+            Ok((scene, svg))
+        });
+        match drawn {
+            Ok((scene, svg)) => {
+                self.write(ROBOT_SVG, svg.as_bytes())?;
+                self.write(ROBOT_CSV, scene.to_csv().as_bytes())?;
+            }
+            Err(reason) => report.line(format!("warning: no drawing of the robot: {reason}")),
+        }
+        Ok(())
+    }
+
     /// Writes `results.json` last, listing every file written before it.
     ///
     /// # Errors
@@ -150,13 +209,4 @@ pub fn cell(v: Option<f64>) -> String {
     v.map_or_else(String::new, |v| format!("{v}"))
 }
 
-/// A number for a summary line: at most 6 decimals, trailing zeros dropped (files keep every
-/// digit).
-pub fn short(v: f64) -> String {
-    let text = format!("{v:.6}");
-    if text.contains('.') {
-        text.trim_end_matches('0').trim_end_matches('.').to_owned()
-    } else {
-        text
-    }
-}
+pub use pkm_study::short;

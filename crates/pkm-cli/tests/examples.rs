@@ -8,10 +8,10 @@ use common::example;
 use pkm_cli::commands::dynamics::DynamicsStudy;
 use pkm_cli::commands::optimize::OptimizeStudy;
 use pkm_cli::commands::task::TaskStudy;
-use pkm_cli::commands::workspace::WorkspaceStudy;
 use pkm_cli::commands::{pareto, sweep};
 use pkm_cli::grid::{self, GridStudy};
 use pkm_cli::study;
+use pkm_study::WorkspaceStudy;
 
 #[test]
 fn the_example_studies_are_valid() {
@@ -20,7 +20,7 @@ fn the_example_studies_are_valid() {
         "three_upu_workspace.toml",
         "stewart_gough_workspace.toml",
     ] {
-        let _: study::StudyFile<WorkspaceStudy> = study::load(&example(name)).unwrap();
+        let _: (String, WorkspaceStudy) = study::load_study(&example(name)).unwrap();
     }
     for name in ["tsai_volume_gci.toml", "linear_delta_table2_row4.toml"] {
         let file: study::StudyFile<GridStudy> = study::load(&example(name)).unwrap();

@@ -81,12 +81,6 @@ impl Spinner {
         Self::new("", cancel, true)
     }
 
-    /// Shows `message` after the prefix (a phase of the command).
-    pub fn phase(&self, message: &str) {
-        self.bar.set_style(style(SPINNER));
-        self.bar.set_message(message.to_owned());
-    }
-
     /// Removes the spinner.
     pub fn close(&self) {
         self.bar.finish_and_clear();
@@ -94,6 +88,12 @@ impl Spinner {
 }
 
 impl Progress for Spinner {
+    /// Shows `message` after the prefix (a phase of the command).
+    fn phase(&self, message: &str) {
+        self.bar.set_style(style(SPINNER));
+        self.bar.set_message(message.to_owned());
+    }
+
     fn start(&self, label: &str, total: u64) {
         self.bar.set_style(style(BAR));
         self.bar.set_length(total);

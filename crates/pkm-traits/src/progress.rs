@@ -6,6 +6,8 @@
 
 /// Receives progress of long computations and may ask them to stop.
 pub trait Progress: Sync {
+    /// A phase of work without a count begins (`"sampling points"`).
+    fn phase(&self, _message: &str) {}
     /// A task with `total` units of work begins.
     fn start(&self, _label: &str, _total: u64) {}
     /// `n` more units of work are done.

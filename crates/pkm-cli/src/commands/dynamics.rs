@@ -13,6 +13,7 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
+use pkm_traits::Progress as _;
 use crate::drawing;
 use crate::output::Output;
 use crate::plot;
@@ -729,9 +730,7 @@ pub fn compute(
     };
     let mut report = Report::default();
     let scene = drawing::trajectory_scene(file.study.mechanism.get_ref(), &torques.commanded);
-    drawing::write(
-        &mut out,
-        &mut report,
+    out.write_robot(&mut report,
         "rotary Delta at t = 0 on its trajectory",
         scene,
     )?;

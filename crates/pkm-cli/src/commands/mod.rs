@@ -5,6 +5,7 @@ use crate::CliError;
 use crate::output::{Output, StudyEcho};
 use crate::progress::Spinner;
 use crate::study::{self, StudyFile};
+use pkm_study::{Outcome, StudyError};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
@@ -111,5 +112,34 @@ pub fn run_study<S: DeserializeOwned, R: Serialize>(
         text: file.text.clone(),
     };
     out.finish(command, echo, result)?;
+    Ok(report)
+}
+
+/// Runs a study of the study layer: reads the file at `path` with its schema (errors at their
+/// line), runs `study` with the progress bar, writes its artifacts and `results.json`, and
+/// reports its summary.
+///
+/// # Errors
+/// The study's errors at the offending key's line, I/O errors, [`CliError::Cancelled`].
+pub fn run_library_study<S: DeserializeOwned, R: Serialize>(
+    command: &str,
+    path: &Path,
+    context: &Context,
+    study: impl FnOnce(&S, &dyn pkm_traits::Progress) -> Result<Outcome<R>, StudyError>,
+) -> Result<Report, CliError> {
+    let (text, parsed) = study::load_study::<S>(path)?;
+    let outcome =
+        study(&parsed, &context.progress).map_err(|e| study::study_error(path, &text, e))?;
+    let mut report = Report {
+        lines: outcome.summary,
+    };
+    let mut out = Output::create(&context.out)?;
+    out.write_artifacts(&outcome.artifacts, &mut report)?;
+    let echo = StudyEcho {
+        file: path.display().to_string(),
+        text,
+    };
+    let written = out.finish(command, echo, outcome.result)?;
+    report.line(format!("wrote {}", written.display()));
     Ok(report)
 }

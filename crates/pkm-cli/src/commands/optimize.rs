@@ -7,6 +7,7 @@
 //! with $g_i = c_i \cdot x - u_i$, the solver's multipliers and the relative step
 //! `check_step`).
 
+use pkm_traits::Progress as _;
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::drawing;
@@ -456,9 +457,7 @@ pub fn compute(
             .copied()
             .zip(problem.design_values(&best.design)),
     );
-    drawing::write(
-        &mut out,
-        &mut report,
+    out.write_robot(&mut report,
         &format!("tsai: the {quantity} optimum"),
         scene,
     )?;

@@ -6,9 +6,9 @@
 //! of the weight simplex); the weighted optima of the study's `weights` are reported for any
 //! number of indices.
 
+use pkm_traits::Progress as _;
 use super::{Context, Report, Run};
 use crate::CliError;
-use crate::drawing;
 use crate::grid::{GridOutcome, self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows};
 use crate::indices::IndexName;
 use crate::output::{Output, StudyEcho, short};
@@ -305,12 +305,12 @@ pub fn finish(
     };
     match result.weighted_optima.first() {
         Some(o) => {
-            let scene = drawing::grid_design_scene(file, prepared, &grid.design(o.node));
+            let scene = grid::design_scene(file, prepared, &grid.design(o.node));
             let caption = format!(
                 "{}: the weighted optimum (node {})",
                 result.mechanism, o.node
             );
-            drawing::write(&mut out, &mut report, &caption, scene)?;
+            out.write_robot(&mut report, &caption, scene)?;
         }
         None => report.line("warning: no drawing of the robot: the study gives no weights"),
     }

@@ -12,7 +12,6 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
-use crate::drawing;
 use crate::grid::{GridOutcome, 
     self, GridStudy, NodeOutcome, Prepared, Shard, landscape_header, landscape_rows,
 };
@@ -446,9 +445,9 @@ pub fn finish(
         .iter()
         .filter_map(|n| result.optimum.design.get(n).copied())
         .collect();
-    let scene = drawing::grid_design_scene(file, prepared, &optimum_values);
+    let scene = grid::design_scene(file, prepared, &optimum_values);
     let caption = format!("{}: the sweep's optimum", result.mechanism);
-    drawing::write(&mut out, &mut report, &caption, scene)?;
+    out.write_robot(&mut report, &caption, scene)?;
     let path = out.finish("sweep", echo, result)?;
     report.line(format!("wrote {}", path.display()));
     Ok(report)

@@ -17,10 +17,11 @@ use crate::output::Output;
 use crate::plot::{self, Marker, Scatter};
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
 use crate::study::StudyFile;
+use crate::study::mechanism::{StewartSpec, stewart_layout};
 use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3, Vector6};
 use pkm::screw_theory::{Twist, line_set_rank, task_residuals};
 use pkm_mechanisms::{
-    AngleMode, JointLayout, Pairing, Skeleton, StewartDesign, StewartDesignVariable, StewartGough,
+    Skeleton, StewartDesign, StewartDesignVariable, StewartGough,
     StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task,
     presets,
 };
@@ -61,51 +62,6 @@ pub enum TaskMechanismSpec {
     StewartGough(StewartSpec),
     /// The 3-UPU of §4.4 (joints at Park's azimuths −90°, 30°, 150°).
     ThreeUpu(UpuSpec),
-}
-
-/// `[mechanism.stewart_gough]`: the design $x = (x_1, x_2, x_3, x_4)$ and the joint layout.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct StewartSpec {
-    /// $x_1$, base joint radius (m).
-    pub base_radius: PositiveMetres,
-    /// $x_2$, platform joint radius (m).
-    pub platform_radius: PositiveMetres,
-    /// $x_3$, angle between the two joints of a base pair (degrees, 0–120).
-    pub base_separation_deg: Degrees,
-    /// $x_4$, the same on the platform (degrees, 0–120).
-    pub platform_separation_deg: Degrees,
-    /// `"same_pattern"` (default) or `"zig_zag"`.
-    #[serde(default)]
-    pub pairing: PairingSpec,
-    /// `"separation"` (default: $x_3$, $x_4$ are the whole angle) or `"half"`.
-    #[serde(default)]
-    pub angle_mode: AngleModeSpec,
-    /// Azimuth of the first base pair's centre (degrees).
-    #[serde(default = "zero_deg")]
-    pub offset_deg: Degrees,
-}
-
-/// [`Pairing`] in a study file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PairingSpec {
-    /// [`Pairing::SamePattern`].
-    #[default]
-    SamePattern,
-    /// [`Pairing::ZigZag`].
-    ZigZag,
-}
-
-/// [`AngleMode`] in a study file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AngleModeSpec {
-    /// [`AngleMode::Separation`].
-    #[default]
-    Separation,
-    /// [`AngleMode::Half`].
-    Half,
 }
 
 /// `[mechanism.three_upu]`: radii and the tilts of the upper U-joint axes from Park's.
@@ -476,21 +432,6 @@ fn design_error(e: impl std::fmt::Display) -> CliError {
     CliError::Invalid(e.to_string())
 }
 
-/// The library's joint layout of a `[mechanism.stewart_gough]` table.
-pub fn stewart_layout(spec: &StewartSpec) -> JointLayout {
-    JointLayout {
-        pairing: match spec.pairing {
-            PairingSpec::SamePattern => Pairing::SamePattern,
-            PairingSpec::ZigZag => Pairing::ZigZag,
-        },
-        angle_mode: match spec.angle_mode {
-            AngleModeSpec::Separation => AngleMode::Separation,
-            AngleModeSpec::Half => AngleMode::Half,
-        },
-        offset_deg: spec.offset_deg.0,
-    }
-}
-
 /// The library problem of one twist: the nominal design and pose of the study with the
 /// variables `free` (indices into [`STEWART_VARIABLES`]) and, with `max_angle` (radians), the
 /// orientation freed.
@@ -817,7 +758,7 @@ pub fn compute(
             .join(", ")
     ));
     let caption = format!("{}: the optimal pose", r.mechanism);
-    drawing::write(&mut out, &mut report, &caption, found.scene)?;
+    out.write_robot(&mut report, &caption, found.scene)?;
     report.line(format!("wrote {}", out.dir().join("results.json").display()));
     Ok((found.result, report, out))
 }

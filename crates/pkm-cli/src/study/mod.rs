@@ -5,14 +5,14 @@
 //! others. The mapping from a study's `[mechanism.*]` table to a library mechanism lives in one
 //! module, [`mechanism`].
 
-pub mod mechanism;
-pub mod sampling;
-pub mod units;
+pub use pkm_study::schema::{mechanism, sampling, units};
 
 use crate::CliError;
+use pkm_study::{Key, KeyPath, StudyError};
 use serde::de::DeserializeOwned;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use toml::de::{DeTable, DeValue};
 
 /// A study file as read: its path, its text (echoed in `results.json`) and its contents.
 #[derive(Debug, Clone)]
@@ -55,6 +55,63 @@ pub fn parse<T: DeserializeOwned>(path: &Path, text: String) -> Result<StudyFile
     }
 }
 
+/// Reads the study at `path` with the study layer's schema.
+///
+/// # Errors
+/// [`CliError::Io`] when it cannot be read, [`CliError::Study`] at the offending key's line.
+pub fn load_study<T: DeserializeOwned>(path: &Path) -> Result<(String, T), CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+    let study = pkm_study::from_toml_str(&text).map_err(|e| study_error(path, &text, e))?;
+    Ok((text, study))
+}
+
+/// The command's error for a study layer's error about the file `path` with contents `text`:
+/// placed at the offending key's line and column when the error names a key.
+pub fn study_error(path: &Path, text: &str, error: StudyError) -> CliError {
+    let span = match &error {
+        StudyError::Schema {
+            span: Some(span), ..
+        } => Some(span.clone()),
+        e => e.path().map(|key| locate(text, key)),
+    };
+    match (span, error.path()) {
+        (Some(span), Some(key)) if !key.is_root() => {
+            error_at(path, text, span, &format!("{key}: {}", error.message()))
+        }
+        (Some(span), _) => error_at(path, text, span, &error.message()),
+        (None, _) => CliError::from(error),
+    }
+}
+
+/// The byte range of the value at `key` in the TOML `text`; the deepest table or array on the
+/// way when the key is absent (a default), the start of the file when the text does not parse.
+pub fn locate(text: &str, key: &KeyPath) -> Range<usize> {
+    let Ok(root) = DeTable::parse(text) else {
+        return 0..0;
+    };
+    let mut span = root.span();
+    let mut table: Option<&DeTable<'_>> = Some(root.get_ref());
+    let mut array: Option<&toml::de::DeArray<'_>> = None;
+    for step in key.keys() {
+        let next = match (step, table, array) {
+            (Key::Field(name), Some(t), _) => t
+                .iter()
+                .find(|(k, _)| k.get_ref().as_ref() == name.as_str())
+                .map(|(_, v)| v),
+            (Key::Index(i), _, Some(a)) => a.get(*i),
+            _ => None,
+        };
+        let Some(value) = next else { break };
+        span = value.span();
+        (table, array) = match value.get_ref() {
+            DeValue::Table(t) => (Some(t), None),
+            DeValue::Array(a) => (None, Some(a)),
+            _ => (None, None),
+        };
+    }
+    span
+}
+
 impl<T> StudyFile<T> {
     /// An error about the text at `span` of this file.
     pub fn error_at(&self, span: Range<usize>, message: impl Into<String>) -> CliError {
@@ -83,6 +140,17 @@ pub fn error_at(path: &Path, text: &str, span: Range<usize>, message: &str) -> C
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn keys_are_located_at_their_values() {
+        let text =
+            "[sweep]\nobjective = 1\n[[sweep.refine]]\nstep = 1\n[[sweep.refine]]\nstep = 2\n";
+        let span = locate(text, &KeyPath::parse("sweep.refine[1].step"));
+        assert_eq!(&text[span], "2");
+        let absent = locate(text, &KeyPath::parse("sweep.refine[1].steps"));
+        // An absent key is placed at the header of the table that would hold it.
+        assert_eq!(absent.start, text.rfind("[[sweep.refine]]").unwrap_or(0));
+    }
 
     #[test]
     fn positions_count_lines_and_columns_from_one() {

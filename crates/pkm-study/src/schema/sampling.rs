@@ -2,7 +2,7 @@
 //! estimator (`pkm_workspace_indices::{Domain, PointSet}`).
 
 use super::units::{Degrees, Metres, PositiveMetres};
-use crate::CliError;
+use crate::StudyError;
 use nalgebra::Vector3;
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler};
 use serde::{Deserialize, Serialize};
@@ -172,17 +172,17 @@ impl SamplingSpec {
     /// symmetry sector.
     ///
     /// # Errors
-    /// [`CliError::Index`] for an invalid region or sector; [`CliError::Invalid`] when there is
+    /// [`StudyError::Index`] for an invalid region or sector; [`StudyError::Invalid`] when there is
     /// neither a region nor a fallback.
-    pub fn domain(&self, fallback: Option<Region>) -> Result<Domain, CliError> {
+    pub fn domain(&self, fallback: Option<Region>) -> Result<Domain, StudyError> {
         let region = match (self.region, fallback) {
             (Some(spec), _) => spec.region(),
             (None, Some(region)) => region,
             (None, None) => {
-                return Err(CliError::Invalid(
+                return Err(StudyError::invalid(
+                    "sampling.region",
                     "this mechanism has no reach region of its own: give [sampling.region] \
-                     (lengths in metres)"
-                        .into(),
+                     (lengths in metres)",
                 ));
             }
         };
@@ -197,8 +197,8 @@ impl SamplingSpec {
     /// The common points of a study in `domain`.
     ///
     /// # Errors
-    /// [`CliError::Index`] for zero or too many points.
-    pub fn point_set(&self, domain: Domain) -> Result<PointSet, CliError> {
+    /// [`StudyError::Index`] for zero or too many points.
+    pub fn point_set(&self, domain: Domain) -> Result<PointSet, StudyError> {
         let points = match self.sampler {
             SamplerKind::Sobol => PointSet::new(
                 domain,

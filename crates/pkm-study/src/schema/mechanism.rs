@@ -8,13 +8,12 @@
 use super::units::{
     ConeDegrees, DegreeRange, Degrees, MetreRange, Metres, NonNegativeMetres, PositiveMetres, Real,
 };
-use crate::CliError;
-use crate::commands::task::{StewartSpec, stewart_layout};
+use crate::StudyError;
 use nalgebra::Vector3;
 use pkm_mechanisms::{
-    ConstantOrientation, Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
-    LinearDeltaRatios, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign, StewartGough,
-    ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
+    AngleMode, ConstantOrientation, Elbow, ElbowMode, JointLayout, LinearDelta, LinearDeltaDesign,
+    LinearDeltaMode, LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign,
+    StewartDesign, StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
 };
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
 use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
@@ -61,6 +60,51 @@ pub struct StewartOrientationSpec {
     pub rotation_deg: [Degrees; 3],
     /// The design $x = (x_1, x_2, x_3, x_4)$ and joint layout (as `pkm task`).
     pub design: StewartSpec,
+}
+
+/// `[mechanism.stewart_gough]`: the design $x = (x_1, x_2, x_3, x_4)$ and the joint layout.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StewartSpec {
+    /// $x_1$, base joint radius (m).
+    pub base_radius: PositiveMetres,
+    /// $x_2$, platform joint radius (m).
+    pub platform_radius: PositiveMetres,
+    /// $x_3$, angle between the two joints of a base pair (degrees, 0–120).
+    pub base_separation_deg: Degrees,
+    /// $x_4$, the same on the platform (degrees, 0–120).
+    pub platform_separation_deg: Degrees,
+    /// `"same_pattern"` (default) or `"zig_zag"`.
+    #[serde(default)]
+    pub pairing: PairingSpec,
+    /// `"separation"` (default: $x_3$, $x_4$ are the whole angle) or `"half"`.
+    #[serde(default)]
+    pub angle_mode: AngleModeSpec,
+    /// Azimuth of the first base pair's centre (degrees).
+    #[serde(default = "zero_deg")]
+    pub offset_deg: Degrees,
+}
+
+/// [`Pairing`] in a study file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PairingSpec {
+    /// [`Pairing::SamePattern`].
+    #[default]
+    SamePattern,
+    /// [`Pairing::ZigZag`].
+    ZigZag,
+}
+
+/// [`AngleMode`] in a study file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AngleModeSpec {
+    /// [`AngleMode::Separation`].
+    #[default]
+    Separation,
+    /// [`AngleMode::Half`].
+    Half,
 }
 
 /// An elbow branch of the rotary Delta's arms.
@@ -644,8 +688,23 @@ pub fn stewart_orientation(s: &StewartOrientationSpec) -> Result<ConstantOrienta
     ConstantOrientation::new(platform, w).map_err(design_error)
 }
 
-impl From<BuildError> for CliError {
+impl From<BuildError> for StudyError {
     fn from(e: BuildError) -> Self {
-        Self::Invalid(e.to_string())
+        Self::invalid("mechanism", e.to_string())
+    }
+}
+
+/// The library's joint layout of a `[mechanism.stewart_gough]` table.
+pub fn stewart_layout(spec: &StewartSpec) -> JointLayout {
+    JointLayout {
+        pairing: match spec.pairing {
+            PairingSpec::SamePattern => Pairing::SamePattern,
+            PairingSpec::ZigZag => Pairing::ZigZag,
+        },
+        angle_mode: match spec.angle_mode {
+            AngleModeSpec::Separation => AngleMode::Separation,
+            AngleModeSpec::Half => AngleMode::Half,
+        },
+        offset_deg: spec.offset_deg.0,
     }
 }

@@ -13,19 +13,15 @@
 //! evaluated in parallel but collected in order), so the files are the same bytes for any
 //! `--threads`, and `pkm merge` writes the same drawing as a single run.
 
-use crate::commands::Report;
-use crate::grid::{GridStudy, Prepared};
-use crate::output::Output;
-use crate::study::StudyFile;
-use crate::study::mechanism::{
+use crate::outcome::short;
+use crate::schema::mechanism::{
     ElbowSpec, MechanismSpec, TsaiElbowSpec, WorkspaceVisitor, linear_delta, rotary_delta,
     stewart_orientation, three_upu, tsai,
 };
-use crate::{CliError, output::short};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-use pkm::screw_theory::Twist;
-use pkm_draw::{Axis, DrawOptions, PathKind, Scene, render_svg};
+use pkm_draw::{Axis, PathKind, Scene};
 use pkm_mechanisms::{Elbow, ElbowMode, LegBranch, LinearDeltaMode, Skeleton};
+use pkm_screw_theory::Twist;
 use pkm_traits::{ConstrainedWorkspace, KinematicsError, WorkspaceConstraint};
 use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use rayon::prelude::*;
@@ -42,31 +38,6 @@ pub const SECTION_CELLS: usize = 48;
 
 /// Most points of a drawn trajectory; longer histories are thinned evenly.
 pub const MAX_PATH_POINTS: usize = 2000;
-
-/// Renders `scene` with the caption `title` and writes [`ROBOT_SVG`] and [`ROBOT_CSV`]; a
-/// scene that could not be built or drawn becomes a warning line of `report` instead.
-///
-/// # Errors
-/// [`CliError::Io`] only: a failed drawing is a warning, not an error.
-pub fn write(
-    out: &mut Output,
-    report: &mut Report,
-    title: &str,
-    scene: Result<Scene, String>,
-) -> Result<(), CliError> {
-    let drawn = scene.and_then(|scene| {
-        let svg = render_svg(&scene, &DrawOptions::titled(title)).map_err(|e| e.to_string())?;
-        Ok((scene, svg))
-    });
-    match drawn {
-        Ok((scene, svg)) => {
-            out.write(ROBOT_SVG, svg.as_bytes())?;
-            out.write(ROBOT_CSV, scene.to_csv().as_bytes())?;
-        }
-        Err(reason) => report.line(format!("warning: no drawing of the robot: {reason}")),
-    }
-    Ok(())
-}
 
 /// A design drawn at a representative pose of its workspace under `constraints`, with the
 /// workspace's members among the [`SECTION_CELLS`]² cell centres of a vertical cross-section
@@ -135,26 +106,6 @@ pub fn design_scene(
         short(centre[normal])
     );
     Ok(Scene::new(skeleton_at(spec, &pose)?).with_path(label, PathKind::WorkspacePoints, members))
-}
-
-/// [`design_scene`] of the grid study's design `values` (in the order of its variables),
-/// under the study's constraints, in its sampling region if it gives one.
-///
-/// # Errors
-/// As [`design_scene`].
-pub fn grid_design_scene(
-    file: &StudyFile<GridStudy>,
-    prepared: &Prepared,
-    values: &[f64],
-) -> Result<Scene, String> {
-    let spec = prepared.evaluator.mechanism_at(values)?;
-    let region = file
-        .study
-        .sampling
-        .as_ref()
-        .and_then(|s| s.get_ref().region)
-        .map(|r| r.region());
-    design_scene(&spec, prepared.evaluator.constraints(), region)
 }
 
 /// The skeleton of `spec` with its platform at `p`, in the first of the study's working modes

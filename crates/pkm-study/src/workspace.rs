@@ -1,0 +1,351 @@
+//! The workspace study: the workspace of one design under its constraints: volume ± standard
+//! error, η = ∫ 1/κ dW and GCI = η/W over common random points (Stamper, Tsai & Walsh 1997,
+//! eq. 8–10), and planar slices of 1/κ as tables and heat maps.
+
+use crate::StudyError;
+use crate::outcome::{Artifact, Outcome, Table};
+use crate::scene;
+use crate::schema::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
+use crate::schema::sampling::SamplingSpec;
+use crate::schema::units::Metres;
+use pkm_draw::chart::{self, Chart};
+use pkm_traits::{ConstrainedWorkspace, Progress, WorkspaceConstraint};
+use pkm_workspace_indices::{
+    BoundingBox, Dim, ErrorModel, Plane, PointSet, Slice, TranslationalCondition, VolumeEstimate,
+    Workspace,
+};
+use serde::{Deserialize, Serialize};
+
+/// A workspace study.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorkspaceStudy {
+    /// Free text.
+    pub title: Option<String>,
+    /// The design.
+    pub mechanism: MechanismSpec,
+    /// Its workspace limits.
+    pub constraints: Option<ConstraintsSpec>,
+    /// The points of the estimate.
+    #[serde(default)]
+    pub sampling: SamplingSpec,
+    /// What to report.
+    #[serde(default)]
+    pub workspace: WorkspaceSection,
+}
+
+/// The `[workspace]` section.
+#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorkspaceSection {
+    /// Planar sections of 1/κ.
+    #[serde(default)]
+    pub slices: Vec<SliceSpec>,
+}
+
+/// One `[[workspace.slices]]` entry.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SliceSpec {
+    /// The plane.
+    pub plane: Plane,
+    /// Its offset along the normal axis (m).
+    pub at: Metres,
+    /// Cells per side (default 60, at most [`MAX_SLICE_CELLS`]).
+    #[serde(default = "default_cells")]
+    pub cells: usize,
+}
+
+fn default_cells() -> usize {
+    60
+}
+
+/// Largest number of cells per slice side.
+pub const MAX_SLICE_CELLS: usize = 1024;
+
+/// The numbers of one workspace estimate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// Workspace volume W (m³).
+    pub volume: f64,
+    /// Its standard error (m³).
+    pub volume_se: f64,
+    /// η = ∫ 1/κ dW (m³).
+    pub eta: f64,
+    /// Its standard error (m³).
+    pub eta_se: f64,
+    /// GCI = η/W (dimensionless); absent for an empty workspace.
+    pub gci: Option<f64>,
+    /// Points sampled.
+    pub n_points: u64,
+    /// Points inside.
+    pub n_inside: u64,
+    /// `iid` or `replicates`.
+    pub error_model: String,
+    /// W of each replicate (m³).
+    pub replicate_volumes: Vec<f64>,
+}
+
+impl From<&VolumeEstimate> for Estimate {
+    fn from(e: &VolumeEstimate) -> Self {
+        Self {
+            volume: e.volume,
+            volume_se: e.volume_se,
+            eta: e.eta.unwrap_or(0.0),
+            eta_se: e.eta_se.unwrap_or(0.0),
+            gci: e.gci(),
+            n_points: e.n_points,
+            n_inside: e.n_inside,
+            error_model: match e.error_model {
+                ErrorModel::Iid => "iid".into(),
+                ErrorModel::Replicates(r) => format!("replicates({r})"),
+            },
+            replicate_volumes: e.replicate_volumes.clone(),
+        }
+    }
+}
+
+/// A slice's summary.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SliceSummary {
+    /// The plane.
+    pub plane: Plane,
+    /// Offset along its normal (m).
+    pub at: f64,
+    /// Cells per side.
+    pub cells: usize,
+    /// Fraction of cells inside the workspace.
+    pub inside_fraction: f64,
+    /// Largest 1/κ on the slice.
+    pub max_inverse_condition: Option<f64>,
+    /// The table's artifact name.
+    pub csv: String,
+    /// The heat map's artifact name.
+    pub svg: String,
+}
+
+/// The result of a workspace study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorkspaceResult {
+    /// The study's title.
+    pub title: Option<String>,
+    /// The mechanism kind.
+    pub mechanism: String,
+    /// Volume of the sampled domain (m³, all sectors).
+    pub domain_volume: f64,
+    /// The estimate.
+    pub estimate: Estimate,
+    /// The slices.
+    pub slices: Vec<SliceSummary>,
+}
+
+/// The library constraints of a study's `[constraints]` table, checked against the mechanism.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `constraints` for a constraint that does not fit the mechanism.
+pub fn constraints_of(
+    mechanism: &MechanismSpec,
+    spec: Option<&ConstraintsSpec>,
+) -> Result<Vec<WorkspaceConstraint>, StudyError> {
+    let Some(spec) = spec else {
+        return Ok(Vec::new());
+    };
+    let at = |m: String| StudyError::invalid("constraints", m);
+    let constraints = mechanism.constraints(spec).map_err(at)?;
+    match mechanism.with_workspace(&constraints, CheckOnly) {
+        Err(BuildError::Constraint(m)) => Err(at(m)),
+        // An invalid base design is reported where it is used (a sweep varies it).
+        Ok(()) | Err(BuildError::Design(_)) => Ok(constraints),
+    }
+}
+
+/// Builds the workspace only to check that its constraints apply.
+struct CheckOnly;
+
+impl WorkspaceVisitor for CheckOnly {
+    type Output = ();
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(self, _: &Workspace<'_, M, NQ>)
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
+    }
+}
+
+/// What the workspace study computes on a built workspace.
+struct Compute<'a> {
+    points: &'a PointSet,
+    slices: &'a [(Plane, f64, usize)],
+    bounds: BoundingBox,
+    progress: &'a dyn Progress,
+}
+
+impl WorkspaceVisitor for Compute<'_> {
+    type Output = Result<(VolumeEstimate, Vec<Slice>), StudyError>;
+
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+        self,
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
+        self.progress
+            .start("workspace points", self.points.points().len() as u64);
+        let estimate = workspace.volume_and_eta(self.points, self.progress);
+        self.progress.finish();
+        let estimate = estimate?;
+        let slices = self
+            .slices
+            .iter()
+            .map(|&(plane, at, n)| {
+                self.progress.check()?;
+                Ok(workspace.inverse_condition_slice(plane, at, &self.bounds, n)?)
+            })
+            .collect::<Result<Vec<_>, StudyError>>()?;
+        Ok((estimate, slices))
+    }
+}
+
+/// Checks every slice setting: `(plane, at, cells)` of each.
+fn slice_settings(section: &WorkspaceSection) -> Result<Vec<(Plane, f64, usize)>, StudyError> {
+    let mut slices = Vec::new();
+    for (k, s) in section.slices.iter().enumerate() {
+        if s.cells == 0 || s.cells > MAX_SLICE_CELLS {
+            return Err(StudyError::invalid(
+                format!("workspace.slices[{k}].cells").as_str(),
+                format!("expected a count of cells per side in 1..={MAX_SLICE_CELLS}"),
+            ));
+        }
+        slices.push((s.plane, s.at.0, s.cells));
+    }
+    Ok(slices)
+}
+
+/// Runs a workspace study: the estimate, the slices (a table and a heat map each) and the
+/// drawing of the design in its workspace.
+///
+/// # Errors
+/// [`StudyError::Invalid`] for a setting that cannot be used (checked before any computation),
+/// [`StudyError::Index`] when the index computation refuses its input,
+/// [`StudyError::Cancelled`] when `progress` asks to stop.
+pub fn workspace(
+    study: &WorkspaceStudy,
+    progress: &dyn Progress,
+) -> Result<Outcome<WorkspaceResult>, StudyError> {
+    let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
+    let slices = slice_settings(&study.workspace)?;
+    let domain = study.sampling.domain(study.mechanism.reach_region()?)?;
+    progress.phase("sampling points");
+    let points = study.sampling.point_set(domain)?;
+    let compute = Compute {
+        points: &points,
+        slices: &slices,
+        bounds: domain.region().bounding_box(),
+        progress,
+    };
+    let (estimate, values) = study.mechanism.with_workspace(&constraints, compute)??;
+    let mut artifacts = Vec::new();
+    let mut summaries = Vec::new();
+    for (k, ((plane, at, n), values)) in slices.iter().zip(&values).enumerate() {
+        summaries.push(slice_artifacts(
+            &mut artifacts,
+            k + 1,
+            *plane,
+            *at,
+            *n,
+            values,
+        ));
+    }
+    let estimate = Estimate::from(&estimate);
+    let kind = study.mechanism.kind();
+    let mut outcome = Outcome::new(WorkspaceResult {
+        title: study.title.clone(),
+        mechanism: kind.into(),
+        domain_volume: domain.volume(),
+        estimate,
+        slices: summaries,
+    });
+    outcome.artifacts = artifacts;
+    summarise(&mut outcome);
+    let scene = scene::design_scene(&study.mechanism, &constraints, Some(domain.region()));
+    outcome.robot(format!("{kind} in its workspace"), scene);
+    Ok(outcome)
+}
+
+fn summarise(outcome: &mut Outcome<WorkspaceResult>) {
+    let r = &outcome.result;
+    let e = &r.estimate;
+    let lines = [
+        format!(
+            "{}: W = {:.6e} ± {:.2e} m³, η = {:.6e} ± {:.2e} m³, GCI = {}",
+            r.mechanism,
+            e.volume,
+            e.volume_se,
+            e.eta,
+            e.eta_se,
+            e.gci.map_or("-".into(), |g| format!("{g:.5}")),
+        ),
+        format!(
+            "{} of {} points inside ({}); domain {:.6e} m³",
+            e.n_inside, e.n_points, e.error_model, r.domain_volume
+        ),
+    ];
+    outcome.summary.extend(lines);
+}
+
+const AXIS_NAMES: [&str; 3] = ["x (m)", "y (m)", "z (m)"];
+
+/// Adds slice `number`'s table and heat map to `artifacts` and returns its summary.
+fn slice_artifacts(
+    artifacts: &mut Vec<Artifact>,
+    number: usize,
+    plane: Plane,
+    at: f64,
+    n: usize,
+    s: &Slice,
+) -> SliceSummary {
+    let (a, b, normal) = plane.axes();
+    let stem = format!("slice-{number}-{plane:?}").to_lowercase();
+    let (csv, svg) = (format!("{stem}.csv"), format!("{stem}.svg"));
+    let names = ["x", "y", "z"];
+    let mut table = Table::new([names[a], names[b], "inside", "inverse_condition"]);
+    table.rows = s
+        .values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            vec![
+                s.u[k % n].into(),
+                s.v[k / n].into(),
+                v.is_some().into(),
+                (*v).into(),
+            ]
+        })
+        .collect();
+    let field = chart::Heatmap {
+        colour_axis: "1/κ".into(),
+        x: s.u.clone(),
+        y: s.v.clone(),
+        values: s.values.clone(),
+    };
+    let title = format!("1/κ on {} = {at} m", names[normal]);
+    let chart = Chart::heatmap(title, AXIS_NAMES[a], AXIS_NAMES[b], field);
+    artifacts.push(Artifact::Table {
+        name: csv.clone(),
+        table,
+    });
+    artifacts.push(Artifact::Chart {
+        name: svg.clone(),
+        chart: Box::new(chart),
+    });
+    let inside = s.values.iter().flatten().count();
+    SliceSummary {
+        plane,
+        at,
+        cells: n,
+        inside_fraction: inside as f64 / s.values.len() as f64,
+        max_inverse_condition: s.values.iter().flatten().copied().reduce(f64::max),
+        csv,
+        svg,
+    }
+}
