@@ -9,6 +9,7 @@ use crate::study::mechanism::{ConstraintsSpec, MechanismSpec};
 use crate::study::sampling::SamplingSpec;
 use crate::study::units::Real;
 use pkm_optimizers::{GridAxis, GridSearch, MAX_GRID_NODES};
+use pkm_study::StudyMechanism as _;
 use pkm_traits::Progress;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;

@@ -17,6 +17,7 @@
 use crate::CliError;
 use crate::study::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
+use pkm_study::StudyMechanism as _;
 use pkm_traits::{ConstrainedWorkspace, ObjectiveError, Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{
     Dim, Eta1Rule, IndexError, PointSet, SectionIndex, SectionIndexCache, TranslationalCondition,
@@ -62,7 +63,7 @@ impl IndexName {
 
     /// Whether `mechanism` has it.
     pub fn applies_to(self, mechanism: &MechanismSpec) -> bool {
-        self.needs_points() || mechanism.linear_delta_ratios().is_some()
+        self.needs_points() || mechanism.section_ratios().is_some()
     }
 }
 
@@ -231,7 +232,7 @@ impl Evaluator {
         settings: IndexSettings,
     ) -> Result<f64, Infeasible> {
         let ratios = spec
-            .linear_delta_ratios()
+            .section_ratios()
             .ok_or_else(|| format!("{} is an index of linear_delta only", index.key()))?;
         let index = match index {
             IndexName::Eta1 => SectionIndex::Eta1(settings.eta1_rule()),

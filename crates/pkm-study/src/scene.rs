@@ -14,13 +14,11 @@
 //! `--threads`, and `pkm merge` writes the same drawing as a single run.
 
 use crate::outcome::short;
-use crate::schema::mechanism::{
-    ElbowSpec, MechanismSpec, TsaiElbowSpec, WorkspaceVisitor, linear_delta, rotary_delta,
-    stewart_orientation, three_upu, tsai,
-};
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use crate::registry::StudyMechanism;
+use crate::schema::mechanism::WorkspaceVisitor;
+use nalgebra::{Isometry3, Vector3};
 use pkm_draw::{Axis, PathKind, Scene};
-use pkm_mechanisms::{Elbow, ElbowMode, LegBranch, LinearDeltaMode, Skeleton};
+use pkm_mechanisms::Skeleton;
 use pkm_screw_theory::Twist;
 use pkm_traits::{ConstrainedWorkspace, KinematicsError, WorkspaceConstraint};
 use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
@@ -49,21 +47,18 @@ pub const MAX_PATH_POINTS: usize = 2000;
 /// # Errors
 /// Why there is no drawing: an invalid design, no member on the cross-section, a pose the
 /// skeleton cannot be built at.
-pub fn design_scene(
-    spec: &MechanismSpec,
+pub fn design_scene<M: StudyMechanism>(
+    spec: &M,
     constraints: &[WorkspaceConstraint],
     region: Option<Region>,
 ) -> Result<Scene, String> {
     let region = match region {
         Some(region) => region,
-        None => drawing_region(spec)?,
+        None => spec.drawing_region()?,
     };
     let bounds = region.bounding_box();
     let (lower, upper, centre) = (bounds.lower, bounds.upper, bounds.centre());
-    let (a, b, normal) = match spec {
-        MechanismSpec::LinearDelta(_) => (1, 2, 0),
-        _ => (0, 2, 1),
-    };
+    let (a, b, normal) = spec.drawing_plane();
     let cell = |axis: usize, k: usize| {
         lower[axis] + (k as f64 + 0.5) * (upper[axis] - lower[axis]) / SECTION_CELLS as f64
     };
@@ -105,73 +100,11 @@ pub fn design_scene(
         ["x", "y", "z"][normal],
         short(centre[normal])
     );
-    Ok(Scene::new(skeleton_at(spec, &pose)?).with_path(label, PathKind::WorkspacePoints, members))
-}
-
-/// The skeleton of `spec` with its platform at `p`, in the first of the study's working modes
-/// whose inverse kinematics succeeds (for the Tsai platform: the modes with every leg on one
-/// elbow, θ3 principal, the branch [`Skeleton::tsai`] draws).
-///
-/// # Errors
-/// An invalid design; no mode reaches `p`.
-pub fn skeleton_at(spec: &MechanismSpec, p: &Vector3<f64>) -> Result<Skeleton, String> {
-    match spec {
-        MechanismSpec::RotaryDelta(s) => {
-            let robot = rotary_delta(s).map_err(|e| e.to_string())?;
-            first_drawable(
-                p,
-                s.elbow.iter().map(|e| {
-                    let mode = match e {
-                        ElbowSpec::Out => ElbowMode::Out,
-                        ElbowSpec::In => ElbowMode::In,
-                    };
-                    Skeleton::rotary_delta(&robot, p, mode)
-                }),
-            )
-        }
-        MechanismSpec::Tsai(s) => {
-            let robot = tsai(s).map_err(|e| e.to_string())?;
-            let uniform = s.modes.iter().filter(|m| m.iter().all(|e| *e == m[0]));
-            first_drawable(
-                p,
-                uniform.map(|m| {
-                    let elbow = match m[0] {
-                        TsaiElbowSpec::Out => Elbow::Out,
-                        TsaiElbowSpec::In => Elbow::In,
-                    };
-                    let branch = LegBranch {
-                        principal_theta3: true,
-                        elbow,
-                    };
-                    Skeleton::tsai(&robot, p, branch)
-                }),
-            )
-        }
-        MechanismSpec::LinearDelta(s) => {
-            let robot = linear_delta(s).map_err(|e| e.to_string())?;
-            let mode = LinearDeltaMode {
-                leans_positive: s.leans_positive,
-            };
-            first_drawable(p, [Skeleton::linear_delta(&robot, p, mode)])
-        }
-        MechanismSpec::ThreeUpu(s) => {
-            let robot = three_upu(s).map_err(|e| e.to_string())?;
-            let pose = Isometry3::translation(p.x, p.y, p.z);
-            first_drawable(p, [Skeleton::three_upu(&robot, &pose)])
-        }
-        MechanismSpec::StewartGough(s) => {
-            let view = stewart_orientation(s).map_err(|e| e.to_string())?;
-            let pose = Isometry3::from_parts(
-                Translation3::from(*p),
-                UnitQuaternion::from_rotation_matrix(view.rotation()),
-            );
-            first_drawable(p, [Skeleton::stewart_gough(view.platform(), &pose)])
-        }
-    }
+    Ok(Scene::new(spec.skeleton_at(&pose)?).with_path(label, PathKind::WorkspacePoints, members))
 }
 
 /// The first skeleton of `tries` that could be built, or why none could (the last error).
-fn first_drawable(
+pub(crate) fn first_drawable(
     p: &Vector3<f64>,
     tries: impl IntoIterator<Item = Result<Skeleton, KinematicsError>>,
 ) -> Result<Skeleton, String> {
@@ -187,33 +120,6 @@ fn first_drawable(
         || format!("no working mode of the study can be drawn at p = {at} m"),
         |e| format!("the skeleton at p = {at} m: {e}"),
     ))
-}
-
-/// Where to look for a pose when the study gives no region: the mechanism's reach region, or
-/// for the Linear Delta (unbounded along its rails) the box $|x| \le L$ around the rails
-/// widened by the longest arm $L$ in $y$ and $z$.
-fn drawing_region(spec: &MechanismSpec) -> Result<Region, String> {
-    if let Some(region) = spec.reach_region().map_err(|e| e.to_string())? {
-        return Ok(region);
-    }
-    match spec {
-        MechanismSpec::LinearDelta(s) => {
-            let robot = linear_delta(s).map_err(|e| e.to_string())?;
-            let reach = robot.arm_lengths().into_iter().fold(0.0, f64::max);
-            let rails = robot.rails();
-            let (mut lower, mut upper) = (
-                Vector3::new(-reach, 0.0, 0.0),
-                Vector3::new(reach, 0.0, 0.0),
-            );
-            for axis in [1, 2] {
-                let along = rails.iter().map(|r| r[axis - 1]);
-                lower[axis] = along.clone().fold(f64::INFINITY, f64::min) - reach;
-                upper[axis] = along.fold(f64::NEG_INFINITY, f64::max) + reach;
-            }
-            Ok(Region::Box { lower, upper })
-        }
-        other => Err(format!("{} has no region to draw a pose in", other.kind())),
-    }
 }
 
 /// Whether each point belongs to the workspace (in parallel, in order).
@@ -277,7 +183,10 @@ pub fn task_scene(
 ///
 /// # Errors
 /// An invalid design, an empty trajectory, an unreachable start.
-pub fn trajectory_scene(spec: &MechanismSpec, commanded: &[Vector3<f64>]) -> Result<Scene, String> {
+pub fn trajectory_scene<M: StudyMechanism>(
+    spec: &M,
+    commanded: &[Vector3<f64>],
+) -> Result<Scene, String> {
     let (Some(start), Some(last)) = (commanded.first(), commanded.last()) else {
         return Err("the trajectory has no samples".to_owned());
     };
@@ -286,7 +195,7 @@ pub fn trajectory_scene(spec: &MechanismSpec, commanded: &[Vector3<f64>]) -> Res
     if !(commanded.len() - 1).is_multiple_of(step) {
         path.push(*last);
     }
-    Ok(Scene::new(skeleton_at(spec, start)?).with_path("trajectory", PathKind::Trajectory, path))
+    Ok(Scene::new(spec.skeleton_at(start)?).with_path("trajectory", PathKind::Trajectory, path))
 }
 
 /// [`design_scene`] of `base` with the design variables `values` set, without constraints (the
@@ -294,8 +203,8 @@ pub fn trajectory_scene(spec: &MechanismSpec, commanded: &[Vector3<f64>]) -> Res
 ///
 /// # Errors
 /// An unknown variable; as [`design_scene`].
-pub fn optimum_scene<'a>(
-    base: &MechanismSpec,
+pub fn optimum_scene<'a, M: StudyMechanism>(
+    base: &M,
     values: impl IntoIterator<Item = (&'a str, f64)>,
 ) -> Result<Scene, String> {
     let mut spec = base.clone();

@@ -4,6 +4,7 @@
 
 use crate::StudyError;
 use crate::outcome::{Artifact, Outcome, Table};
+use crate::registry::StudyMechanism;
 use crate::scene;
 use crate::schema::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
 use crate::schema::sampling::SamplingSpec;
@@ -16,14 +17,14 @@ use pkm_workspace_indices::{
 };
 use serde::{Deserialize, Serialize};
 
-/// A workspace study.
+/// A workspace study of a mechanism of the registry `M` (the papers' mechanisms by default).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct WorkspaceStudy {
+pub struct WorkspaceStudy<M = MechanismSpec> {
     /// Free text.
     pub title: Option<String>,
     /// The design.
-    pub mechanism: MechanismSpec,
+    pub mechanism: M,
     /// Its workspace limits.
     pub constraints: Option<ConstraintsSpec>,
     /// The points of the estimate.
@@ -143,8 +144,8 @@ pub struct WorkspaceResult {
 ///
 /// # Errors
 /// [`StudyError::Invalid`] at `constraints` for a constraint that does not fit the mechanism.
-pub fn constraints_of(
-    mechanism: &MechanismSpec,
+pub fn constraints_of<M: StudyMechanism>(
+    mechanism: &M,
     spec: Option<&ConstraintsSpec>,
 ) -> Result<Vec<WorkspaceConstraint>, StudyError> {
     let Some(spec) = spec else {
@@ -228,8 +229,8 @@ fn slice_settings(section: &WorkspaceSection) -> Result<Vec<(Plane, f64, usize)>
 /// [`StudyError::Invalid`] for a setting that cannot be used (checked before any computation),
 /// [`StudyError::Index`] when the index computation refuses its input,
 /// [`StudyError::Cancelled`] when `progress` asks to stop.
-pub fn workspace(
-    study: &WorkspaceStudy,
+pub fn workspace<M: StudyMechanism>(
+    study: &WorkspaceStudy<M>,
     progress: &dyn Progress,
 ) -> Result<Outcome<WorkspaceResult>, StudyError> {
     let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;

@@ -6,6 +6,7 @@
 //! of the weight simplex); the weighted optima of the study's `weights` are reported for any
 //! number of indices.
 
+use pkm_study::StudyMechanism as _;
 use pkm_traits::Progress as _;
 use super::{Context, Report, Run};
 use crate::CliError;

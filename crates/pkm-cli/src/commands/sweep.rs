@@ -10,6 +10,7 @@
 //! optimum replaces the old one (values under different settings are not compared), then the
 //! level itself, as the Linear Delta search of Miller 2004 §2.2.3 does.
 
+use pkm_study::StudyMechanism as _;
 use super::{Context, Report, Run};
 use crate::CliError;
 use crate::grid::{GridOutcome, 

@@ -9,30 +9,31 @@ use super::units::{
     ConeDegrees, DegreeRange, Degrees, MetreRange, Metres, NonNegativeMetres, PositiveMetres, Real,
 };
 use crate::StudyError;
+use crate::registry::Actuation;
 use nalgebra::Vector3;
 use pkm_mechanisms::{
-    AngleMode, ConstantOrientation, Elbow, ElbowMode, JointLayout, LinearDelta, LinearDeltaDesign,
-    LinearDeltaMode, LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign,
-    StewartDesign, StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
+    AngleMode, ConstantOrientation, JointLayout, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
+    LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
+    StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
 };
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
-use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
+use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
 use serde::{Deserialize, Serialize};
 
-/// The `[mechanism.<kind>]` table: exactly one kind.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum MechanismSpec {
-    /// Rotary Delta / NUWAR family (Miller 2004): motors inclined by α and turned by β.
-    RotaryDelta(RotaryDeltaSpec),
-    /// The Tsai 3-DOF translational platform (Stamper, Tsai & Walsh 1997).
-    Tsai(TsaiSpec),
-    /// The Linear Delta (Miller 2004 §2.2): three parallel rails along x.
-    LinearDelta(LinearDeltaSpec),
-    /// The 3-UPU (Wolf & Shoham §4.4) in its translational model: platform at $R = I$.
-    ThreeUpu(ThreeUpuSpec),
-    /// The Stewart–Gough platform (Wolf & Shoham Fig. 3) at one fixed orientation.
-    StewartGough(StewartOrientationSpec),
+crate::mechanisms! {
+    /// The `[mechanism.<kind>]` table: exactly one kind, one line per mechanism.
+    pub enum MechanismSpec {
+        /// Rotary Delta / NUWAR family (Miller 2004): motors inclined by α and turned by β.
+        RotaryDelta(RotaryDeltaSpec),
+        /// The Tsai 3-DOF translational platform (Stamper, Tsai & Walsh 1997).
+        Tsai(TsaiSpec),
+        /// The Linear Delta (Miller 2004 §2.2): three parallel rails along x.
+        LinearDelta(LinearDeltaSpec),
+        /// The 3-UPU (Wolf & Shoham §4.4) in its translational model: platform at $R = I$.
+        ThreeUpu(ThreeUpuSpec),
+        /// The Stewart–Gough platform (Wolf & Shoham Fig. 3) at one fixed orientation.
+        StewartGough(StewartOrientationSpec),
+    }
 }
 
 /// `[mechanism.three_upu]`: the 3-UPU's joint circles. The upper U-joint axes do not enter the
@@ -293,6 +294,81 @@ pub struct JointRangeSpec {
     pub range: MetreRange,
 }
 
+impl ConstraintsSpec {
+    /// The library constraints of this table (SI units, radians) for a mechanism `mechanism`
+    /// whose actuated joints move as `kind`.
+    ///
+    /// # Errors
+    /// A message when a joint range is given in the wrong unit for these joints or the library
+    /// refuses a value.
+    pub fn to_library(
+        &self,
+        mechanism: &str,
+        kind: Actuation,
+    ) -> Result<Vec<WorkspaceConstraint>, String> {
+        let spec = self;
+        let wrong_unit = |key: &str, use_key: &str| {
+            format!(
+                "{key}: the actuated joints of {mechanism} are {}; use {use_key}",
+                match kind {
+                    Actuation::Revolute => "revolute (angles in degrees)",
+                    Actuation::Prismatic =>
+                        "prismatic (carriage positions or leg lengths in metres)",
+                }
+            )
+        };
+        let library = |e: pkm_traits::ConstraintError| e.to_string();
+        let mut out = Vec::new();
+        if let Some(z) = spec.below_z {
+            out.push(WorkspaceConstraint::below(z.0).map_err(library)?);
+        }
+        for h in &spec.half_spaces {
+            let normal = Vector3::new(h.normal[0].0, h.normal[1].0, h.normal[2].0);
+            out.push(WorkspaceConstraint::half_space(normal, h.offset.0).map_err(library)?);
+        }
+        match (kind, spec.joint_range_deg, spec.joint_range) {
+            (Actuation::Prismatic, Some(_), _) => {
+                return Err(wrong_unit("joint_range_deg", "joint_range"));
+            }
+            (Actuation::Revolute, _, Some(_)) => {
+                return Err(wrong_unit("joint_range", "joint_range_deg"));
+            }
+            (_, Some(r), _) => out.push(
+                WorkspaceConstraint::joint_range(r.lower.to_radians(), r.upper.to_radians())
+                    .map_err(library)?,
+            ),
+            (_, None, Some(r)) => {
+                out.push(WorkspaceConstraint::joint_range(r.lower, r.upper).map_err(library)?);
+            }
+            (_, None, None) => {}
+        }
+        if kind == Actuation::Prismatic && !spec.joint_ranges_deg.is_empty() {
+            return Err(wrong_unit("joint_ranges_deg", "joint_ranges"));
+        }
+        if kind == Actuation::Revolute && !spec.joint_ranges.is_empty() {
+            return Err(wrong_unit("joint_ranges", "joint_ranges_deg"));
+        }
+        for j in &spec.joint_ranges_deg {
+            let (lo, hi) = (
+                j.range_deg.lower.to_radians(),
+                j.range_deg.upper.to_radians(),
+            );
+            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
+        }
+        for j in &spec.joint_ranges {
+            let (lo, hi) = (j.range.lower, j.range.upper);
+            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
+        }
+        if let Some(cone) = spec.passive_cone_deg {
+            out.push(WorkspaceConstraint::passive_cone(cone.0.to_radians()).map_err(library)?);
+        }
+        if let Some(d) = spec.leg_clearance {
+            out.push(WorkspaceConstraint::leg_clearance(d.0).map_err(library)?);
+        }
+        Ok(out)
+    }
+}
+
 /// Receives a built workspace, whatever the mechanism type (closures cannot be generic).
 pub trait WorkspaceVisitor {
     /// What the visit returns.
@@ -324,262 +400,7 @@ impl std::fmt::Display for BuildError {
     }
 }
 
-/// Whether a mechanism's actuated joints are revolute (degrees in study files) or prismatic (m).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum JointKind {
-    Revolute,
-    Prismatic,
-}
-
-impl MechanismSpec {
-    /// The kind's key in study files.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Self::RotaryDelta(_) => "rotary_delta",
-            Self::Tsai(_) => "tsai",
-            Self::LinearDelta(_) => "linear_delta",
-            Self::ThreeUpu(_) => "three_upu",
-            Self::StewartGough(_) => "stewart_gough",
-        }
-    }
-
-    /// Names of the parameters a sweep may vary (the keys of the table, in their units).
-    pub fn variables(&self) -> &'static [&'static str] {
-        match self {
-            Self::RotaryDelta(_) => &[
-                "base_radius",
-                "plate_offset",
-                "arm",
-                "forearm",
-                "alpha_deg",
-                "beta_deg",
-                "motor_plane_z",
-                "azimuth_motor_1_deg",
-            ],
-            Self::Tsai(_) => &["a", "b", "d_plus_e", "c_minus_r", "phi2_deg", "phi3_deg"],
-            Self::LinearDelta(_) => &["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1", "yr"],
-            Self::ThreeUpu(_) => &["base_radius", "platform_radius"],
-            Self::StewartGough(_) => &[
-                "base_radius",
-                "platform_radius",
-                "base_separation_deg",
-                "platform_separation_deg",
-            ],
-        }
-    }
-
-    /// Sets parameter `name` to `value` (in the key's unit). The value is checked when the
-    /// mechanism is built, so a sweep records an invalid node as infeasible.
-    ///
-    /// # Errors
-    /// The list of valid names when `name` is not one of [`MechanismSpec::variables`].
-    pub fn set(&mut self, name: &str, value: f64) -> Result<(), String> {
-        let slot: &mut f64 = match (self, name) {
-            (Self::RotaryDelta(s), "base_radius") => &mut s.base_radius.0,
-            (Self::RotaryDelta(s), "plate_offset") => &mut s.plate_offset.0,
-            (Self::RotaryDelta(s), "arm") => &mut s.arm.0,
-            (Self::RotaryDelta(s), "forearm") => &mut s.forearm.0,
-            (Self::RotaryDelta(s), "alpha_deg") => &mut s.alpha_deg.0,
-            (Self::RotaryDelta(s), "beta_deg") => &mut s.beta_deg.0,
-            (Self::RotaryDelta(s), "motor_plane_z") => &mut s.motor_plane_z.0,
-            (Self::RotaryDelta(s), "azimuth_motor_1_deg") => &mut s.azimuth_motor_1_deg.0,
-            (Self::Tsai(s), "a") => &mut s.a.0,
-            (Self::Tsai(s), "b") => &mut s.b.0,
-            (Self::Tsai(s), "d_plus_e") => &mut s.d_plus_e.0,
-            (Self::Tsai(s), "c_minus_r") => &mut s.c_minus_r.0,
-            (Self::Tsai(s), "phi2_deg") => &mut s.phi2_deg.0,
-            (Self::Tsai(s), "phi3_deg") => &mut s.phi3_deg.0,
-            (Self::LinearDelta(s), "l1_over_yr") => &mut s.l1_over_yr.0,
-            (Self::LinearDelta(s), "ya_over_yr") => &mut s.ya_over_yr.0,
-            (Self::LinearDelta(s), "zr_over_yr") => &mut s.zr_over_yr.0,
-            (Self::LinearDelta(s), "l2_over_l1") => &mut s.l2_over_l1.0,
-            (Self::LinearDelta(s), "yr") => &mut s.yr.0,
-            (Self::ThreeUpu(s), "base_radius") => &mut s.base_radius.0,
-            (Self::ThreeUpu(s), "platform_radius") => &mut s.platform_radius.0,
-            (Self::StewartGough(s), "base_radius") => &mut s.design.base_radius.0,
-            (Self::StewartGough(s), "platform_radius") => &mut s.design.platform_radius.0,
-            (Self::StewartGough(s), "base_separation_deg") => &mut s.design.base_separation_deg.0,
-            (Self::StewartGough(s), "platform_separation_deg") => {
-                &mut s.design.platform_separation_deg.0
-            }
-            (spec, _) => {
-                return Err(format!(
-                    "`{name}` is not a design variable of {}: expected one of {}",
-                    spec.kind(),
-                    spec.variables().join(", ")
-                ));
-            }
-        };
-        *slot = value;
-        Ok(())
-    }
-
-    /// The Linear Delta's ratios `[L1/YR, YA/YR, ZR/YR, L2/L1]` (its cross-section indices
-    /// η1, η2 and the area are functions of these alone), `None` for other mechanisms.
-    pub fn linear_delta_ratios(&self) -> Option<[f64; 4]> {
-        match self {
-            Self::LinearDelta(s) => Some([
-                s.l1_over_yr.0,
-                s.ya_over_yr.0,
-                s.zr_over_yr.0,
-                s.l2_over_l1.0,
-            ]),
-            _ => None,
-        }
-    }
-
-    fn joint_kind(&self) -> JointKind {
-        match self {
-            Self::LinearDelta(_) | Self::ThreeUpu(_) | Self::StewartGough(_) => {
-                JointKind::Prismatic
-            }
-            Self::RotaryDelta(_) | Self::Tsai(_) => JointKind::Revolute,
-        }
-    }
-
-    /// The library constraints of `spec` (SI units, radians).
-    ///
-    /// # Errors
-    /// A message when a joint range is given in the wrong unit for this mechanism's joints
-    /// or the library refuses a value.
-    pub fn constraints(&self, spec: &ConstraintsSpec) -> Result<Vec<WorkspaceConstraint>, String> {
-        let kind = self.joint_kind();
-        let wrong_unit = |key: &str, use_key: &str| {
-            format!(
-                "{key}: the actuated joints of {} are {}; use {use_key}",
-                self.kind(),
-                match kind {
-                    JointKind::Revolute => "revolute (angles in degrees)",
-                    JointKind::Prismatic =>
-                        "prismatic (carriage positions or leg lengths in metres)",
-                }
-            )
-        };
-        let library = |e: pkm_traits::ConstraintError| e.to_string();
-        let mut out = Vec::new();
-        if let Some(z) = spec.below_z {
-            out.push(WorkspaceConstraint::below(z.0).map_err(library)?);
-        }
-        for h in &spec.half_spaces {
-            let normal = Vector3::new(h.normal[0].0, h.normal[1].0, h.normal[2].0);
-            out.push(WorkspaceConstraint::half_space(normal, h.offset.0).map_err(library)?);
-        }
-        match (kind, spec.joint_range_deg, spec.joint_range) {
-            (JointKind::Prismatic, Some(_), _) => {
-                return Err(wrong_unit("joint_range_deg", "joint_range"));
-            }
-            (JointKind::Revolute, _, Some(_)) => {
-                return Err(wrong_unit("joint_range", "joint_range_deg"));
-            }
-            (_, Some(r), _) => out.push(
-                WorkspaceConstraint::joint_range(r.lower.to_radians(), r.upper.to_radians())
-                    .map_err(library)?,
-            ),
-            (_, None, Some(r)) => {
-                out.push(WorkspaceConstraint::joint_range(r.lower, r.upper).map_err(library)?);
-            }
-            (_, None, None) => {}
-        }
-        if kind == JointKind::Prismatic && !spec.joint_ranges_deg.is_empty() {
-            return Err(wrong_unit("joint_ranges_deg", "joint_ranges"));
-        }
-        if kind == JointKind::Revolute && !spec.joint_ranges.is_empty() {
-            return Err(wrong_unit("joint_ranges", "joint_ranges_deg"));
-        }
-        for j in &spec.joint_ranges_deg {
-            let (lo, hi) = (
-                j.range_deg.lower.to_radians(),
-                j.range_deg.upper.to_radians(),
-            );
-            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
-        }
-        for j in &spec.joint_ranges {
-            let (lo, hi) = (j.range.lower, j.range.upper);
-            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
-        }
-        if let Some(cone) = spec.passive_cone_deg {
-            out.push(WorkspaceConstraint::passive_cone(cone.0.to_radians()).map_err(library)?);
-        }
-        if let Some(d) = spec.leg_clearance {
-            out.push(WorkspaceConstraint::leg_clearance(d.0).map_err(library)?);
-        }
-        Ok(out)
-    }
-
-    /// A region that holds every reachable position of this design, when the mechanism has
-    /// one (the Linear Delta's rails and the legs of the 3-UPU and the Stewart–Gough platform
-    /// are unbounded: their studies give the region).
-    ///
-    /// # Errors
-    /// [`BuildError::Design`] for an invalid design.
-    pub fn reach_region(&self) -> Result<Option<Region>, BuildError> {
-        Ok(match self {
-            Self::RotaryDelta(s) => {
-                let delta = rotary_delta(s)?;
-                let (radius, half_height) = delta.reach_cylinder();
-                let z0 = delta.motor_plane_z();
-                Some(Region::axial_cylinder(
-                    radius,
-                    z0 - half_height,
-                    z0 + half_height,
-                ))
-            }
-            Self::Tsai(s) => Some(Region::Hemisphere {
-                center: Vector3::zeros(),
-                radius: tsai(s)?.reach(),
-            }),
-            Self::LinearDelta(_) | Self::ThreeUpu(_) | Self::StewartGough(_) => None,
-        })
-    }
-
-    /// Builds the mechanism and its workspace under `constraints` and hands it to `visitor`.
-    ///
-    /// # Errors
-    /// [`BuildError::Design`] for an invalid design, [`BuildError::Constraint`] for a
-    /// constraint this mechanism cannot evaluate.
-    pub fn with_workspace<V: WorkspaceVisitor>(
-        &self,
-        constraints: &[WorkspaceConstraint],
-        visitor: V,
-    ) -> Result<V::Output, BuildError> {
-        match self {
-            Self::RotaryDelta(s) => {
-                let modes: Vec<ElbowMode> = s
-                    .elbow
-                    .iter()
-                    .map(|e| match e {
-                        ElbowSpec::Out => ElbowMode::Out,
-                        ElbowSpec::In => ElbowMode::In,
-                    })
-                    .collect();
-                visit(&rotary_delta(s)?, &modes, constraints, visitor)
-            }
-            Self::Tsai(s) => {
-                let modes: Vec<[Elbow; 3]> = s
-                    .modes
-                    .iter()
-                    .map(|m| {
-                        m.map(|e| match e {
-                            TsaiElbowSpec::Out => Elbow::Out,
-                            TsaiElbowSpec::In => Elbow::In,
-                        })
-                    })
-                    .collect();
-                visit(&tsai(s)?, &modes, constraints, visitor)
-            }
-            Self::LinearDelta(s) => {
-                let mode = LinearDeltaMode {
-                    leans_positive: s.leans_positive,
-                };
-                visit(&linear_delta(s)?, &[mode], constraints, visitor)
-            }
-            Self::ThreeUpu(s) => visit(&three_upu(s)?, &[()], constraints, visitor),
-            Self::StewartGough(s) => visit(&stewart_orientation(s)?, &[()], constraints, visitor),
-        }
-    }
-}
-
-fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(
+pub(crate) fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(
     mechanism: &M,
     modes: &[M::WorkingMode],
     constraints: &[WorkspaceConstraint],

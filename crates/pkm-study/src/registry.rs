@@ -1,0 +1,260 @@
+//! The mechanism registry: what a study needs to know about a mechanism, stated once per
+//! mechanism through the [`StudyMechanism`] trait rather than a match arm per command.
+//!
+//! A study's `[mechanism.<kind>]` table is one of the kinds listed by [`mechanisms!`] (one
+//! line each); every command takes any [`StudyMechanism`], so a new mechanism is a table type
+//! (plain serde), a [`design_variables!`] line and an `impl StudyMechanism`, then one line in a
+//! [`mechanisms!`] list (see `docs/adding-a-mechanism.md`).
+
+use crate::schema::mechanism::{BuildError, ConstraintsSpec, WorkspaceVisitor};
+use nalgebra::Vector3;
+use pkm_mechanisms::Skeleton;
+use pkm_traits::WorkspaceConstraint;
+use pkm_workspace_indices::Region;
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use std::fmt::Debug;
+
+/// The unit of a design variable in a study (the library receives SI units and radians).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Unit {
+    /// Metres.
+    Length,
+    /// Degrees in a study (its key ends in `_deg`), radians in the library.
+    Angle,
+    /// Dimensionless.
+    Ratio,
+}
+
+/// A design variable as a study names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Variable {
+    /// Its key in the `[mechanism.<kind>]` table (`"alpha_deg"`).
+    pub name: &'static str,
+    /// Its unit in the study.
+    pub unit: Unit,
+}
+
+/// How the actuated joints move: it decides the unit of joint ranges in `[constraints]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Actuation {
+    /// Revolute motors: ranges in degrees (`joint_range_deg`).
+    Revolute,
+    /// Prismatic actuators (carriages, legs): ranges in metres (`joint_range`).
+    Prismatic,
+}
+
+/// A mechanism as a study sees it: its table (serde), its design variables, its actuation, its
+/// workspace, its reach region and its drawing.
+pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeOwned {
+    /// The kind's key: `[mechanism.<kind>]`.
+    fn kind(&self) -> &'static str;
+
+    /// The design variables a sweep, a Pareto study or an optimisation may vary.
+    fn variables(&self) -> &'static [Variable];
+
+    /// The value of variable `name` in its study unit, `None` for an unknown name.
+    fn get(&self, name: &str) -> Option<f64>;
+
+    /// The slot of variable `name` (study unit), `None` for an unknown name.
+    fn slot(&mut self, name: &str) -> Option<&mut f64>;
+
+    /// How the actuated joints move.
+    fn actuation(&self) -> Actuation;
+
+    /// Builds the mechanism and its workspace under `constraints` and hands it to `visitor`.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] for an invalid design, [`BuildError::Constraint`] for a constraint
+    /// this mechanism cannot evaluate.
+    fn with_workspace<V: WorkspaceVisitor>(
+        &self,
+        constraints: &[WorkspaceConstraint],
+        visitor: V,
+    ) -> Result<V::Output, BuildError>;
+
+    /// A region that holds every reachable position, when the mechanism has one (default: none;
+    /// studies then give `[sampling.region]`).
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] for an invalid design.
+    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
+        Ok(None)
+    }
+
+    /// The skeleton with the platform at `p`, in the first working mode of the study that
+    /// reaches it.
+    ///
+    /// # Errors
+    /// Why it cannot be drawn (an invalid design, no mode reaches `p`).
+    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String>;
+
+    /// Where to look for a pose to draw when the study gives no region (default: the reach
+    /// region).
+    ///
+    /// # Errors
+    /// Why there is none.
+    fn drawing_region(&self) -> Result<Region, String> {
+        self.reach_region()
+            .map_err(|e| e.to_string())?
+            .ok_or_else(|| format!("{} has no region to draw a pose in", self.kind()))
+    }
+
+    /// The axes `(a, b, normal)` of the vertical cross-section drawn with a design (default:
+    /// the plane $y = y_c$).
+    fn drawing_plane(&self) -> (usize, usize, usize) {
+        (0, 2, 1)
+    }
+
+    /// The Linear Delta's ratios `[L1/YR, YA/YR, ZR/YR, L2/L1]` for its cross-section indices
+    /// (Miller 2004 §2.2), `None` (the default) for a mechanism without them.
+    fn section_ratios(&self) -> Option<[f64; 4]> {
+        None
+    }
+
+    /// Sets variable `name` to `value` (study unit). The value is checked when the mechanism is
+    /// built, so a sweep records an invalid node as infeasible.
+    ///
+    /// # Errors
+    /// The list of valid names when `name` is not one of [`StudyMechanism::variables`].
+    fn set(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let kind = self.kind();
+        let names = self.variables().iter().map(|v| v.name).collect::<Vec<_>>();
+        let slot = self.slot(name).ok_or_else(|| {
+            format!(
+                "`{name}` is not a design variable of {kind}: expected one of {}",
+                names.join(", ")
+            )
+        })?;
+        *slot = value;
+        Ok(())
+    }
+
+    /// The library constraints of a `[constraints]` table (SI units, radians), joint ranges in
+    /// the unit of this mechanism's actuation.
+    ///
+    /// # Errors
+    /// A message when a joint range is given in the wrong unit or the library refuses a value.
+    fn constraints(&self, spec: &ConstraintsSpec) -> Result<Vec<WorkspaceConstraint>, String> {
+        spec.to_library(self.kind(), self.actuation())
+    }
+}
+
+/// Declares a table type's design variables: `design_variables!(Spec { "key" Unit => field
+/// path, ... })` implements `variables`, `get` and `slot` of [`StudyMechanism`] inside an
+/// `impl StudyMechanism for Spec` block.
+#[macro_export]
+macro_rules! design_variables {
+    ($($name:literal $unit:ident => |$s:ident| $place:expr),* $(,)?) => {
+        fn variables(&self) -> &'static [$crate::registry::Variable] {
+            &[$($crate::registry::Variable {
+                name: $name,
+                unit: $crate::registry::Unit::$unit,
+            }),*]
+        }
+
+        fn get(&self, name: &str) -> Option<f64> {
+            match name {
+                $($name => {
+                    let $s = self;
+                    Some($place)
+                })*
+                _ => None,
+            }
+        }
+
+        fn slot(&mut self, name: &str) -> Option<&mut f64> {
+            match name {
+                $($name => {
+                    let $s = self;
+                    Some(&mut $place)
+                })*
+                _ => None,
+            }
+        }
+    };
+}
+
+/// Declares a registry: an enum with one variant per mechanism table (externally tagged, the
+/// tag is the kind: `[mechanism.<kind>]`) that implements [`StudyMechanism`] by delegation.
+/// The calling crate depends on `serde` (its tables derive its traits too);
+/// `crates/pkm-study/tests/adding_a_mechanism.rs` declares one.
+///
+/// ```text
+/// pkm_study::mechanisms! {
+///     /// The mechanisms of my study files.
+///     pub enum MyMechanisms {
+///         /// A gantry.
+///         Gantry(GantrySpec),
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! mechanisms {
+    ($(#[$meta:meta])* $vis:vis enum $name:ident {
+        $($(#[$doc:meta])* $variant:ident($spec:ty),)*
+    }) => {
+        $(#[$meta])*
+        #[derive(
+            Debug,
+            Clone,
+            PartialEq,
+            ::serde::Deserialize,
+            ::serde::Serialize,
+        )]
+        #[serde(rename_all = "snake_case", deny_unknown_fields)]
+        $vis enum $name {
+            $($(#[$doc])* $variant($spec),)*
+        }
+
+        impl $crate::registry::StudyMechanism for $name {
+            fn kind(&self) -> &'static str {
+                match self { $(Self::$variant(m) => m.kind(),)* }
+            }
+            fn variables(&self) -> &'static [$crate::registry::Variable] {
+                match self { $(Self::$variant(m) => m.variables(),)* }
+            }
+            fn get(&self, name: &str) -> Option<f64> {
+                match self { $(Self::$variant(m) => m.get(name),)* }
+            }
+            fn slot(&mut self, name: &str) -> Option<&mut f64> {
+                match self { $(Self::$variant(m) => m.slot(name),)* }
+            }
+            fn actuation(&self) -> $crate::registry::Actuation {
+                match self { $(Self::$variant(m) => m.actuation(),)* }
+            }
+            fn with_workspace<V: $crate::schema::mechanism::WorkspaceVisitor>(
+                &self,
+                constraints: &[$crate::__private::pkm_traits::WorkspaceConstraint],
+                visitor: V,
+            ) -> Result<V::Output, $crate::schema::mechanism::BuildError> {
+                match self { $(Self::$variant(m) => m.with_workspace(constraints, visitor),)* }
+            }
+            fn reach_region(
+                &self,
+            ) -> Result<Option<$crate::__private::pkm_workspace_indices::Region>, $crate::schema::mechanism::BuildError>
+            {
+                match self { $(Self::$variant(m) => m.reach_region(),)* }
+            }
+            fn skeleton_at(
+                &self,
+                p: &$crate::__private::nalgebra::Vector3<f64>,
+            ) -> Result<$crate::__private::pkm_mechanisms::Skeleton, String> {
+                match self { $(Self::$variant(m) => m.skeleton_at(p),)* }
+            }
+            fn drawing_region(
+                &self,
+            ) -> Result<$crate::__private::pkm_workspace_indices::Region, String> {
+                match self { $(Self::$variant(m) => m.drawing_region(),)* }
+            }
+            fn drawing_plane(&self) -> (usize, usize, usize) {
+                match self { $(Self::$variant(m) => m.drawing_plane(),)* }
+            }
+            fn section_ratios(&self) -> Option<[f64; 4]> {
+                match self { $(Self::$variant(m) => m.section_ratios(),)* }
+            }
+        }
+    };
+}
