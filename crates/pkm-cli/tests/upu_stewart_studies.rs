@@ -269,8 +269,6 @@ fn rejects(text: &str, line: usize, expected: &str) {
 
 const STEWART: &str = r#"[mechanism.stewart_gough]
 rotation_deg = [0.0, 0.0, 10.0]
-
-[mechanism.stewart_gough.design]
 base_radius = 0.3
 platform_radius = 0.2
 base_separation_deg = 20.0

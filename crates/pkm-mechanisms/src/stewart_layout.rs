@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// Which platform joint each base joint is connected to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Pairing {
     /// Leg $k$ joins $b_k$ to $r_k$: pairs on both platforms centred on the same azimuths.
     #[default]
@@ -18,6 +19,7 @@ pub enum Pairing {
 
 /// How $x_3$, $x_4$ are read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum AngleMode {
     /// The angle between the two joints of a pair.
     #[default]

@@ -17,7 +17,8 @@ use pkm_traits::Progress as _;
 use crate::drawing;
 use crate::output::Output;
 use crate::plot;
-use crate::study::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
+use crate::study::mechanism::{MechanismSpec, rotary_delta};
+use pkm_mechanisms::ElbowMode;
 use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
 use crate::study::StudyFile;
 use nalgebra::Vector3;
@@ -328,7 +329,7 @@ pub fn model_of(file: &StudyFile<DynamicsStudy>) -> Result<ExtendedModel, CliErr
             "pkm dynamics models the rotary Delta family: expected [mechanism.rotary_delta]",
         ));
     };
-    if spec.elbow != [ElbowSpec::Out] {
+    if spec.elbow != [ElbowMode::Out] {
         return Err(file.error_at(
             spanned.span(),
             "elbow: the dynamics follow the elbow-out branch; expected elbow = [\"out\"]",

@@ -7,7 +7,8 @@ use pkm_traits::{
 };
 
 /// Branch of the arm-angle solution, the same for every leg.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum ElbowMode {
     /// $\theta = \psi - \arccos(K/\rho)$: the elbow points away from the centreline (canonical).
     Out,

@@ -7,7 +7,8 @@ use nalgebra::Vector3;
 use pkm_traits::KinematicsError;
 
 /// Which root of the half-angle quadratic (eq. 2) gives $\theta_1$.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Elbow {
     /// The root with the larger $\cos\theta_1$: the elbow $B_i$ lies radially outward.
     Out,

@@ -2,35 +2,16 @@
 //! actuation, workspace, reach region and drawing, stated once.
 
 use super::mechanism::{
-    BuildError, ElbowSpec, LinearDeltaSpec, RotaryDeltaSpec, StewartOrientationSpec, ThreeUpuSpec,
-    TsaiElbowSpec, TsaiSpec, WorkspaceVisitor, linear_delta, rotary_delta, stewart_orientation,
-    three_upu, tsai, visit,
+    BuildError, LinearDeltaSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec,
+    WorkspaceVisitor, linear_delta, rotary_delta, stewart_orientation, three_upu, tsai, visit,
 };
 use crate::design_variables;
 use crate::registry::{Actuation, StudyMechanism};
 use crate::scene::first_drawable;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-use pkm_mechanisms::{Elbow, ElbowMode, LegBranch, LinearDeltaMode, Skeleton};
+use pkm_mechanisms::{LegBranch, LinearDeltaMode, Skeleton};
 use pkm_traits::WorkspaceConstraint;
 use pkm_workspace_indices::Region;
-
-impl ElbowSpec {
-    fn mode(self) -> ElbowMode {
-        match self {
-            Self::Out => ElbowMode::Out,
-            Self::In => ElbowMode::In,
-        }
-    }
-}
-
-impl TsaiElbowSpec {
-    fn elbow(self) -> Elbow {
-        match self {
-            Self::Out => Elbow::Out,
-            Self::In => Elbow::In,
-        }
-    }
-}
 
 impl StudyMechanism for RotaryDeltaSpec {
     design_variables! {
@@ -57,8 +38,7 @@ impl StudyMechanism for RotaryDeltaSpec {
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let modes: Vec<ElbowMode> = self.elbow.iter().map(|e| e.mode()).collect();
-        visit(&rotary_delta(self)?, &modes, constraints, visitor)
+        visit(&rotary_delta(self)?, &self.elbow, constraints, visitor)
     }
 
     fn reach_region(&self) -> Result<Option<Region>, BuildError> {
@@ -77,7 +57,7 @@ impl StudyMechanism for RotaryDeltaSpec {
         let tries = self
             .elbow
             .iter()
-            .map(|e| Skeleton::rotary_delta(&robot, p, e.mode()));
+            .map(|e| Skeleton::rotary_delta(&robot, p, *e));
         first_drawable(p, tries)
     }
 }
@@ -105,12 +85,7 @@ impl StudyMechanism for TsaiSpec {
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let modes: Vec<[Elbow; 3]> = self
-            .modes
-            .iter()
-            .map(|m| m.map(TsaiElbowSpec::elbow))
-            .collect();
-        visit(&tsai(self)?, &modes, constraints, visitor)
+        visit(&tsai(self)?, &self.modes, constraints, visitor)
     }
 
     fn reach_region(&self) -> Result<Option<Region>, BuildError> {
@@ -128,7 +103,7 @@ impl StudyMechanism for TsaiSpec {
         let tries = uniform.map(|m| {
             let branch = LegBranch {
                 principal_theta3: true,
-                elbow: m[0].elbow(),
+                elbow: m[0],
             };
             Skeleton::tsai(&robot, p, branch)
         });
@@ -234,12 +209,12 @@ impl StudyMechanism for ThreeUpuSpec {
     }
 }
 
-impl StudyMechanism for StewartOrientationSpec {
+impl StudyMechanism for StewartSpec {
     design_variables! {
-        "base_radius" Length => |s| s.design.base_radius.0,
-        "platform_radius" Length => |s| s.design.platform_radius.0,
-        "base_separation_deg" Angle => |s| s.design.base_separation_deg.0,
-        "platform_separation_deg" Angle => |s| s.design.platform_separation_deg.0,
+        "base_radius" Length => |s| s.base_radius.0,
+        "platform_radius" Length => |s| s.platform_radius.0,
+        "base_separation_deg" Angle => |s| s.base_separation_deg.0,
+        "platform_separation_deg" Angle => |s| s.platform_separation_deg.0,
     }
 
     fn kind(&self) -> &'static str {

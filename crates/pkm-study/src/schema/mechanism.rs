@@ -12,9 +12,9 @@ use crate::StudyError;
 use crate::registry::Actuation;
 use nalgebra::Vector3;
 use pkm_mechanisms::{
-    AngleMode, ConstantOrientation, JointLayout, LinearDelta, LinearDeltaDesign, LinearDeltaMode,
-    LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign,
-    StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
+    AngleMode, ConstantOrientation, Elbow, ElbowMode, JointLayout, LinearDelta, LinearDeltaDesign,
+    LinearDeltaMode, LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign,
+    StewartDesign, StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
 };
 use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
 use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
@@ -32,7 +32,7 @@ crate::mechanisms! {
         /// The 3-UPU (Wolf & Shoham §4.4) in its translational model: platform at $R = I$.
         ThreeUpu(ThreeUpuSpec),
         /// The Stewart–Gough platform (Wolf & Shoham Fig. 3) at one fixed orientation.
-        StewartGough(StewartOrientationSpec),
+        StewartGough(StewartSpec),
     }
 }
 
@@ -50,20 +50,9 @@ pub struct ThreeUpuSpec {
     pub azimuths_deg: [Degrees; 3],
 }
 
-/// `[mechanism.stewart_gough]`: the platform's design (the `design` table, exactly the
-/// `[mechanism.stewart_gough]` table of `pkm task`) and the fixed orientation of its
-/// constant-orientation workspace. Leg-length ranges are `[constraints] joint_range`.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct StewartOrientationSpec {
-    /// Rotation vector $\alpha n$ of the platform (degrees; default no rotation).
-    #[serde(default = "no_rotation")]
-    pub rotation_deg: [Degrees; 3],
-    /// The design $x = (x_1, x_2, x_3, x_4)$ and joint layout (as `pkm task`).
-    pub design: StewartSpec,
-}
-
-/// `[mechanism.stewart_gough]`: the design $x = (x_1, x_2, x_3, x_4)$ and the joint layout.
+/// `[mechanism.stewart_gough]`: the design $x = (x_1, x_2, x_3, x_4)$, the joint layout and
+/// the platform's orientation in constant-orientation studies (workspace, sweep, Pareto).
+/// Leg-length ranges are `[constraints] joint_range`.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct StewartSpec {
@@ -77,45 +66,17 @@ pub struct StewartSpec {
     pub platform_separation_deg: Degrees,
     /// `"same_pattern"` (default) or `"zig_zag"`.
     #[serde(default)]
-    pub pairing: PairingSpec,
+    pub pairing: Pairing,
     /// `"separation"` (default: $x_3$, $x_4$ are the whole angle) or `"half"`.
     #[serde(default)]
-    pub angle_mode: AngleModeSpec,
+    pub angle_mode: AngleMode,
     /// Azimuth of the first base pair's centre (degrees).
     #[serde(default = "zero_deg")]
     pub offset_deg: Degrees,
-}
-
-/// [`Pairing`] in a study file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum PairingSpec {
-    /// [`Pairing::SamePattern`].
-    #[default]
-    SamePattern,
-    /// [`Pairing::ZigZag`].
-    ZigZag,
-}
-
-/// [`AngleMode`] in a study file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AngleModeSpec {
-    /// [`AngleMode::Separation`].
-    #[default]
-    Separation,
-    /// [`AngleMode::Half`].
-    Half,
-}
-
-/// An elbow branch of the rotary Delta's arms.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ElbowSpec {
-    /// Elbow away from the centreline (the canonical branch).
-    Out,
-    /// The other branch.
-    In,
+    /// Rotation vector $\alpha n$ of the platform in constant-orientation studies (degrees;
+    /// default no rotation). Task studies take the pose from `[task]` instead.
+    #[serde(default = "no_rotation")]
+    pub rotation_deg: [Degrees; 3],
 }
 
 /// `[mechanism.rotary_delta]`.
@@ -147,17 +108,7 @@ pub struct RotaryDeltaSpec {
     pub turned_plate_offsets: bool,
     /// Allowed elbow branches (default `["out"]`).
     #[serde(default = "default_elbows")]
-    pub elbow: Vec<ElbowSpec>,
-}
-
-/// A Tsai leg's θ1 root.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TsaiElbowSpec {
-    /// The root with the larger cos θ1 (elbow radially outward).
-    Out,
-    /// The other root.
-    In,
+    pub elbow: Vec<ElbowMode>,
 }
 
 /// `[mechanism.tsai]`.
@@ -182,7 +133,7 @@ pub struct TsaiSpec {
     pub phi3_deg: Degrees,
     /// Allowed working modes, one elbow per leg (default `[["out", "out", "out"]]`).
     #[serde(default = "default_tsai_modes")]
-    pub modes: Vec<[TsaiElbowSpec; 3]>,
+    pub modes: Vec<[Elbow; 3]>,
 }
 
 /// `[mechanism.linear_delta]`: the ratios of Miller 2004, Table 1, and the scale YR.
@@ -229,11 +180,11 @@ fn zero_nonneg() -> NonNegativeMetres {
 fn one_m() -> PositiveMetres {
     PositiveMetres(1.0)
 }
-fn default_elbows() -> Vec<ElbowSpec> {
-    vec![ElbowSpec::Out]
+fn default_elbows() -> Vec<ElbowMode> {
+    vec![ElbowMode::Out]
 }
-fn default_tsai_modes() -> Vec<[TsaiElbowSpec; 3]> {
-    vec![[TsaiElbowSpec::Out; 3]]
+fn default_tsai_modes() -> Vec<[Elbow; 3]> {
+    vec![[Elbow::Out; 3]]
 }
 fn paper_leans() -> [bool; 3] {
     LinearDeltaMode::PAPER.leans_positive
@@ -493,8 +444,8 @@ pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
 ///
 /// # Errors
 /// [`BuildError::Design`] with the library's reason for an invalid design or rotation.
-pub fn stewart_orientation(s: &StewartOrientationSpec) -> Result<ConstantOrientation, BuildError> {
-    let d = &s.design;
+pub fn stewart_orientation(s: &StewartSpec) -> Result<ConstantOrientation, BuildError> {
+    let d = s;
     let platform = StewartGough::new(StewartDesign {
         layout: stewart_layout(d),
         ..StewartDesign::from_deg(
@@ -518,14 +469,8 @@ impl From<BuildError> for StudyError {
 /// The library's joint layout of a `[mechanism.stewart_gough]` table.
 pub fn stewart_layout(spec: &StewartSpec) -> JointLayout {
     JointLayout {
-        pairing: match spec.pairing {
-            PairingSpec::SamePattern => Pairing::SamePattern,
-            PairingSpec::ZigZag => Pairing::ZigZag,
-        },
-        angle_mode: match spec.angle_mode {
-            AngleModeSpec::Separation => AngleMode::Separation,
-            AngleModeSpec::Half => AngleMode::Half,
-        },
+        pairing: spec.pairing,
+        angle_mode: spec.angle_mode,
         offset_deg: spec.offset_deg.0,
     }
 }
