@@ -2,6 +2,7 @@
 //! ([`mechanism`]), `[sampling]` ([`sampling`]) and the checked quantities with units that they
 //! are made of ([`units`]).
 
+pub mod grid;
 pub mod mechanism;
 pub mod sampling;
 pub mod units;
