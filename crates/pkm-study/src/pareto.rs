@@ -76,7 +76,7 @@ pub(crate) struct Plan {
 
 impl Plan {
     /// The objectives, in order.
-    pub fn indices(&self) -> Vec<IndexName> {
+    pub(crate) fn indices(&self) -> Vec<IndexName> {
         self.requested.iter().map(|(i, _)| *i).collect()
     }
 }
@@ -257,7 +257,7 @@ fn front_chart(r: &ParetoResult, background: Vec<(f64, f64)>) -> Chart {
     let (x, y) = (r.objectives[0].key(), r.objectives[1].key());
     let mut front: Vec<(f64, f64)> = r.front.iter().map(|p| (p.values[0], p.values[1])).collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let markers = r
+    let markers: Vec<Marker> = r
         .weighted_optima
         .iter()
         .map(|o| Marker {

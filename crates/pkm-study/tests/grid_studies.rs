@@ -323,7 +323,7 @@ fn split_studies_merge_into_the_single_run_bit_for_bit() {
 
 /// Serialising results of different types to compare them.
 mod erased {
-    pub trait Json {
+    pub(super) trait Json {
         fn json(&self) -> String;
     }
     impl<T: serde::Serialize> Json for T {

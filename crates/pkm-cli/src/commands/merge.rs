@@ -94,7 +94,6 @@ impl Run for Args {
         let grid: GridStudy = pkm_study::from_toml_str(&echo.text).map_err(located)?;
         let outcome =
             pkm_study::merge(&grid, kind, parts, &context.progress).map_err(located)?;
-        let echo = echo.clone();
         let mut report = Report {
             lines: outcome.summary,
         };

@@ -69,7 +69,7 @@ pub(crate) struct Plan<'a> {
 
 impl Plan<'_> {
     /// The indices evaluated, in order.
-    pub fn indices(&self) -> Vec<IndexName> {
+    pub(crate) fn indices(&self) -> Vec<IndexName> {
         self.requested.iter().map(|(i, _)| *i).collect()
     }
 }
