@@ -7,4 +7,5 @@ mod determinism;
 mod hostile;
 mod reproduce_quick;
 mod six_mechanisms;
+mod study_grid;
 mod tidy;

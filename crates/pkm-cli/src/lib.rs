@@ -5,8 +5,6 @@
 pub mod commands;
 pub use pkm_study::scene as drawing;
 mod error;
-pub mod grid;
-pub mod indices;
 pub mod output;
 pub mod plot;
 pub mod progress;

@@ -1,48 +1,14 @@
-//! The commands' figures as `pkm_draw::chart` charts: a heat map with markers, and a scatter of
-//! designs with a highlighted front. The commands describe a figure with [`Heatmap`] or
-//! [`Scatter`]; [`heatmap`] and [`scatter`] turn it into a [`Chart`] and render it with the one
-//! chart renderer, [`render_svg`].
+//! The commands' figures as `pkm_draw::chart` charts: a scatter of designs with a highlighted
+//! front. The commands describe a figure with [`Scatter`]; [`scatter`] turns it into a
+//! [`Chart`] and renders it with the one chart renderer, [`render_svg`].
 //!
-//! A cell without value is `None` (drawn blank); a NaN or infinite number is refused with the
+//! A NaN or infinite number is refused with the
 //! chart layer's typed error (see `pkm_draw::chart`).
 
 use pkm_draw::chart::{Chart, Colour, LegendPosition, Series, SeriesStyle, render_svg};
 use std::path::Path;
 
 pub use pkm_draw::chart::Marker;
-
-/// Values on the grid `x × y` (cell centres, increasing), `values[iy * x.len() + ix]`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Heatmap {
-    /// Title.
-    pub title: String,
-    /// Axis label.
-    pub x_label: String,
-    /// Axis label.
-    pub y_label: String,
-    /// Colour-bar label.
-    pub z_label: String,
-    /// Cell centres along x.
-    pub x: Vec<f64>,
-    /// Cell centres along y.
-    pub y: Vec<f64>,
-    /// Values, `None` where there is none (drawn blank).
-    pub values: Vec<Option<f64>>,
-    /// Points marked on the map.
-    pub markers: Vec<Marker>,
-}
-
-impl From<Heatmap> for Chart {
-    fn from(map: Heatmap) -> Self {
-        let field = pkm_draw::chart::Heatmap {
-            colour_axis: map.z_label.into(),
-            x: map.x,
-            y: map.y,
-            values: map.values,
-        };
-        Chart::heatmap(map.title, map.x_label, map.y_label, field).with_markers(map.markers)
-    }
-}
 
 /// Points, some highlighted (drawn larger and labelled).
 #[derive(Debug, Clone, PartialEq)]
@@ -81,14 +47,6 @@ impl From<Scatter> for Chart {
 pub fn render(chart: &Chart, path: &Path) -> Result<(), String> {
     let svg = render_svg(chart).map_err(|e| e.to_string())?;
     std::fs::write(path, svg).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Renders `map` to an SVG file at `path`.
-///
-/// # Errors
-/// As [`render`].
-pub fn heatmap(map: &Heatmap, path: &Path) -> Result<(), String> {
-    render(&map.clone().into(), path)
 }
 
 /// Renders `plot` to an SVG file at `path`.

@@ -8,10 +8,29 @@ use common::example;
 use pkm_cli::commands::dynamics::DynamicsStudy;
 use pkm_cli::commands::optimize::OptimizeStudy;
 use pkm_cli::commands::task::TaskStudy;
-use pkm_cli::commands::{pareto, sweep};
-use pkm_cli::grid::{self, GridStudy};
 use pkm_cli::study;
-use pkm_study::WorkspaceStudy;
+use pkm_study::{GridStudy, Shard, StudyError, WorkspaceStudy};
+
+/// A progress reporter that has already been asked to stop: a study that gets past its checks
+/// stops at its first computation.
+struct Stop;
+
+impl pkm_traits::Progress for Stop {
+    fn is_cancelled(&self) -> bool {
+        true
+    }
+}
+
+/// The nodes of the grid of the example study `name`, after every check of `kind`.
+fn checked_grid(name: &str, kind: &str) -> usize {
+    let (_, grid): (String, GridStudy) = study::load_study(&example(name)).unwrap();
+    let run = match kind {
+        "sweep" => pkm_study::sweep(&grid, Shard::WHOLE, &Stop).map(|_| ()),
+        _ => pkm_study::pareto(&grid, Shard::WHOLE, &Stop).map(|_| ()),
+    };
+    assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
+    pkm_study::grid::prepare(&grid, &[]).unwrap().grid.len()
+}
 
 #[test]
 fn the_example_studies_are_valid() {
@@ -23,15 +42,9 @@ fn the_example_studies_are_valid() {
         let _: (String, WorkspaceStudy) = study::load_study(&example(name)).unwrap();
     }
     for name in ["tsai_volume_gci.toml", "linear_delta_table2_row4.toml"] {
-        let file: study::StudyFile<GridStudy> = study::load(&example(name)).unwrap();
-        let requested = sweep::requested_indices(&file).unwrap();
-        let prepared = grid::prepare(&file, &requested).unwrap();
-        assert!(prepared.grid.len() > 10, "{name}");
+        assert!(checked_grid(name, "sweep") > 10, "{name}");
     }
-    let file: study::StudyFile<GridStudy> =
-        study::load(&example("linear_delta_pareto.toml")).unwrap();
-    let prepared = grid::prepare(&file, &pareto::requested(&file).unwrap()).unwrap();
-    assert!(prepared.grid.len() > 1000);
+    assert!(checked_grid("linear_delta_pareto.toml", "pareto") > 1000);
     let _: study::StudyFile<OptimizeStudy> =
         study::load(&example("tsai_volume_optimize.toml")).unwrap();
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {

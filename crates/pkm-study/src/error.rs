@@ -142,6 +142,17 @@ pub enum StudyError {
     /// A search refused its settings or found no feasible design.
     #[error("{0}")]
     Optimize(OptimizeError),
+    /// No node of a grid study has a value.
+    #[error("no feasible design among {nodes} nodes (first reason: {reason})")]
+    NoFeasibleDesign {
+        /// Nodes evaluated.
+        nodes: usize,
+        /// Why the first infeasible node has no value.
+        reason: String,
+    },
+    /// Shard results that are not the parts of one run of the study.
+    #[error("{0}")]
+    Merge(#[from] crate::merge::MergeError),
     /// The caller's progress reporter asked to stop.
     #[error("cancelled")]
     Cancelled,

@@ -1,18 +1,28 @@
 #![doc = include_str!("../README.md")]
 
 mod error;
+pub mod grid;
+pub mod indices;
+pub mod merge;
 pub mod outcome;
+pub mod pareto;
 mod parse;
 pub mod registry;
 pub mod scene;
 pub mod schema;
+pub mod sweep;
 pub mod workspace;
 
 pub use error::{Key, KeyPath, StudyError};
+pub use grid::{GridRun, Shard, ShardResult};
+pub use merge::{GridKind, MergeError, Merged, merge};
 pub use outcome::{Artifact, Cell, Outcome, Table, short};
+pub use pareto::{ParetoResult, ParetoStudy, pareto};
 pub use parse::{from_deserializer, from_json_str, from_toml_str};
 pub use registry::{Actuation, StudyMechanism, Unit, Variable};
 pub use schema::mechanism::MechanismSpec;
+pub use schema::grid::GridStudy;
+pub use sweep::{SweepResult, SweepStudy, sweep};
 pub use workspace::{WorkspaceResult, WorkspaceStudy, workspace};
 
 /// What the registry macros need from this crate's dependencies, so that a crate which

@@ -1,12 +1,13 @@
 //! `pkm merge DIR…`: joins the outputs of `pkm sweep --shard I/N` (or `pkm pareto`) for
-//! I = 1…N into the result of a single run, bit for bit: the shards' node values are
-//! concatenated in node order and the run is finished by the same code as a single run.
+//! I = 1…N into the result of a single run, bit for bit, with the study layer's
+//! [`pkm_study::merge`]. This file reads the shards' `results.json` and checks that they come
+//! from one command on one study file.
 
-use super::{Context, Report, Run, pareto, sweep};
+use super::{Context, Report, Run};
 use crate::CliError;
-use crate::grid::{self, GridStudy, Shard, ShardResult};
-use crate::output::{Results, SCHEMA, StudyEcho};
-use crate::study::{self, StudyFile};
+use crate::output::{Output, Results, SCHEMA};
+use crate::study;
+use pkm_study::{GridKind, GridStudy, ShardResult};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `pkm merge`.
@@ -35,13 +36,6 @@ fn read_shard(dir: &Path) -> Result<Results<ShardResult>, CliError> {
             path.display()
         ))
     })?;
-    let Shard { index, count } = shard.shard;
-    if !(1 <= index && index <= count) {
-        return Err(CliError::Invalid(format!(
-            "{}: shard {index}/{count} is not a part I/N with 1 <= I <= N",
-            path.display()
-        )));
-    }
     Ok(Results {
         schema: results.schema,
         command: results.command,
@@ -52,90 +46,61 @@ fn read_shard(dir: &Path) -> Result<Results<ShardResult>, CliError> {
     })
 }
 
-/// Checks that `shards` are the N parts of one run and returns them in order.
-fn check(mut shards: Vec<(PathBuf, Results<ShardResult>)>) -> Result<Vec<Results<ShardResult>>, CliError> {
-    shards.sort_by_key(|(_, s)| s.result.shard.index);
-    let Some((first_dir, first)) = shards.first() else {
+/// Checks that the shards in `dirs` come from one command on one study file; returns them.
+fn read_shards(dirs: &[PathBuf]) -> Result<Vec<Results<ShardResult>>, CliError> {
+    let shards = dirs
+        .iter()
+        .map(|d| read_shard(d))
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let Some(first) = shards.first() else {
         return Err(CliError::Invalid("no shard directories to merge".into()));
     };
-    let count = first.result.shard.count;
-    let differs = |what: &str, dir: &Path| {
-        CliError::Invalid(format!(
-            "{} and {}: different {what}; merge only the shards of one run",
-            first_dir.display(),
-            dir.display()
-        ))
-    };
-    for (dir, s) in &shards {
+    for (dir, s) in dirs.iter().zip(&shards) {
+        let differs = |what: &str| {
+            CliError::Invalid(format!(
+                "{} and {}: different {what}; merge only the shards of one run",
+                dirs[0].display(),
+                dir.display()
+            ))
+        };
         if s.command != first.command {
-            return Err(differs("commands", dir));
+            return Err(differs("commands"));
         }
         if s.study.text != first.study.text {
-            return Err(differs("study files", dir));
-        }
-        if s.result.shard.count != count || s.result.total_nodes != first.result.total_nodes {
-            return Err(differs("shard counts", dir));
+            return Err(differs("study files"));
         }
     }
-    let indices: Vec<usize> = shards.iter().map(|(_, s)| s.result.shard.index).collect();
-    if indices != (1..=count).collect::<Vec<_>>() {
-        return Err(CliError::Invalid(format!(
-            "expected shards 1..={count} once each, got {indices:?}"
-        )));
-    }
-    for (dir, s) in &shards {
-        let range = s.result.shard.nodes(s.result.total_nodes);
-        if s.result.first_node != range.start || s.result.outcomes.len() != range.len() {
-            return Err(CliError::Invalid(format!(
-                "{}: shard {}/{count} should hold nodes {range:?}",
-                dir.display(),
-                s.result.shard.index
-            )));
-        }
-    }
-    Ok(shards.into_iter().map(|(_, s)| s).collect())
+    Ok(shards)
 }
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let shards = self
-            .dirs
-            .iter()
-            .map(|d| Ok((d.clone(), read_shard(d)?)))
-            .collect::<Result<Vec<_>, CliError>>()?;
-        let shards = check(shards)?;
+        let shards = read_shards(&self.dirs)?;
         let Some(first) = shards.first() else {
             return Err(CliError::Invalid("no shard directories to merge".into()));
         };
-        let echo: StudyEcho = first.study.clone();
-        let command = first.command.clone();
-        let indices = first.result.indices.clone();
-        let outcomes: Vec<grid::NodeOutcome> = shards
-            .into_iter()
-            .flat_map(|s| s.result.outcomes)
-            .collect();
-        let file: StudyFile<GridStudy> =
-            study::parse(Path::new(&echo.file), echo.text.clone())?;
-        let requested = match command.as_str() {
-            "sweep" => sweep::requested_indices(&file)?,
-            "pareto" => pareto::requested(&file)?,
+        let (command, echo) = (first.command.clone(), first.study.clone());
+        let parts = shards.into_iter().map(|s| s.result).collect();
+        let kind = match command.as_str() {
+            "sweep" => GridKind::Sweep,
+            "pareto" => GridKind::Pareto,
             other => {
-                return Err(CliError::Invalid(format!("cannot merge the output of `{other}`")));
+                let m = format!("cannot merge the output of `{other}`");
+                return Err(CliError::Invalid(m));
             }
         };
-        if requested.iter().map(|(i, _)| *i).ne(indices.iter().copied()) {
-            return Err(CliError::Invalid(
-                "the shards evaluated other indices than their study asks for".into(),
-            ));
-        }
-        let prepared = grid::prepare(&file, &requested)?;
-        if prepared.grid.len() != outcomes.len() {
-            return Err(CliError::Invalid("the shards do not cover the study's grid".into()));
-        }
-        match command.as_str() {
-            "sweep" => sweep::finish(&file, echo, &prepared, outcomes, context),
-            _ => pareto::finish(&file, echo, &prepared, outcomes, context),
-        }
+        let path = Path::new(&echo.file);
+        let located = |e| study::study_error(path, &echo.text, e);
+        let grid: GridStudy = pkm_study::from_toml_str(&echo.text).map_err(located)?;
+        let outcome =
+            pkm_study::merge(&grid, kind, parts, &context.progress).map_err(located)?;
+        let mut report = Report {
+            lines: outcome.summary,
+        };
+        let mut out = Output::create(&context.out)?;
+        out.write_artifacts(&outcome.artifacts, &mut report)?;
+        let written = out.finish(&command, echo, outcome.result)?;
+        report.line(format!("wrote {}", written.display()));
+        Ok(report)
     }
 }
-

@@ -3,6 +3,7 @@
 //! are made of ([`units`]).
 
 mod kinds;
+pub mod grid;
 pub mod mechanism;
 pub mod sampling;
 pub mod units;

@@ -1,96 +1,26 @@
-//! The indices a sweep or a Pareto study can ask for, and their evaluation at one design.
-//!
-//! | index | meaning | unit | mechanisms |
-//! |---|---|---|---|
-//! | `volume` | workspace volume W over the study's points | m³ | all |
-//! | `eta` | η = ∫ 1/κ dW | m³ | all |
-//! | `gci` | GCI = η / W (Gosselin & Angeles) | – | all |
-//! | `eta1` | mean 1/κ over the y–z cross-section (Miller 2004 eq. 1) | – | linear_delta |
-//! | `eta2` | space utilisation (Miller 2004 eq. 2) | – | linear_delta |
-//! | `area` | cross-section area A_W / Y_R² | – | linear_delta |
+//! The indices of a grid study at one design (see [`IndexName`] for the table): the base
+//! mechanism with the design variables set, under the study's constraints, on its common
+//! points.
 //!
 //! The Linear Delta's cross-section indices are the library's
-//! (`pkm_workspace_indices::SectionIndices`, the same as the paper experiments), cached per
-//! exact design for the study (`SectionIndexCache`): a design is never given another design's
-//! values, however close the nodes of a sweep.
+//! ([`SectionIndices`](pkm_workspace_indices::SectionIndices), the same as the paper
+//! experiments), cached per exact design for the one study ([`SectionIndexCache`]): a design is
+//! never given another design's values, however close the nodes of a sweep.
 
-use crate::CliError;
-use crate::study::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
+use crate::registry::StudyMechanism as _;
+use crate::StudyError;
+use crate::schema::grid::{IndexName, IndexSettings};
+use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
-use pkm_study::StudyMechanism as _;
 use pkm_traits::{ConstrainedWorkspace, ObjectiveError, Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{
     Dim, Eta1Rule, IndexError, PointSet, SectionIndex, SectionIndexCache, TranslationalCondition,
     Workspace,
 };
-use serde::{Deserialize, Serialize};
 
-/// An index (see the module table).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum IndexName {
-    /// Workspace volume (m³).
-    Volume,
-    /// η = ∫ 1/κ dW (m³).
-    Eta,
-    /// η / W.
-    Gci,
-    /// Linear Delta manipulability, eq. 1.
-    Eta1,
-    /// Linear Delta space utilisation, eq. 2.
-    Eta2,
-    /// Linear Delta cross-section area over Y_R².
-    Area,
-}
-
-impl IndexName {
-    /// The name in study files and CSV headers.
-    pub fn key(self) -> &'static str {
-        match self {
-            Self::Volume => "volume",
-            Self::Eta => "eta",
-            Self::Gci => "gci",
-            Self::Eta1 => "eta1",
-            Self::Eta2 => "eta2",
-            Self::Area => "area",
-        }
-    }
-
-    /// Whether it is estimated over the study's workspace points.
-    pub fn needs_points(self) -> bool {
-        matches!(self, Self::Volume | Self::Eta | Self::Gci)
-    }
-
-    /// Whether `mechanism` has it.
-    pub fn applies_to(self, mechanism: &MechanismSpec) -> bool {
-        self.needs_points() || mechanism.section_ratios().is_some()
-    }
-}
-
-/// The `[indices]` settings (and the overrides of a refinement level).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct IndexSettings {
-    /// Gauss–Legendre points per axis and piece of the Linear Delta's η1 (default 16).
-    #[serde(default = "default_eta1_points")]
-    pub eta1_points: usize,
-    /// η1 by the paper's uniform grid (eq. 4, N_a > 5000) instead of Gauss–Legendre.
-    #[serde(default)]
-    pub eta1_paper_grid: bool,
-}
-
-fn default_eta1_points() -> usize {
-    16
-}
-
-impl Default for IndexSettings {
-    fn default() -> Self {
-        Self {
-            eta1_points: default_eta1_points(),
-            eta1_paper_grid: false,
-        }
-    }
-}
+/// Why a design has no value: recorded with the node (in the result and the landscape), never
+/// an abort.
+pub type Infeasible = String;
 
 impl IndexSettings {
     fn eta1_rule(self) -> Eta1Rule {
@@ -102,11 +32,7 @@ impl IndexSettings {
     }
 }
 
-/// Why a design has no value: recorded, never an abort.
-pub type Infeasible = String;
-
-/// Evaluates indices at designs of one study: the base mechanism with the design variables
-/// set, under the study's constraints, on its common points.
+/// Evaluates indices at designs of one study.
 #[derive(Debug)]
 pub struct Evaluator {
     base: MechanismSpec,
@@ -116,13 +42,14 @@ pub struct Evaluator {
     cache: SectionIndexCache,
 }
 
+/// W and η of one design's workspace over the study's points.
 struct VolumeAndEta<'a> {
     points: &'a PointSet,
     with_eta: bool,
 }
 
 impl WorkspaceVisitor for VolumeAndEta<'_> {
-    type Output = Result<(f64, Option<f64>), CliError>;
+    type Output = Result<(f64, Option<f64>), StudyError>;
 
     fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
         self,
@@ -131,7 +58,7 @@ impl WorkspaceVisitor for VolumeAndEta<'_> {
     where
         Dim<NQ>: TranslationalCondition<NQ>,
     {
-        // Silent: a sweep reports progress per design, not per point.
+        // Silent: a grid study reports progress per design, not per point.
         let e = if self.with_eta {
             workspace.volume_and_eta(self.points, &Silent)?
         } else {
@@ -143,7 +70,7 @@ impl WorkspaceVisitor for VolumeAndEta<'_> {
 
 impl Evaluator {
     /// An evaluator of `base` with `variables` (names already checked) under `constraints`,
-    /// on `points` (needed for the workspace indices).
+    /// on `points` (needed for the workspace indices), with an empty cache.
     pub fn new(
         base: MechanismSpec,
         variables: Vec<String>,
@@ -162,7 +89,8 @@ impl Evaluator {
     /// The mechanism at `design` (values of the variables in order).
     ///
     /// # Errors
-    /// A message for an unknown variable (checked before any run, so not reached then).
+    /// The mechanism's message for an unknown variable (checked before any run, so not reached
+    /// then).
     pub fn mechanism_at(&self, design: &[f64]) -> Result<MechanismSpec, Infeasible> {
         let mut spec = self.base.clone();
         for (name, value) in self.variables.iter().zip(design) {
@@ -187,25 +115,15 @@ impl Evaluator {
         design: &[f64],
         indices: &[IndexName],
         settings: IndexSettings,
-    ) -> Result<Result<Vec<f64>, Infeasible>, CliError> {
+    ) -> Result<Result<Vec<f64>, Infeasible>, StudyError> {
         let spec = match self.mechanism_at(design) {
             Ok(spec) => spec,
             Err(reason) => return Ok(Err(reason)),
         };
-        let mut workspace: Option<(f64, Option<f64>)> = None;
-        if indices.iter().any(|i| i.needs_points()) {
-            let points = self.points.as_ref().ok_or_else(|| {
-                CliError::Invalid("workspace indices need a [sampling] section".into())
-            })?;
-            let with_eta = indices
-                .iter()
-                .any(|i| matches!(i, IndexName::Eta | IndexName::Gci));
-            match spec.with_workspace(&self.constraints, VolumeAndEta { points, with_eta }) {
-                Ok(values) => workspace = Some(values?),
-                Err(BuildError::Design(reason)) => return Ok(Err(reason)),
-                Err(e @ BuildError::Constraint(_)) => return Err(CliError::Invalid(e.to_string())),
-            }
-        }
+        let workspace = match self.workspace_indices(&spec, indices)? {
+            Ok(values) => values,
+            Err(reason) => return Ok(Err(reason)),
+        };
         let mut values = Vec::with_capacity(indices.len());
         for index in indices {
             let value = match (index, workspace) {
@@ -223,6 +141,30 @@ impl Evaluator {
             }
         }
         Ok(Ok(values))
+    }
+
+    /// W and η of `spec` when `indices` ask for a workspace index.
+    fn workspace_indices(
+        &self,
+        spec: &MechanismSpec,
+        indices: &[IndexName],
+    ) -> Result<Result<Option<(f64, Option<f64>)>, Infeasible>, StudyError> {
+        if !indices.iter().any(|i| i.needs_points()) {
+            return Ok(Ok(None));
+        }
+        let points = self.points.as_ref().ok_or_else(|| {
+            StudyError::invalid("sampling", "workspace indices need a [sampling] section")
+        })?;
+        let with_eta = indices
+            .iter()
+            .any(|i| matches!(i, IndexName::Eta | IndexName::Gci));
+        match spec.with_workspace(&self.constraints, VolumeAndEta { points, with_eta }) {
+            Ok(values) => Ok(Ok(Some(values?))),
+            Err(BuildError::Design(reason)) => Ok(Err(reason)),
+            Err(e @ BuildError::Constraint(_)) => {
+                Err(StudyError::invalid("constraints", e.to_string()))
+            }
+        }
     }
 
     fn cross_section_index(
