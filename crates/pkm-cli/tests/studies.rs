@@ -1,21 +1,21 @@
-//! Every study kind end to end through the `pkm` binary, its numbers checked against the same
-//! computation done directly through the library.
+//! The grid studies (`sweep`, `pareto`) end to end through the `pkm` binary, their numbers
+//! checked against the same computation done directly through the library. The workspace
+//! study's science is checked in `crates/pkm-study/tests/workspace.rs`, the Linear Delta
+//! study against Miller's Table 2 experiment in the root `tests/it/linear_delta_study.rs`.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod common;
 
 use common::{close, csv, run_study, study};
 use nalgebra::Vector3;
-use pkm::papers::miller2004::linear_delta::table2;
-use pkm::papers::{Context, Mode};
 use pkm_mechanisms::{
-    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
-    Placement, RotaryDelta, RotaryDeltaDesign, Tsai3Dof, TsaiDesign,
+    Elbow, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios, Tsai3Dof,
+    TsaiDesign,
 };
-use pkm_traits::{Silent, WorkspaceConstraint};
+use pkm_traits::Silent;
 use pkm_workspace_indices::{
-    Domain, Eta1Rule, IndexError, PointSet, Region, Sampler, SectionIndex, SectionIndexCache,
-    SectionIndices, Workspace,
+    Domain, Eta1Rule, IndexError, PointSet, Region, Sampler, SectionIndex, SectionIndices,
+    Workspace,
 };
 
 /// Relative agreement of two evaluations of the same formula with the same inputs.
@@ -31,79 +31,6 @@ fn section_index(design: &[f64; 4], index: SectionIndex) -> Result<f64, IndexErr
     let ratios = LinearDeltaRatios::from_slice(design);
     let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 })?;
     SectionIndices::new(&delta, LinearDeltaMode::PAPER).value(index)
-}
-
-#[test]
-fn nuwar_workspace_matches_the_library() {
-    let out = tempfile::tempdir().unwrap();
-    let results = run_study(
-        "workspace",
-        &study("nuwar_workspace_quick.toml"),
-        out.path(),
-        &[],
-    );
-    assert_eq!(results["schema"], "pkm-cli/results/v1");
-    assert!(
-        results["study"]["text"]
-            .as_str()
-            .unwrap()
-            .contains("rotary_delta")
-    );
-
-    let placement = Placement {
-        motor_plane_z: 0.0,
-        azimuth_motor_1: 0.0,
-    };
-    let delta = RotaryDelta::new(RotaryDeltaDesign {
-        base_radius: 0.15,
-        plate_offset: 0.04,
-        arm: 0.2,
-        forearm: 0.45,
-        alpha: 35.264389682754654f64.to_radians(),
-        beta: 60f64.to_radians(),
-        placement,
-    })
-    .unwrap();
-    let limits = [
-        WorkspaceConstraint::below(0.0).unwrap(),
-        WorkspaceConstraint::joint_range((-40f64).to_radians(), 90f64.to_radians()).unwrap(),
-        WorkspaceConstraint::passive_cone(35f64.to_radians()).unwrap(),
-        WorkspaceConstraint::leg_clearance(0.03).unwrap(),
-    ];
-    let domain = Domain::new(Region::axial_cylinder(0.76, -0.65, 0.0))
-        .unwrap()
-        .with_sector(3, 0.0)
-        .unwrap();
-    let points = PointSet::new(domain, Sampler::Sobol { seed: 42 }, 4096, 4).unwrap();
-    let workspace = Workspace::new(&delta, &[ElbowMode::Out], &limits).unwrap();
-    let direct = workspace.volume_and_eta(&points, &Silent).unwrap();
-
-    let e = &results["result"]["estimate"];
-    assert!(direct.volume > 0.0 && direct.n_inside > 100);
-    assert_eq!(e["n_inside"].as_u64(), Some(direct.n_inside));
-    assert!(close(f(&e["volume"]), direct.volume, SAME));
-    assert!(close(f(&e["volume_se"]), direct.volume_se, SAME));
-    assert!(close(f(&e["eta"]), direct.eta.unwrap(), SAME));
-    assert!(close(f(&e["gci"]), direct.gci().unwrap(), SAME));
-
-    // The horizontal slice at z = -0.36 m: every cell is 1/κ at its centre, or outside.
-    let (header, rows) = csv(&out.path().join("slice-1-xy.csv"));
-    assert_eq!(header, ["x", "y", "inside", "inverse_condition"]);
-    assert_eq!(rows.len(), 32 * 32);
-    let mut inside = 0;
-    for row in &rows {
-        let (x, y): (f64, f64) = (row[0].parse().unwrap(), row[1].parse().unwrap());
-        let expected = workspace.inverse_condition(&Vector3::new(x, y, -0.36));
-        match expected {
-            Some(v) => {
-                inside += 1;
-                assert!(close(row[3].parse().unwrap(), v, SAME), "{row:?} vs {v}");
-            }
-            None => assert_eq!(row[2], "0"),
-        }
-    }
-    assert!(inside > 10, "the slice at z = -0.36 m cuts the workspace");
-    assert!(out.path().join("slice-2-yz.svg").exists());
 }
 
 #[test]
@@ -153,44 +80,6 @@ fn tsai_sweep_matches_the_library_and_refines_upwards() {
     let refined = f(&results["result"]["optimum"]["utility"]);
     assert!(refined >= u, "refinement never loses: {refined} < {u}");
     assert!(out.path().join("heatmap-a-b.svg").exists());
-}
-
-/// Table 2 row 4 of Miller 2004 from a study file alone: the same optimum as the
-/// `pkm::papers` experiment (quick rules in both).
-#[test]
-fn linear_delta_row4_study_gives_the_experiments_optimum() {
-    let out = tempfile::tempdir().unwrap();
-    let results = run_study(
-        "sweep",
-        &study("linear_delta_row4_quick.toml"),
-        out.path(),
-        &[],
-    );
-    let context = Context {
-        mode: Mode::Quick,
-        progress: &Silent,
-    };
-    let (_, experiment) = table2::row4(&context, &SectionIndexCache::new()).unwrap();
-    let optimum = &results["result"]["optimum"];
-    let names = ["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1"];
-    for (name, expected) in names.iter().zip(experiment.design) {
-        let got = f(&optimum["design"][name]);
-        assert!(
-            close(got, expected, SAME),
-            "{name}: study {got}, experiment {expected}"
-        );
-    }
-    assert!(close(
-        f(&optimum["indices"]["eta1"]),
-        experiment.indices[0],
-        SAME
-    ));
-    assert!(close(
-        f(&optimum["indices"]["eta2"]),
-        experiment.indices[1],
-        SAME
-    ));
-    assert!(close(f(&optimum["utility"]), experiment.indices[2], SAME));
 }
 
 #[test]
@@ -264,41 +153,6 @@ fn linear_delta_pareto_front_and_weight_ranges_match_a_brute_force() {
         .unwrap();
     assert!(f(&p["weight_range"][0]) <= 0.5 && 0.5 <= f(&p["weight_range"][1]));
     assert!(out.path().join("front.svg").exists());
-}
-
-#[test]
-fn linear_delta_workspace_matches_the_library() {
-    let out = tempfile::tempdir().unwrap();
-    let results = run_study(
-        "workspace",
-        &study("linear_delta_workspace_quick.toml"),
-        out.path(),
-        &[],
-    );
-    let ratios = LinearDeltaRatios::from_slice(&[2.0, 0.0, 0.0, 0.63]);
-    let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 0.2 }).unwrap();
-    let carriages = [WorkspaceConstraint::joint_range(-0.5, 0.5).unwrap()];
-    let region = Region::Box {
-        lower: Vector3::new(-1.2, -0.6, -0.6),
-        upper: Vector3::new(1.2, 0.6, 0.05),
-    };
-    let points = PointSet::new(
-        Domain::new(region).unwrap(),
-        Sampler::Sobol { seed: 1 },
-        4096,
-        4,
-    )
-    .unwrap();
-    let workspace = Workspace::new(&delta, &[LinearDeltaMode::PAPER], &carriages).unwrap();
-    let direct = workspace.volume_and_eta(&points, &Silent).unwrap();
-    let e = &results["result"]["estimate"];
-    assert!(direct.n_inside > 100);
-    assert_eq!(e["n_inside"].as_u64(), Some(direct.n_inside));
-    assert!(close(f(&e["volume"]), direct.volume, SAME));
-    assert!(close(f(&e["gci"]), direct.gci().unwrap(), SAME));
-    // Bounded by the cross-section area (YR² · A_W/YR²) times the carriage stroke.
-    let area = section_index(&[2.0, 0.0, 0.0, 0.63], SectionIndex::Area).unwrap();
-    assert!(f(&e["volume"]) < 0.2 * 0.2 * area * 1.0);
 }
 
 /// Regression (issue 17): the Linear Delta's η1/η2 were memoised per design rounded to 1e-6 and

@@ -2,7 +2,9 @@
 //! so that every front end can point at it: the `pkm` command maps it to a file, line and
 //! column, the Python package raises it with the path.
 
+use pkm_dynamics_hamilton::DynamicsError;
 use pkm_optimizers::OptimizeError;
+use pkm_traits::IntegrationError;
 use pkm_workspace_indices::IndexError;
 use std::fmt;
 use std::ops::Range;
@@ -142,6 +144,12 @@ pub enum StudyError {
     /// A search refused its settings or found no feasible design.
     #[error("{0}")]
     Optimize(OptimizeError),
+    /// The dynamics refused a sample (out of reach, singular, non-finite) with its time.
+    #[error("{0}")]
+    Dynamics(DynamicsError),
+    /// The forward integration failed (tolerance not met, step budget spent, ...).
+    #[error("forward integration: {0}")]
+    Integration(IntegrationError),
     /// The caller's progress reporter asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -187,6 +195,24 @@ impl From<OptimizeError> for StudyError {
         match e {
             OptimizeError::Cancelled => Self::Cancelled,
             e => Self::Optimize(e),
+        }
+    }
+}
+
+impl From<DynamicsError> for StudyError {
+    fn from(e: DynamicsError) -> Self {
+        match e {
+            DynamicsError::Integration(e) => e.into(),
+            e => Self::Dynamics(e),
+        }
+    }
+}
+
+impl From<IntegrationError> for StudyError {
+    fn from(e: IntegrationError) -> Self {
+        match e {
+            IntegrationError::Cancelled => Self::Cancelled,
+            e => Self::Integration(e),
         }
     }
 }

@@ -25,6 +25,7 @@
 //! # Ok::<(), pkm_study::StudyError>(())
 //! ```
 
+pub mod dynamics;
 mod error;
 pub mod outcome;
 mod parse;
@@ -32,6 +33,7 @@ pub mod scene;
 pub mod schema;
 pub mod workspace;
 
+pub use dynamics::{DynamicsResult, DynamicsStudy, dynamics};
 pub use error::{Key, KeyPath, StudyError};
 pub use outcome::{Artifact, Cell, Outcome, Table, short};
 pub use parse::{from_deserializer, from_json_str, from_toml_str};
