@@ -43,7 +43,10 @@ fn linear_delta_row4_study_gives_the_experiments_optimum() {
     let names = ["l1_over_yr", "ya_over_yr", "zr_over_yr", "l2_over_l1"];
     for (name, expected) in names.iter().zip(experiment.design) {
         let got = f(&optimum["design"][name]);
-        assert!(close(got, expected), "{name}: study {got}, experiment {expected}");
+        assert!(
+            close(got, expected),
+            "{name}: study {got}, experiment {expected}"
+        );
     }
     assert!(close(f(&optimum["indices"]["eta1"]), experiment.indices[0]));
     assert!(close(f(&optimum["indices"]["eta2"]), experiment.indices[1]));

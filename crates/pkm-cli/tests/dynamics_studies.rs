@@ -42,7 +42,14 @@ fn the_csv_example_is_the_study_layers_run_on_its_rows() {
     assert_eq!(results.command, "dynamics");
     assert_eq!(
         results.files,
-        ["torques.csv", "torques.svg", "retrace.csv", "retrace.svg", "robot.svg", "robot.csv"]
+        [
+            "torques.csv",
+            "torques.svg",
+            "retrace.csv",
+            "retrace.svg",
+            "robot.svg",
+            "robot.csv"
+        ]
     );
     for file in &results.files {
         assert!(out.path().join(file).is_file(), "{file} listed but missing");
@@ -83,29 +90,47 @@ fn refusal(from: &str, to: &str, dir: &Path) -> (String, usize) {
 fn bad_masses_and_csv_rows_are_refused_at_their_line() {
     let dir = tempfile::tempdir().unwrap();
     let (e, line) = refusal("plate = 0.2807", "plate = -0.2807", dir.path());
-    assert!(e.contains(&format!(":{line}:")) && e.contains("masses.plate"), "{e}");
+    assert!(
+        e.contains(&format!(":{line}:")) && e.contains("masses.plate"),
+        "{e}"
+    );
     assert!(e.contains("m_p"), "{e}");
     // A row that is not four numbers: at the `csv` key, naming the CSV line.
     let csv = dir.path().join("t.csv");
     std::fs::write(&csv, "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2\n").unwrap();
     let to = format!("csv = {:?}", csv.display().to_string());
     let (e, line) = refusal("csv = \"nuwar_pick_and_place.csv\"", &to, dir.path());
-    assert!(e.contains(&format!(":{line}:")) && e.contains("line 3: 3 values"), "{e}");
+    assert!(
+        e.contains(&format!(":{line}:")) && e.contains("line 3: 3 values"),
+        "{e}"
+    );
     // Unequal steps, found by the study layer, still name the CSV line.
-    std::fs::write(&csv, "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2,-0.9\n\n0.005,0,-0.2,-0.9\n")
-        .unwrap();
+    std::fs::write(
+        &csv,
+        "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2,-0.9\n\n0.005,0,-0.2,-0.9\n",
+    )
+    .unwrap();
     let (e, line) = refusal("csv = \"nuwar_pick_and_place.csv\"", &to, dir.path());
-    assert!(e.contains(&format!(":{line}:")) && e.contains("t.csv: line 5: t = 0.005 s"), "{e}");
+    assert!(
+        e.contains(&format!(":{line}:")) && e.contains("t.csv: line 5: t = 0.005 s"),
+        "{e}"
+    );
     // A file that does not exist, relative to the study file.
     let (e, line) = refusal(
         "csv = \"nuwar_pick_and_place.csv\"",
         "csv = \"missing.csv\"",
         dir.path(),
     );
-    assert!(e.contains(&format!(":{line}:")) && e.contains("missing.csv"), "{e}");
+    assert!(
+        e.contains(&format!(":{line}:")) && e.contains("missing.csv"),
+        "{e}"
+    );
     // A retrace setting, before the inverse dynamics run.
     let (e, line) = refusal("rtol = 1e-8", "rtol = 0.0", dir.path());
-    assert!(e.contains(&format!(":{line}:")) && e.contains("dynamics.forward.rtol"), "{e}");
+    assert!(
+        e.contains(&format!(":{line}:")) && e.contains("dynamics.forward.rtol"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -38,7 +38,10 @@ fn the_example_studies_are_valid() {
     }
     let (_, dynamics): (String, DynamicsStudy) =
         study::load_study(&example("nuwar_dynamics_csv.toml")).unwrap();
-    let csv = dynamics.trajectory.csv.expect("the example reads a CSV trajectory");
+    let csv = dynamics
+        .trajectory
+        .csv
+        .expect("the example reads a CSV trajectory");
     assert!(example(&csv).is_file(), "{csv} beside the study");
     let listed: Vec<String> = std::fs::read_dir(example(""))
         .unwrap()

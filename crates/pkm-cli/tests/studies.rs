@@ -9,8 +9,7 @@ mod common;
 use common::{close, csv, run_study, study};
 use nalgebra::Vector3;
 use pkm_mechanisms::{
-    Elbow, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios, Tsai3Dof,
-    TsaiDesign,
+    Elbow, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios, Tsai3Dof, TsaiDesign,
 };
 use pkm_traits::Silent;
 use pkm_workspace_indices::{

@@ -11,14 +11,14 @@ use pkm_cli::commands::task::TaskResult;
 use pkm_cli::output::Results;
 use pkm_cli::{Cli, run};
 use pkm_mechanisms::{
-    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
-    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
+    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
+    TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
 };
-use pkm_screw_theory::Twist;
 use pkm_optimizers::{
     AugmentedLagrangianSettings, LmSettings, Multistart, Sense, augmented_lagrangian,
     multistart_levenberg_marquardt, uniform_start_points,
 };
+use pkm_screw_theory::Twist;
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent, Task};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};

@@ -8,6 +8,10 @@
 //! summary. Nothing here prints or writes files; the `pkm` command and the Python package are
 //! front ends that do.
 //!
+//! The study kinds so far: [`workspace()`] and [`dynamics()`]. A study reads no files: data
+//! that a study file names (the CSV trajectory of a dynamics study) is handed in by the front
+//! end (see [`mod@dynamics`]).
+//!
 //! Every error names the key path of the offending setting ([`KeyPath`], e.g.
 //! `sweep.refine[1].step`), so a front end can point at it: the `pkm` command maps it to a
 //! file, line and column.

@@ -8,7 +8,7 @@ use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
 use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm_mechanisms::{Placement, RotaryDelta, presets};
-use pkm_study::dynamics::{DynamicsStudy, PickAndPlaceSpec, ReadingSpec};
+use pkm_study::dynamics::{DynamicsStudy, ForwardSpec, PickAndPlaceSpec, ReadingSpec};
 use pkm_study::schema::units::Real;
 use pkm_study::{Artifact, DynamicsResult, Outcome, StudyError, Table, dynamics, from_toml_str};
 use pkm_traits::{Progress, Silent};
@@ -40,7 +40,10 @@ fn csv_rows() -> Vec<[f64; 4]> {
 fn example_study() -> DynamicsStudy {
     let text = std::fs::read_to_string(examples().join("nuwar_dynamics_csv.toml")).unwrap();
     let mut study: DynamicsStudy = from_toml_str(&text).unwrap();
-    assert_eq!(study.trajectory.csv.as_deref(), Some("nuwar_pick_and_place.csv"));
+    assert_eq!(
+        study.trajectory.csv.as_deref(),
+        Some("nuwar_pick_and_place.csv")
+    );
     study.trajectory.csv = None;
     study.trajectory.positions = Some(csv_rows().into_iter().map(|r| r.map(Real)).collect());
     study
@@ -76,7 +79,12 @@ fn table<'a>(outcome: &'a Outcome<DynamicsResult>, name: &str) -> &'a Table {
 
 /// Column `name` of `table` as numbers.
 fn column(table: &Table, name: &str) -> Vec<f64> {
-    table.column(name).unwrap().into_iter().map(Option::unwrap).collect()
+    table
+        .column(name)
+        .unwrap()
+        .into_iter()
+        .map(Option::unwrap)
+        .collect()
 }
 
 fn peak(t: &[Vector3<f64>]) -> f64 {
@@ -137,7 +145,10 @@ fn csv_positions_match_the_library_and_the_analytic_cycle() {
         .copied()
         .fold(0.0, f64::max);
     let scale = peak(&analytic);
-    assert!(interior < 0.01 * scale, "interior gap {interior} vs peak {scale}");
+    assert!(
+        interior < 0.01 * scale,
+        "interior gap {interior} vs peak {scale}"
+    );
     assert!(ends < 0.04 * scale, "end gap {ends} vs peak {scale}");
     // The forward retrace follows the commanded positions within the interpolation and
     // differencing error of 2 ms torque samples: Miller's Fig. 9 run has 2.2e-4 m at 1 ms and
@@ -151,7 +162,10 @@ fn csv_positions_match_the_library_and_the_analytic_cycle() {
     let retrace = table(&outcome, "retrace.csv");
     let drift = column(retrace, "drift");
     assert_eq!(drift.len(), rows.len());
-    assert_eq!(drift.iter().copied().fold(0.0, f64::max), f.max_drift);
+    assert_eq!(
+        drift.iter().copied().fold(0.0, f64::max).to_bits(),
+        f.max_drift.to_bits()
+    );
     let names: Vec<&str> = outcome
         .artifacts
         .iter()
@@ -162,7 +176,13 @@ fn csv_positions_match_the_library_and_the_analytic_cycle() {
         .collect();
     assert_eq!(
         names,
-        ["torques.csv", "torques.svg", "retrace.csv", "retrace.svg", "robot"]
+        [
+            "torques.csv",
+            "torques.svg",
+            "retrace.csv",
+            "retrace.svg",
+            "robot"
+        ]
     );
 }
 
@@ -199,7 +219,10 @@ impl Progress for Recorder {
 fn refused_at(study: &DynamicsStudy) -> String {
     let recorder = Recorder::default();
     let e = dynamics(study, &recorder).expect_err("the study is invalid");
-    assert!(!recorder.0.load(Ordering::Relaxed), "computed before refusing: {e}");
+    assert!(
+        !recorder.0.load(Ordering::Relaxed),
+        "computed before refusing: {e}"
+    );
     let StudyError::Invalid { path, .. } = &e else {
         panic!("not a setting error: {e:?}");
     };
@@ -219,14 +242,27 @@ fn every_setting_is_refused_at_its_key_before_any_computation() {
         let study: DynamicsStudy = from_toml_str(&text.replacen(from, to, 1)).unwrap();
         refused_at(&study)
     };
-    assert_eq!(in_toml("[mechanism.rotary_delta]", "[mechanism.rotary_delta]\nelbow = [\"in\"]"), "mechanism.rotary_delta.elbow");
-    let tsai = |s: &mut DynamicsStudy| s.mechanism = from_toml_str("tsai = { a = 0.2, b = 0.3 }").unwrap();
+    assert_eq!(
+        in_toml(
+            "[mechanism.rotary_delta]",
+            "[mechanism.rotary_delta]\nelbow = [\"in\"]"
+        ),
+        "mechanism.rotary_delta.elbow"
+    );
+    let tsai =
+        |s: &mut DynamicsStudy| s.mechanism = from_toml_str("tsai = { a = 0.2, b = 0.3 }").unwrap();
     assert_eq!(edit(&tsai), "mechanism");
     assert_eq!(in_toml("plate = 0.2807", "plate = -0.2807"), "masses.plate");
     assert_eq!(in_toml("elbow = 0.0099", "elbow = -1.0"), "masses.elbow");
-    assert_eq!(in_toml("csv = \"nuwar_pick_and_place.csv\"", ""), "trajectory");
     assert_eq!(
-        in_toml("[trajectory]", "[trajectory]\npick_and_place = { cycle_time = 0.5 }"),
+        in_toml("csv = \"nuwar_pick_and_place.csv\"", ""),
+        "trajectory"
+    );
+    assert_eq!(
+        in_toml(
+            "[trajectory]",
+            "[trajectory]\npick_and_place = { cycle_time = 0.5 }"
+        ),
         "trajectory"
     );
     // A file name alone: the study layer reads no files.
@@ -241,14 +277,29 @@ fn every_setting_is_refused_at_its_key_before_any_computation() {
             s.trajectory.pick_and_place.as_mut().unwrap().cycle_time = Real(t);
         }
     };
-    assert_eq!(edit(&cycle_time(-1.0)), "trajectory.pick_and_place.cycle_time");
-    let forward = |change: fn(&mut pkm_study::dynamics::ForwardSpec)| {
+    assert_eq!(
+        edit(&cycle_time(-1.0)),
+        "trajectory.pick_and_place.cycle_time"
+    );
+    let forward = |change: fn(&mut ForwardSpec)| {
         move |s: &mut DynamicsStudy| change(s.dynamics.forward.as_mut().unwrap())
     };
-    assert_eq!(edit(&forward(|f| f.kappa = Real(-1.0))), "dynamics.forward.kappa");
-    assert_eq!(edit(&forward(|f| f.rtol = Real(0.0))), "dynamics.forward.rtol");
-    assert_eq!(edit(&forward(|f| f.atol = Real(-1e-11))), "dynamics.forward.atol");
-    assert_eq!(edit(&forward(|f| f.max_steps = 0)), "dynamics.forward.max_steps");
+    assert_eq!(
+        edit(&forward(|f| f.kappa = Real(-1.0))),
+        "dynamics.forward.kappa"
+    );
+    assert_eq!(
+        edit(&forward(|f| f.rtol = Real(0.0))),
+        "dynamics.forward.rtol"
+    );
+    assert_eq!(
+        edit(&forward(|f| f.atol = Real(-1e-11))),
+        "dynamics.forward.atol"
+    );
+    assert_eq!(
+        edit(&forward(|f| f.max_steps = 0)),
+        "dynamics.forward.max_steps"
+    );
 }
 
 #[test]
@@ -265,9 +316,10 @@ fn segments_and_positions_are_refused_at_the_offending_entry() {
         let study: DynamicsStudy = from_toml_str(&text).unwrap();
         refused_at(&study)
     };
-    let line = "path = { line = { start = [0.0, 0.05, -0.5], end = [0.0, 0.05, -0.5] } }";
+    let arc = "path = { ellipse = { centre = [0.0, 0.0, -0.5], axis_1 = [0.0, 0.05, 0.0], \
+               axis_2 = [0.0, 0.0, 0.05], start_angle_deg = 0.0, sweep_deg = 0.0 } }";
     assert_eq!(
-        segments(&format!("law = \"parabolic\"\nduration = 0.2\n{line}")),
+        segments(&format!("law = \"parabolic\"\nduration = 0.2\n{arc}")),
         "trajectory.segments[1].path"
     );
     let line = "path = { line = { start = [0.0, 0.05, -0.5], end = [0.0, 0.0, -0.5] } }";
@@ -287,12 +339,18 @@ fn segments_and_positions_are_refused_at_the_offending_entry() {
         positions(&[p(0.0), p(0.002), p(0.005), p(0.006)], None),
         "trajectory.positions[2]"
     );
-    assert_eq!(positions(&[p(0.0), p(0.0), p(0.0)], None), "trajectory.positions[1]");
+    assert_eq!(
+        positions(&[p(0.0), p(0.0), p(0.0)], None),
+        "trajectory.positions[1]"
+    );
     assert_eq!(
         positions(&[p(0.0), p(0.002), [0.004, f64::NAN, 0.0, 0.0]], None),
         "trajectory.positions[2]"
     );
-    assert_eq!(positions(&[p(0.0), p(0.002), p(0.004)], Some(1e-3)), "trajectory.dt");
+    assert_eq!(
+        positions(&[p(0.0), p(0.002), p(0.004)], Some(1e-3)),
+        "trajectory.dt"
+    );
 }
 
 #[test]
@@ -317,7 +375,10 @@ impl Progress for Stop {
 
 #[test]
 fn a_cancelled_study_stops() {
-    assert!(matches!(dynamics(&example_study(), &Stop), Err(StudyError::Cancelled)));
+    assert!(matches!(
+        dynamics(&example_study(), &Stop),
+        Err(StudyError::Cancelled)
+    ));
 }
 
 #[test]

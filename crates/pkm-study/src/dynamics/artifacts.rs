@@ -9,18 +9,33 @@ use pkm_draw::chart::{Chart, Colour, Series, SeriesStyle};
 /// histories) and the chart of the six histories.
 pub(super) fn torques(artifacts: &mut Vec<Artifact>, torques: &Torques) {
     let mut table = Table::new([
-        "t", "x", "y", "z", "theta_1_deg", "theta_2_deg", "theta_3_deg", "tau_hamilton_1",
-        "tau_hamilton_2", "tau_hamilton_3", "tau_lagrange_1", "tau_lagrange_2", "tau_lagrange_3",
+        "t",
+        "x",
+        "y",
+        "z",
+        "theta_1_deg",
+        "theta_2_deg",
+        "theta_3_deg",
+        "tau_hamilton_1",
+        "tau_hamilton_2",
+        "tau_hamilton_3",
+        "tau_lagrange_1",
+        "tau_lagrange_2",
+        "tau_lagrange_3",
     ]);
-    table.rows = (torques.samples.iter().zip(&torques.hamilton).zip(&torques.lagrange))
-        .map(|(((t, s), h), l)| {
-            let mut row: Vec<Cell> = vec![(*t).into()];
-            row.extend((0..3).map(|i| Cell::from(s.q[i])));
-            row.extend((3..6).map(|i| Cell::from(s.q[i].to_degrees())));
-            row.extend(h.iter().chain(l.iter()).map(|v| Cell::from(*v)));
-            row
-        })
-        .collect();
+    table.rows = (torques
+        .samples
+        .iter()
+        .zip(&torques.hamilton)
+        .zip(&torques.lagrange))
+    .map(|(((t, s), h), l)| {
+        let mut row: Vec<Cell> = vec![(*t).into()];
+        row.extend((0..3).map(|i| Cell::from(s.q[i])));
+        row.extend((3..6).map(|i| Cell::from(s.q[i].to_degrees())));
+        row.extend(h.iter().chain(l.iter()).map(|v| Cell::from(*v)));
+        row
+    })
+    .collect();
     artifacts.push(Artifact::Table {
         name: "torques.csv".into(),
         table,
@@ -32,7 +47,11 @@ pub(super) fn torques(artifacts: &mut Vec<Artifact>, torques: &Torques) {
         ("Lagrange", &torques.lagrange, SeriesStyle::Dashed),
     ] {
         for motor in 0..3 {
-            let points = times.iter().zip(history).map(|(t, v)| (*t, v[motor])).collect();
+            let points = times
+                .iter()
+                .zip(history)
+                .map(|(t, v)| (*t, v[motor]))
+                .collect();
             series.push(
                 Series::styled(format!("{name}, motor {}", motor + 1), style, points)
                     .with_colour(Colour::Palette(motor)),
@@ -62,7 +81,10 @@ pub(super) fn retrace(artifacts: &mut Vec<Artifact>, per_sample: &RetraceSamples
         .iter()
         .enumerate()
         .map(|(i, axis)| {
-            let points = per_sample.iter().map(|(t, e, _)| (*t, e[i] * 1e3)).collect();
+            let points = per_sample
+                .iter()
+                .map(|(t, e, _)| (*t, e[i] * 1e3))
+                .collect();
             Series::line(format!("{axis} - {axis}_commanded"), points)
         })
         .collect();

@@ -23,8 +23,8 @@ pub mod schema;
 
 pub use plan::{MAX_SAMPLES, mass_parameters, path_of};
 pub use schema::{
-    DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec,
-    LawSpec, MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec, TrajectorySpec,
+    DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec, LawSpec,
+    MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec, TrajectorySpec,
 };
 
 use crate::outcome::Outcome;
@@ -191,7 +191,10 @@ fn inverse_dynamics(plan: &Plan) -> Result<Torques, StudyError> {
     let (samples, commanded) = match &plan.source {
         Source::Builtin { trajectory, dt } => {
             let samples = inverse::sample(model, trajectory, *dt)?;
-            let commanded = samples.iter().map(|(t, _)| trajectory.sample(*t).p).collect();
+            let commanded = samples
+                .iter()
+                .map(|(t, _)| trajectory.sample(*t).p)
+                .collect();
             (samples, commanded)
         }
         Source::Positions(positions) => (
@@ -243,10 +246,10 @@ fn retrace(
 /// `v` with 4 decimals, as the command has always printed it, or in [`short`] form outside
 /// [1e-4, 1e9) so an extreme value stays short.
 fn four_decimals(v: f64) -> String {
-    if (1e-4..1e9).contains(&v.abs()) || v == 0.0 {
-        format!("{v:.4}")
-    } else {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e9).contains(&v.abs()) {
         short(v)
+    } else {
+        format!("{v:.4}")
     }
 }
 

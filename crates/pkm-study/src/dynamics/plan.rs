@@ -2,11 +2,11 @@
 //! computation: the model, the trajectory or the sampled positions with their step, the
 //! differencing, and the retrace's integrator settings. Each refusal names its key path.
 
+use super::DynamicsStudy;
 use super::schema::{
     DEFAULT_DT, DifferencingSpec, ForwardSpec, LagrangeSpec, LawSpec, MassesSpec, PathSpec,
     ReadingSpec, SegmentSpec, TrajectorySpec,
 };
-use super::DynamicsStudy;
 use crate::StudyError;
 use crate::schema::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
 use crate::schema::units::{Metres, Real};
@@ -61,7 +61,7 @@ impl Plan {
     ///
     /// # Errors
     /// [`StudyError::Invalid`] at the first setting that cannot be used.
-    pub fn of(study: &DynamicsStudy) -> Result<Self, StudyError> {
+    pub(super) fn of(study: &DynamicsStudy) -> Result<Self, StudyError> {
         let model = model_of(&study.mechanism, &study.masses)?;
         let source = source_of(&study.trajectory)?;
         let d = &study.dynamics;
@@ -73,7 +73,11 @@ impl Plan {
             LagrangeSpec::Trajectory => Accelerations::Exact,
             LagrangeSpec::Differenced => Accelerations::Differenced(differencing),
         };
-        let forward = d.forward.as_ref().map(|f| forward_of(&model, f)).transpose()?;
+        let forward = d
+            .forward
+            .as_ref()
+            .map(|f| forward_of(&model, f))
+            .transpose()?;
         Ok(Self {
             model,
             source,
@@ -192,13 +196,19 @@ fn positions_of(rows: &[[Real; 4]]) -> Result<Vec<(f64, Vector3<f64>)>, StudyErr
     let mut positions = Vec::with_capacity(n);
     for (k, [t, x, y, z]) in rows.iter().map(|r| r.map(|v| v.0)).enumerate() {
         if ![t, x, y, z].iter().all(|v| v.is_finite()) {
-            return Err(StudyError::invalid(at(k).as_str(), "expected finite numbers"));
+            return Err(StudyError::invalid(
+                at(k).as_str(),
+                "expected finite numbers",
+            ));
         }
         if let Some(&(previous, _)) = positions.last() {
-            let step = if k >= 2 { rows[1][0].0 - rows[0][0].0 } else { t - previous };
+            let step = if k >= 2 {
+                rows[1][0].0 - rows[0][0].0
+            } else {
+                t - previous
+            };
             let rounding = 4.0 * f64::EPSILON * t.abs().max(f64::abs(previous));
-            if !(step > 0.0 && (t - previous - step).abs() <= SPACING_TOLERANCE * step + rounding)
-            {
+            if !(step > 0.0 && (t - previous - step).abs() <= SPACING_TOLERANCE * step + rounding) {
                 let message = format!(
                     "t = {t} s: times must increase in equal steps (the first step is {step} s)"
                 );
@@ -274,7 +284,10 @@ pub fn path_of(p: &PathSpec) -> Result<Path, DynamicsError> {
 /// The library segment of `[[trajectory.segments]]` entry `k`, checked on its own.
 fn segment_of(k: usize, s: &SegmentSpec) -> Result<Segment, StudyError> {
     let at = |key: &str, e: DynamicsError| {
-        StudyError::invalid(format!("trajectory.segments[{k}].{key}").as_str(), e.to_string())
+        StudyError::invalid(
+            format!("trajectory.segments[{k}].{key}").as_str(),
+            e.to_string(),
+        )
     };
     let segment = Segment {
         path: path_of(&s.path).map_err(|e| at("path", e))?,
@@ -315,9 +328,15 @@ fn forward_of(model: &ExtendedModel, spec: &ForwardSpec) -> Result<Forward, Stud
     };
     HamiltonForm::new(model, |_| Vector3::zeros(), spec.kappa.0).map_err(|e| at("kappa", &e))?;
     let settings = AdaptiveSettings::default();
-    let settings = settings.with_rtol(spec.rtol.0).map_err(|e| at("rtol", &e))?;
-    let settings = settings.with_atol(spec.atol.0).map_err(|e| at("atol", &e))?;
-    let settings = settings.with_max_steps(spec.max_steps).map_err(|e| at("max_steps", &e))?;
+    let settings = settings
+        .with_rtol(spec.rtol.0)
+        .map_err(|e| at("rtol", &e))?;
+    let settings = settings
+        .with_atol(spec.atol.0)
+        .map_err(|e| at("atol", &e))?;
+    let settings = settings
+        .with_max_steps(spec.max_steps)
+        .map_err(|e| at("max_steps", &e))?;
     Ok(Forward {
         kappa: spec.kappa.0,
         settings,
