@@ -75,7 +75,14 @@ fn the_csv_example_is_the_study_layers_run_on_its_rows() {
 fn refusal(from: &str, to: &str, dir: &Path) -> (String, usize) {
     let text = std::fs::read_to_string(example("nuwar_dynamics_csv.toml")).unwrap();
     assert!(text.contains(from), "{from}");
-    let text = text.replacen(from, to, 1);
+    // The study is written elsewhere: its CSV, when not edited, is the example's.
+    let csv = format!(
+        "{:?}",
+        example("nuwar_pick_and_place.csv").display().to_string()
+    );
+    let text = text
+        .replacen(from, to, 1)
+        .replacen("\"nuwar_pick_and_place.csv\"", &csv, 1);
     let path = dir.join("bad.toml");
     std::fs::write(&path, &text).unwrap();
     let out = dir.join("out");
