@@ -5,6 +5,7 @@ mod cross_checks;
 mod design_index_kernels;
 mod determinism;
 mod hostile;
+mod linear_delta_study;
 mod reproduce_quick;
 mod six_mechanisms;
 mod study_grid;

@@ -5,11 +5,10 @@
 mod common;
 
 use common::example;
-use pkm_cli::commands::dynamics::DynamicsStudy;
 use pkm_cli::commands::optimize::OptimizeStudy;
 use pkm_cli::commands::task::TaskStudy;
 use pkm_cli::study;
-use pkm_study::{GridStudy, Shard, StudyError, WorkspaceStudy};
+use pkm_study::{DynamicsStudy, GridStudy, Shard, StudyError, WorkspaceStudy};
 
 /// A progress reporter that has already been asked to stop: a study that gets past its checks
 /// stops at its first computation.
@@ -50,8 +49,13 @@ fn the_example_studies_are_valid() {
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
         let _: study::StudyFile<TaskStudy> = study::load(&example(name)).unwrap();
     }
-    let _: study::StudyFile<DynamicsStudy> =
-        study::load(&example("nuwar_dynamics_csv.toml")).unwrap();
+    let (_, dynamics): (String, DynamicsStudy) =
+        study::load_study(&example("nuwar_dynamics_csv.toml")).unwrap();
+    let csv = dynamics
+        .trajectory
+        .csv
+        .expect("the example reads a CSV trajectory");
+    assert!(example(&csv).is_file(), "{csv} beside the study");
     let listed: Vec<String> = std::fs::read_dir(example(""))
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -1,4 +1,4 @@
-//! End-to-end runs of the `optimize`, `task` and `dynamics` study files in `examples/studies/`,
+//! End-to-end runs of the `optimize` and `task` study files in `examples/studies/`,
 //! each checked against the same computation done directly through the library, plus checks
 //! that do not share the command's code path (closed forms, the analytic trajectory, the
 //! library's own objectives at the reported optimum).
@@ -6,23 +6,19 @@
 
 use clap::Parser;
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
-use pkm::screw_theory::Twist;
-use pkm_cli::commands::dynamics::DynamicsResult;
 use pkm_cli::commands::optimize::OptimizeResult;
 use pkm_cli::commands::task::TaskResult;
 use pkm_cli::output::Results;
 use pkm_cli::{Cli, run};
-use pkm_dynamics_hamilton::inverse::{self, Accelerations, Differencing};
-use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
-use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm_mechanisms::{
-    Placement, RotaryDelta, StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
-    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
+    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
+    TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
 };
 use pkm_optimizers::{
     AugmentedLagrangianSettings, LmSettings, Multistart, Sense, augmented_lagrangian,
     multistart_levenberg_marquardt, uniform_start_points,
 };
+use pkm_screw_theory::Twist;
 use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent, Task};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
@@ -361,103 +357,6 @@ fn three_upu_singularity_search_matches_the_library_multistart() {
     assert!(w.rank < 6 && w.det.abs() < 1e-6);
 }
 
-fn nuwar() -> ExtendedModel {
-    let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
-    ExtendedModel::new(nuwar, &MassParameters::miller2004()).unwrap()
-}
-
-/// The torque columns of `torques.csv`: (Hamilton, Lagrange) per row.
-fn torque_columns(path: &Path) -> Vec<([f64; 3], [f64; 3])> {
-    let text = std::fs::read_to_string(path).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|line| {
-            let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
-            ([v[7], v[8], v[9]], [v[10], v[11], v[12]])
-        })
-        .collect()
-}
-
-#[test]
-fn nuwar_dynamics_from_a_csv_matches_the_library_and_the_analytic_cycle() {
-    let (results, out) =
-        run_study::<DynamicsResult>("dynamics", &studies().join("nuwar_dynamics_csv.toml"));
-    let r = results.result;
-    let model = nuwar();
-    // The same computation through the library: positions from the CSV, velocities and
-    // accelerations by central differences, the inverse kinematics, both formulations.
-    let text = std::fs::read_to_string(studies().join("nuwar_pick_and_place.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = text
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
-        .collect();
-    let dt = rows[1][0] - rows[0][0];
-    let p: Vec<Vector6<f64>> = rows
-        .iter()
-        .map(|r| Vector6::new(r[1], r[2], r[3], 0.0, 0.0, 0.0))
-        .collect();
-    let v = Differencing::Central.apply(&p, dt);
-    let a = Differencing::Central.apply(&v, dt);
-    let three = |x: &Vector6<f64>| Vector3::new(x[0], x[1], x[2]);
-    let samples: Vec<_> = (0..p.len())
-        .map(|k| {
-            (
-                rows[k][0],
-                model
-                    .joint_motion(&three(&p[k]), &three(&v[k]), &three(&a[k]))
-                    .unwrap(),
-            )
-        })
-        .collect();
-    let hamilton = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
-    let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact).unwrap();
-    let written = torque_columns(&out.path().join("torques.csv"));
-    assert_eq!(written.len(), hamilton.len());
-    for ((h, l), (wh, wl)) in hamilton.iter().zip(&lagrange).zip(&written) {
-        for i in 0..3 {
-            assert!(close(h[i], wh[i], 1e-15) && close(l[i], wl[i], 1e-15));
-        }
-    }
-    let peak = |t: &[Vector3<f64>]| t.iter().map(|t| t.amax()).fold(0.0, f64::max);
-    assert!(close(r.hamilton.max, peak(&hamilton), 1e-15));
-    assert!(close(r.lagrange.max, peak(&lagrange), 1e-15));
-    // Against the analytic cycle the CSV was sampled from: Hamilton's torques from differenced
-    // positions differ from those of the exact velocities by the O(dt²) error of the central
-    // differences. Measured at dt = 2 ms: 0.23 N m inside (0.4 % of the 60 N m peak) and
-    // 1.16 N m (1.9 %) at the two samples at each end, where the one-sided differences have
-    // four times the error constant; the bounds are about twice that.
-    let cycle = miller_pick_and_place(0.5).unwrap();
-    let exact = inverse::sample(&model, &cycle, dt).unwrap();
-    let analytic = inverse::hamilton(&model, &exact, Differencing::Central).unwrap();
-    let gaps: Vec<f64> = hamilton
-        .iter()
-        .zip(&analytic)
-        .map(|(h, e)| (h - e).amax())
-        .collect();
-    let n = gaps.len();
-    let interior = gaps[2..n - 2].iter().copied().fold(0.0, f64::max);
-    let ends = gaps[..2]
-        .iter()
-        .chain(&gaps[n - 2..])
-        .copied()
-        .fold(0.0, f64::max);
-    let scale = peak(&analytic);
-    assert!(
-        interior < 0.01 * scale,
-        "interior gap {interior} vs peak {scale}"
-    );
-    assert!(ends < 0.04 * scale, "end gap {ends} vs peak {scale}");
-    // The forward retrace follows the commanded positions within the interpolation and
-    // differencing error of 2 ms torque samples: Miller's Fig. 9 run has 2.2e-4 m at 1 ms and
-    // the error grows as dt² (measured here 7.8e-4 m); the Baumgarte-stabilised drift
-    // (measured 2.3e-10 m) and the energy balance (1.7e-7 J) stay at the integrator's level.
-    let f = r.forward.unwrap();
-    assert!(f.max_position_error < 2e-3, "{}", f.max_position_error);
-    assert!(f.max_drift < 1e-8, "{}", f.max_drift);
-    assert!(f.max_energy_balance < 1e-5, "{}", f.max_energy_balance);
-}
-
 /// The error of `pkm COMMAND` on the study `text` (written to a temporary file).
 fn study_error(command: &str, text: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
@@ -527,27 +426,6 @@ fn bad_study_files_are_refused_at_their_line_with_the_expected_unit() {
     );
     let e = study_error("task", &text);
     assert!(e.contains("expected either `vector`"), "{e}");
-    // A negative mass, and a CSV row that is not four numbers, at its CSV line.
-    let text = edited(
-        "nuwar_dynamics_csv.toml",
-        "plate = 0.2807",
-        "plate = -0.2807",
-    );
-    let e = study_error("dynamics", &text);
-    assert!(e.contains("m_p"), "{e}");
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("t.csv"),
-        "t,x,y,z\n0,0,-0.2,-0.9\n0.002,0,-0.2\n",
-    )
-    .unwrap();
-    let text = edited(
-        "nuwar_dynamics_csv.toml",
-        "csv = \"nuwar_pick_and_place.csv\"",
-        &format!("csv = {:?}", dir.path().join("t.csv").display().to_string()),
-    );
-    let e = study_error("dynamics", &text);
-    assert!(e.contains("line 3: 3 values"), "{e}");
 }
 
 /// `results.json` of `pkm COMMAND STUDY --threads N`.
@@ -595,11 +473,9 @@ fn a_cancelled_run_stops_without_results() {
     let load = |name: &str| studies().join(name);
     let optimize = pkm_cli::study::load(&load("tsai_volume_optimize.toml")).unwrap();
     let task = pkm_cli::study::load(&load("three_upu_singularity.toml")).unwrap();
-    let dynamics = pkm_cli::study::load(&load("nuwar_dynamics_csv.toml")).unwrap();
     let outcomes = [
         pkm_cli::commands::optimize::compute(&optimize, &context).map(|_| ()),
         pkm_cli::commands::task::compute(&task, &context).map(|_| ()),
-        pkm_cli::commands::dynamics::compute(&dynamics, &context).map(|_| ()),
     ];
     for outcome in outcomes {
         assert!(
@@ -616,27 +492,6 @@ fn run_text<R: DeserializeOwned>(command: &str, text: &str) -> Results<R> {
     let path = dir.path().join("study.toml");
     std::fs::write(&path, text).unwrap();
     run_study::<R>(command, &path).0
-}
-
-#[test]
-fn the_built_in_cycle_gives_the_library_torques() {
-    let text = edited(
-        "nuwar_dynamics_csv.toml",
-        "csv = \"nuwar_pick_and_place.csv\"",
-        "pick_and_place = { cycle_time = 0.5 }\ndt = 0.001",
-    );
-    let r = run_text::<DynamicsResult>("dynamics", &text).result;
-    let model = nuwar();
-    let cycle = miller_pick_and_place(0.5).unwrap();
-    let samples = inverse::sample(&model, &cycle, 1e-3).unwrap();
-    let hamilton = inverse::hamilton(&model, &samples, Differencing::Central).unwrap();
-    let lagrange = inverse::lagrange(&model, &samples, Accelerations::Exact).unwrap();
-    let peak = |t: &[Vector3<f64>]| t.iter().map(|t| t.amax()).fold(0.0, f64::max);
-    assert_eq!(r.samples, 501);
-    assert!(close(r.hamilton.max, peak(&hamilton), 1e-15));
-    assert!(close(r.lagrange.max, peak(&lagrange), 1e-15));
-    // The 1 ms retrace of Miller's Fig. 9 (its experiment's budget: 4e-4 m).
-    assert!(r.forward.unwrap().max_position_error < 4e-4);
 }
 
 #[test]

@@ -2,7 +2,9 @@
 //! so that every front end can point at it: the `pkm` command maps it to a file, line and
 //! column, the Python package raises it with the path.
 
+use pkm_dynamics_hamilton::DynamicsError;
 use pkm_optimizers::OptimizeError;
+use pkm_traits::IntegrationError;
 use pkm_workspace_indices::IndexError;
 use std::fmt;
 use std::ops::Range;
@@ -153,6 +155,12 @@ pub enum StudyError {
     /// Shard results that are not the parts of one run of the study.
     #[error("{0}")]
     Merge(#[from] crate::merge::MergeError),
+    /// The dynamics refused a sample (out of reach, singular, non-finite) with its time.
+    #[error("{0}")]
+    Dynamics(DynamicsError),
+    /// The forward integration failed (tolerance not met, step budget spent, ...).
+    #[error("forward integration: {0}")]
+    Integration(IntegrationError),
     /// The caller's progress reporter asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -198,6 +206,24 @@ impl From<OptimizeError> for StudyError {
         match e {
             OptimizeError::Cancelled => Self::Cancelled,
             e => Self::Optimize(e),
+        }
+    }
+}
+
+impl From<DynamicsError> for StudyError {
+    fn from(e: DynamicsError) -> Self {
+        match e {
+            DynamicsError::Integration(e) => e.into(),
+            e => Self::Dynamics(e),
+        }
+    }
+}
+
+impl From<IntegrationError> for StudyError {
+    fn from(e: IntegrationError) -> Self {
+        match e {
+            IntegrationError::Cancelled => Self::Cancelled,
+            e => Self::Integration(e),
         }
     }
 }

@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod dynamics;
 mod error;
 pub mod grid;
 pub mod indices;
@@ -13,6 +14,7 @@ pub mod schema;
 pub mod sweep;
 pub mod workspace;
 
+pub use dynamics::{DynamicsResult, DynamicsStudy, dynamics};
 pub use error::{Key, KeyPath, StudyError};
 pub use grid::{GridRun, Shard, ShardResult};
 pub use merge::{GridKind, MergeError, Merged, merge};

@@ -19,7 +19,7 @@ use crate::study::units::{Degrees, Metres, PositiveMetres, Real};
 use crate::study::StudyFile;
 use crate::study::mechanism::{StewartSpec, stewart_layout};
 use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3, Vector6};
-use pkm::screw_theory::{Twist, line_set_rank, task_residuals};
+use pkm_screw_theory::{Twist, line_set_rank, task_residuals};
 use pkm_mechanisms::{
     Skeleton, StewartDesign, StewartDesignVariable, StewartGough,
     StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task,
