@@ -6,12 +6,11 @@ mod common;
 
 use common::example;
 use pkm_cli::commands::dynamics::DynamicsStudy;
-use pkm_cli::commands::optimize::OptimizeStudy;
 use pkm_cli::commands::task::TaskStudy;
 use pkm_cli::commands::{pareto, sweep};
 use pkm_cli::grid::{self, GridStudy};
 use pkm_cli::study;
-use pkm_study::WorkspaceStudy;
+use pkm_study::{OptimizeStudy, WorkspaceStudy};
 
 #[test]
 fn the_example_studies_are_valid() {
@@ -32,8 +31,8 @@ fn the_example_studies_are_valid() {
         study::load(&example("linear_delta_pareto.toml")).unwrap();
     let prepared = grid::prepare(&file, &pareto::requested(&file).unwrap()).unwrap();
     assert!(prepared.grid.len() > 1000);
-    let _: study::StudyFile<OptimizeStudy> =
-        study::load(&example("tsai_volume_optimize.toml")).unwrap();
+    let _: (String, OptimizeStudy) =
+        study::load_study(&example("tsai_volume_optimize.toml")).unwrap();
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
         let _: study::StudyFile<TaskStudy> = study::load(&example(name)).unwrap();
     }

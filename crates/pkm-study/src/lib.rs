@@ -26,13 +26,16 @@
 //! ```
 
 mod error;
+pub mod optimize;
 pub mod outcome;
 mod parse;
 pub mod scene;
 pub mod schema;
+pub mod tsai;
 pub mod workspace;
 
 pub use error::{Key, KeyPath, StudyError};
+pub use optimize::{OptimizeResult, OptimizeStudy, optimize};
 pub use outcome::{Artifact, Cell, Outcome, Table, short};
 pub use parse::{from_deserializer, from_json_str, from_toml_str};
 pub use workspace::{WorkspaceResult, WorkspaceStudy, workspace};
