@@ -17,13 +17,10 @@ use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
 use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm_mechanisms::{
     Placement, RotaryDelta, StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
-    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
+    ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
 };
-use pkm_optimizers::{
-    AugmentedLagrangianSettings, LmSettings, Multistart, Sense, augmented_lagrangian,
-    multistart_levenberg_marquardt, uniform_start_points,
-};
-use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent, Task};
+use pkm_optimizers::{LmSettings, Multistart, Sense, multistart_levenberg_marquardt};
+use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Silent, Task};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
