@@ -5,10 +5,9 @@
 mod common;
 
 use common::example;
-use pkm_cli::commands::optimize::OptimizeStudy;
 use pkm_cli::commands::task::TaskStudy;
 use pkm_cli::study;
-use pkm_study::{DynamicsStudy, GridStudy, Shard, StudyError, WorkspaceStudy};
+use pkm_study::{DynamicsStudy, GridStudy, OptimizeStudy, Shard, StudyError, WorkspaceStudy};
 
 /// A progress reporter that has already been asked to stop: a study that gets past its checks
 /// stops at its first computation.
@@ -44,8 +43,8 @@ fn the_example_studies_are_valid() {
         assert!(checked_grid(name, "sweep") > 10, "{name}");
     }
     assert!(checked_grid("linear_delta_pareto.toml", "pareto") > 1000);
-    let _: study::StudyFile<OptimizeStudy> =
-        study::load(&example("tsai_volume_optimize.toml")).unwrap();
+    let _: (String, OptimizeStudy) =
+        study::load_study(&example("tsai_volume_optimize.toml")).unwrap();
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
         let _: study::StudyFile<TaskStudy> = study::load(&example(name)).unwrap();
     }

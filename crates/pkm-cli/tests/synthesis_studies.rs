@@ -1,4 +1,5 @@
-//! End-to-end runs of the `optimize` and `task` study files in `examples/studies/`,
+//! End-to-end runs of the `optimize` and `task` study files (the optimize study's science is
+//! checked in `pkm-study`'s tests) in `examples/studies/`,
 //! each checked against the same computation done directly through the library, plus checks
 //! that do not share the command's code path (closed forms, the analytic trajectory, the
 //! library's own objectives at the reported optimum).
@@ -6,20 +7,16 @@
 
 use clap::Parser;
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
-use pkm_cli::commands::optimize::OptimizeResult;
 use pkm_cli::commands::task::TaskResult;
 use pkm_cli::output::Results;
 use pkm_cli::{Cli, run};
 use pkm_mechanisms::{
-    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, Tsai3Dof,
-    TsaiDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
+    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
+    ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
 };
-use pkm_optimizers::{
-    AugmentedLagrangianSettings, LmSettings, Multistart, Sense, augmented_lagrangian,
-    multistart_levenberg_marquardt, uniform_start_points,
-};
+use pkm_optimizers::{LmSettings, Multistart, Sense, multistart_levenberg_marquardt};
+use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Silent, Task};
 use pkm_screw_theory::Twist;
-use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Residuals, Silent, Task};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
@@ -55,94 +52,6 @@ fn run_study<R: DeserializeOwned>(command: &str, study: &Path) -> (Results<R>, t
 
 fn close(a: f64, b: f64, relative: f64) -> bool {
     (a - b).abs() <= relative * a.abs().max(b.abs()).max(f64::MIN_POSITIVE)
-}
-
-/// Stamper's problem written directly: −W of (a, b, d+e, c−r) with legs at 120°/240°,
-/// a + b + d + e ≤ 1.
-struct TsaiVolume([Bounds; 4]);
-
-impl Objective for TsaiVolume {
-    fn dimension(&self) -> usize {
-        4
-    }
-    fn bounds(&self) -> &[Bounds] {
-        &self.0
-    }
-    fn value(&self, x: &[f64]) -> Result<f64, ObjectiveError> {
-        let d = Tsai3Dof::new(TsaiDesign::from_deg(x[0], x[1], x[2], x[3], 120.0, 240.0))?;
-        Ok(-d.column_volume(128)?)
-    }
-}
-
-impl Constraints for TsaiVolume {
-    fn n_constraints(&self) -> usize {
-        1
-    }
-    fn inequalities(&self, x: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError> {
-        g[0] = x[0] + x[1] + x[2] - 1.0;
-        Ok(())
-    }
-}
-
-#[test]
-fn tsai_volume_optimisation_matches_the_library_run() {
-    let (results, _out) =
-        run_study::<OptimizeResult>("optimize", &studies().join("tsai_volume_optimize.toml"));
-    let r = results.result;
-    let b = |lo, hi| Bounds::new(lo, hi).unwrap();
-    let problem = TsaiVolume([b(0.02, 1.0), b(0.02, 1.0), b(0.0, 0.5), b(0.0, 0.3)]);
-    let settings = AugmentedLagrangianSettings {
-        fd_step: 1e-4,
-        tolerance: 1e-8,
-        feasibility: 1e-6,
-        max_outer: 15,
-        max_inner: 100,
-    };
-    let starts = uniform_start_points(problem.bounds(), 4, 2024).unwrap();
-    let mut best: Option<pkm_optimizers::ConstrainedResult> = None;
-    for s in &starts {
-        if let Ok(o) = augmented_lagrangian(&problem, Sense::Minimise, s, &settings, &Silent)
-            && best.as_ref().is_none_or(|b| o.value < b.value)
-        {
-            best = Some(o);
-        }
-    }
-    let best = best.unwrap();
-    assert_eq!(r.variables, ["a", "b", "d_plus_e", "c_minus_r"]);
-    assert!(
-        close(r.maximum, -best.value, 1e-12),
-        "{} vs {}",
-        r.maximum,
-        -best.value
-    );
-    for (name, v) in r.variables.iter().zip(&best.design) {
-        assert!(
-            close(r.design[name], *v, 1e-12),
-            "{name}: {} vs {v}",
-            r.design[name]
-        );
-    }
-    // Independent of the optimiser: the reported maximum is the volume of the reported design,
-    // which satisfies the constraint, and the legs stayed where the study holds them.
-    let d = &r.design;
-    let design = Tsai3Dof::new(TsaiDesign::from_deg(
-        d["a"],
-        d["b"],
-        d["d_plus_e"],
-        d["c_minus_r"],
-        120.0,
-        240.0,
-    ))
-    .unwrap();
-    assert!(close(design.column_volume(128).unwrap(), r.maximum, 1e-12));
-    assert!(d["a"] + d["b"] + d["d_plus_e"] <= 1.0 + 1e-6);
-    assert!((d["phi2_deg"] - 120.0).abs() < 1e-12 && (d["phi3_deg"] - 240.0).abs() < 1e-12);
-    // W grows with the size (as R³), so the reach constraint is active with a positive
-    // multiplier, from the solver and from the least-squares fit of the check alike.
-    assert_eq!(r.optimality.active_constraints, [0]);
-    assert!(r.constraints[0].multiplier > 0.0);
-    assert!(r.optimality.least_squares_multipliers[0] > 0.0);
-    assert!(r.optimality.stationarity_residual.is_finite());
 }
 
 fn section_4_1_twist() -> Twist {
@@ -471,10 +380,15 @@ fn a_cancelled_run_stops_without_results() {
         progress: Spinner::hidden(flag),
     };
     let load = |name: &str| studies().join(name);
-    let optimize = pkm_cli::study::load(&load("tsai_volume_optimize.toml")).unwrap();
+    let (_, optimize): (_, pkm_study::OptimizeStudy) =
+        pkm_cli::study::load_study(&load("tsai_volume_optimize.toml")).unwrap();
     let task = pkm_cli::study::load(&load("three_upu_singularity.toml")).unwrap();
+    let optimized = pkm_study::optimize(&optimize, &context.progress);
+    assert!(
+        matches!(optimized, Err(pkm_study::StudyError::Cancelled)),
+        "{optimized:?}"
+    );
     let outcomes = [
-        pkm_cli::commands::optimize::compute(&optimize, &context).map(|_| ()),
         pkm_cli::commands::task::compute(&task, &context).map(|_| ()),
     ];
     for outcome in outcomes {

@@ -2,7 +2,7 @@
 //! global condition index, each by the augmented Lagrangian from seeded multistarts on common
 //! random numbers, then re-evaluated with the paper's design on one fresh point set.
 
-use super::problem::{Criterion, StamperProblem, design, estimate};
+use super::problem::{Criterion, design, estimate, stamper_problem};
 use crate::papers::{Comparison, Context, ExperimentError, Figure, Mode, Outcome, Paper, Source};
 use nalgebra::Vector3;
 use pkm_draw::{PathKind, Scene};
@@ -11,6 +11,7 @@ use pkm_optimizers::{
     AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, multistart,
     uniform_start_points,
 };
+use pkm_study::tsai::TsaiProblem;
 use pkm_traits::{Bounds, CancelOnly, Objective};
 use pkm_workspace_indices::{HemisphereEstimate, Sampler};
 use rayon::prelude::*;
@@ -69,23 +70,20 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let quick = ctx.mode == Mode::Quick;
     let crn =
         Sampler::MonteCarlo { seed: 999 }.unit_hemisphere_points(ctx.mode.pick(3_000, 30_000))?;
-    let problem = StamperProblem {
-        // Quick mode: 3,000 points and 4 starts do not find the GCI's leg layout reliably (local
-        // optima near 120/270), so the quick run optimises the lengths with legs at 120/240.
-        bounds: bounds(if quick && study.criterion == Criterion::Gci {
-            Some((120.0, 240.0))
-        } else {
-            study.legs
-        })?,
-        criterion: match study.criterion {
-            Criterion::Volume { ngrid } => Criterion::Volume {
-                ngrid: if quick { ngrid / 4 } else { ngrid },
-            },
-            Criterion::Gci => Criterion::Gci,
+    // Quick mode: 3,000 points and 4 starts do not find the GCI's leg layout reliably (local
+    // optima near 120/270), so the quick run optimises the lengths with legs at 120/240.
+    let box_bounds = bounds(if quick && study.criterion == Criterion::Gci {
+        Some((120.0, 240.0))
+    } else {
+        study.legs
+    })?;
+    let criterion = match study.criterion {
+        Criterion::Volume { ngrid } => Criterion::Volume {
+            ngrid: if quick { ngrid / 4 } else { ngrid },
         },
-        points: &crn,
-        scale_free: false,
+        Criterion::Gci => Criterion::Gci,
     };
+    let problem = stamper_problem(box_bounds, criterion, &crn);
     let settings = AugmentedLagrangianSettings {
         fd_step: 1e-3,
         tolerance: 1e-6,
@@ -96,7 +94,7 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let n_starts = ctx.mode.pick(4, 8);
     let mut starts = coarse_grid_starts(&problem, n_starts);
     starts.extend(
-        uniform_start_points(&problem.bounds, n_starts, 2024)?
+        uniform_start_points(&box_bounds, n_starts, 2024)?
             .into_iter()
             .map(feasible_start),
     );
@@ -115,7 +113,7 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let paper = estimate(&design(&study.paper)?, &fresh)?;
     let source = Source::new(study.id, Paper::Stamper1997, study.location);
     let widen = if quick { 4.0 } else { 1.0 };
-    let fixed = problem.bounds.map(|b| b.upper() <= b.lower());
+    let fixed = box_bounds.map(|b| b.upper() <= b.lower());
     let improvement = Improvement::of(study.criterion, &ours, &paper);
     let mut rows: Vec<Comparison> = (0..6)
         .map(|k| {
@@ -207,8 +205,8 @@ fn workspace_drawing(
 /// optimiser. Random starts alone stop in the many local optima of the leg layout (full mode
 /// found legs at 120/270 for the GCI and 184/201 for the volume, both below the paper's design);
 /// the grid puts starts in every basin, as the spec's 1008-design landscape did.
-fn coarse_grid_starts(problem: &StamperProblem<'_>, n_best: usize) -> Vec<Vec<f64>> {
-    let [_, _, _, _, p2, p3] = problem.bounds;
+fn coarse_grid_starts(problem: &TsaiProblem<'_>, n_best: usize) -> Vec<Vec<f64>> {
+    let (p2, p3) = (problem.bounds()[4], problem.bounds()[5]);
     let angles = |b: Bounds| -> Vec<f64> {
         let mut v: Vec<f64> = (0..=24)
             .map(|k| 15.0 * k as f64)
@@ -254,13 +252,13 @@ const SCREENING_ITERATIONS: (usize, usize) = (3, 10);
 const SCREENING_FEASIBILITY: f64 = 1e-2;
 
 /// The `polished_starts` starts whose short augmented-Lagrangian runs on the cheaper
-/// [`StamperProblem::screening`] objective reach the best values (ties: the earlier start),
+/// [`TsaiProblem::screening`] objective reach the best values (ties: the earlier start),
 /// each returned as it was given, so that its full run is the one an unscreened multistart
 /// would make. A full run costs as much as about a hundred screening runs, and the starts end
 /// in separate local optima whose order the screening already shows: the leg angles move
 /// little from a start, and the lengths settle within a few outer iterations.
 fn screened_starts(
-    problem: &StamperProblem<'_>,
+    problem: &TsaiProblem<'_>,
     starts: Vec<Vec<f64>>,
     settings: &AugmentedLagrangianSettings,
     polished_starts: usize,

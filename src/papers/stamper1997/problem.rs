@@ -2,11 +2,16 @@
 //! index (eq. 8) over $x = (a, b, d + e, c - r, \phi_2, \phi_3)$ (angles in degrees) subject to
 //! $a + b + d + e \le 1$, leg separation $\ge 5°$ ($5 \le \phi_2$, $\phi_3 - \phi_2 \ge 5$,
 //! $\phi_3 \le 355$) and non-negative lengths (bounds; $c - r \ge 0$, spec §4 A4).
+//!
+//! The problem itself is the study layer's [`TsaiProblem`] (the one the `optimize` study
+//! solves), with every variable free and the paper's two linear inequalities.
 
 use nalgebra::Vector3;
-use pkm_mechanisms::{Elbow, Tsai3Dof, TsaiDesign};
-use pkm_traits::{Bounds, Constraints, Objective, ObjectiveError, Silent};
-use pkm_workspace_indices::{HemisphereEstimate, Workspace};
+use pkm_mechanisms::Tsai3Dof;
+use pkm_study::tsai::{LinearInequality, TsaiCriterion, TsaiProblem, tsai_design};
+use pkm_traits::{Bounds, ObjectiveError};
+
+pub(super) use pkm_study::tsai::hemisphere_estimate as estimate;
 
 /// What is maximised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -16,107 +21,41 @@ pub(super) enum Criterion {
         /// Columns per axis.
         ngrid: usize,
     },
-    /// Global condition index on the common random numbers.
+    /// Global condition index on the common random numbers (Stamper's eq. 8: $\eta$).
     Gci,
 }
 
-/// Stamper's problem on a fixed set of unit-hemisphere points (common random numbers).
-#[derive(Debug)]
-pub(super) struct StamperProblem<'a> {
-    pub(super) bounds: [Bounds; 6],
-    pub(super) criterion: Criterion,
-    pub(super) points: &'a [Vector3<f64>],
-    /// Evaluate at the lengths divided by $R = a + b + d + e$ (see [`StamperProblem::screening`]).
-    pub(super) scale_free: bool,
+/// The two inequalities of sec. 5: $a + b + (d + e) \le 1$ and $\phi_2 - \phi_3 \le -5$.
+const INEQUALITIES: [LinearInequality; 2] = [
+    LinearInequality {
+        coefficients: [1.0, 1.0, 1.0, 0.0, 0.0, 0.0],
+        at_most: 1.0,
+    },
+    LinearInequality {
+        coefficients: [0.0, 0.0, 0.0, 0.0, 1.0, -1.0],
+        at_most: -5.0,
+    },
+];
+
+/// Stamper's problem in the box `bounds` on the common unit-hemisphere `points`.
+pub(super) fn stamper_problem(
+    bounds: [Bounds; 6],
+    criterion: Criterion,
+    points: &[Vector3<f64>],
+) -> TsaiProblem<'_> {
+    let criterion = match criterion {
+        Criterion::Volume { ngrid } => TsaiCriterion::Volume { columns: ngrid },
+        Criterion::Gci => TsaiCriterion::Eta,
+    };
+    let free = bounds.into_iter().enumerate().collect();
+    TsaiProblem::new([0.0; 6], free, criterion, points, INEQUALITIES.to_vec())
 }
 
 /// The design of a design vector.
 pub(super) fn design(x: &[f64]) -> Result<Tsai3Dof, ObjectiveError> {
-    Ok(Tsai3Dof::new(TsaiDesign::from_deg(
-        x[0], x[1], x[2], x[3], x[4], x[5],
-    ))?)
-}
-
-/// $W$ and $\eta$ of `design` (elbow out, no further constraint) on the unit-hemisphere
-/// `points` scaled by its reach $R$ (one pass).
-pub(super) fn estimate(
-    design: &Tsai3Dof,
-    points: &[Vector3<f64>],
-) -> Result<HemisphereEstimate, pkm_workspace_indices::IndexError> {
-    Workspace::new(design, &[[Elbow::Out; 3]], &[])?.hemisphere_estimate(
-        points,
-        design.reach(),
-        &Silent,
-    )
-}
-
-/// The screening objective uses this fraction of the points (GCI) or of the columns per axis
-/// (volume).
-const SCREENING_FRACTION: usize = 4;
-
-impl StamperProblem<'_> {
-    /// The problem for ranking multistart starts, at a quarter of the cost per evaluation
-    /// (the first quarter of the common random numbers for the GCI, a quarter of the columns
-    /// per axis for the volume) and scale-free: $W$ and $\eta$ scale with $R^3$ when
-    /// $(a, b, d + e, c - r)$ scale together (spec §1), so evaluating at the lengths divided by
-    /// $R$ is the value on the always-active length constraint, and a short run ranks a start
-    /// without having to converge onto that constraint first.
-    pub(super) fn screening(&self) -> Self {
-        let n = self.points.len();
-        Self {
-            bounds: self.bounds,
-            criterion: match self.criterion {
-                Criterion::Volume { ngrid } => Criterion::Volume {
-                    ngrid: (ngrid / SCREENING_FRACTION).max(1),
-                },
-                Criterion::Gci => Criterion::Gci,
-            },
-            points: match self.criterion {
-                Criterion::Volume { .. } => self.points,
-                Criterion::Gci => &self.points[..(n / SCREENING_FRACTION).max(1).min(n)],
-            },
-            scale_free: true,
-        }
-    }
-
-    /// The design vector this problem evaluates at `x`.
-    fn evaluated(&self, x: &[f64]) -> [f64; 6] {
-        let mut v = [x[0], x[1], x[2], x[3], x[4], x[5]];
-        let reach = v[0] + v[1] + v[2];
-        if self.scale_free && reach > 0.0 {
-            v[..4].iter_mut().for_each(|l| *l /= reach);
-        }
-        v
-    }
-}
-
-impl Objective for StamperProblem<'_> {
-    fn dimension(&self) -> usize {
-        6
-    }
-    fn bounds(&self) -> &[Bounds] {
-        &self.bounds
-    }
-    fn value(&self, x: &[f64]) -> Result<f64, ObjectiveError> {
-        self.check_dimension(x)?;
-        let d = design(&self.evaluated(x))?;
-        match self.criterion {
-            Criterion::Volume { ngrid } => Ok(d.column_volume(ngrid)?),
-            Criterion::Gci => estimate(&d, self.points)
-                .map(|e| e.eta)
-                .map_err(|e| ObjectiveError::infeasible(e.to_string())),
-        }
-    }
-}
-
-impl Constraints for StamperProblem<'_> {
-    fn n_constraints(&self) -> usize {
-        2
-    }
-    fn inequalities(&self, x: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError> {
-        self.check_dimension(x)?;
-        g[0] = x[0] + x[1] + x[2] - 1.0;
-        g[1] = x[4] - x[5] + 5.0;
-        Ok(())
-    }
+    let v: [f64; 6] = x.try_into().map_err(|_| ObjectiveError::Dimension {
+        expected: 6,
+        got: x.len(),
+    })?;
+    tsai_design(&v)
 }

@@ -1,0 +1,586 @@
+//! The optimize study: multistart constrained optimisation of the Tsai platform's workspace
+//! volume, $\eta$ or GCI (Stamper, Tsai & Walsh 1997, §5) over any of its design variables
+//! $(a, b, d + e, c - r, \phi_2, \phi_3)$, with linear inequality constraints
+//! $\sum_j c_j x_j \le u$, by the augmented Lagrangian from seeded uniform starts
+//! ([`pkm_optimizers::multistart`], every start kept), and the first- and second-order checks
+//! at the optimum ([`pkm_optimizers::kkt::check`] of the maximised criterion with
+//! $g_i = c_i \cdot x - u_i$, the solver's multipliers and the relative step `check_step`).
+//!
+//! Every setting is checked before the first start runs, each at its key path.
+
+use crate::outcome::{Artifact, Cell, Outcome, Table};
+use crate::scene;
+use crate::schema::mechanism::{MechanismSpec, TsaiSpec};
+use crate::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
+use crate::{KeyPath, StudyError};
+use nalgebra::Vector3;
+use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
+use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
+use pkm_optimizers::{
+    AugmentedLagrangianSettings, ConstrainedResult, Multistart, MultistartRun, OptimizeError,
+    Sense, augmented_lagrangian, multistart,
+};
+use pkm_traits::{Bounds, Progress};
+use pkm_workspace_indices::Sampler;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// An optimize study.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimizeStudy {
+    /// Free text.
+    pub title: Option<String>,
+    /// The nominal design (its values hold for the variables that are not optimised).
+    pub mechanism: MechanismSpec,
+    /// What is optimised and how.
+    pub optimize: OptimizeSection,
+}
+
+/// The `[optimize]` section.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimizeSection {
+    /// What is maximised.
+    pub objective: TsaiObjective,
+    /// Volume: columns per axis of the column quadrature (default 128).
+    #[serde(default = "default_columns")]
+    pub columns: usize,
+    /// η and GCI: Monte Carlo points in the unit hemisphere, common to every design (default
+    /// 3000).
+    #[serde(default = "default_points")]
+    pub points: u64,
+    /// η and GCI: seed of the points (default 999).
+    #[serde(default = "default_points_seed")]
+    pub points_seed: u64,
+    /// The optimised variables and their ranges `[lower, upper]`, in the unit of the key.
+    pub variables: BTreeMap<String, [f64; 2]>,
+    /// Linear inequalities.
+    #[serde(default)]
+    pub constraints: Vec<LinearConstraint>,
+    /// The multistart.
+    pub starts: Multistart,
+    /// Augmented-Lagrangian settings (defaults: the library's).
+    #[serde(default)]
+    pub solver: AugmentedLagrangianSettings,
+    /// Finite-difference step of the optimality checks, relative to each variable's range, in
+    /// $(0, 0.5)$ and large enough to move every design in the box (default 1e-2).
+    #[serde(default = "default_check_step")]
+    pub check_step: f64,
+}
+
+fn default_columns() -> usize {
+    128
+}
+fn default_points() -> u64 {
+    3000
+}
+fn default_points_seed() -> u64 {
+    999
+}
+fn default_check_step() -> f64 {
+    1e-2
+}
+
+/// What is maximised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TsaiObjective {
+    /// Workspace volume $W$ inside the hemisphere of radius $a + b + d + e$ (eq. 3), m³.
+    Volume,
+    /// Stamper's "global condition index" of eq. 8, the condition integral
+    /// $\eta = \int_W 1/\kappa \, dW$, m³.
+    Eta,
+    /// The Gosselin–Angeles global condition index $\eta / W$, dimensionless.
+    Gci,
+}
+
+impl TsaiObjective {
+    /// Name in the report.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Volume => "volume",
+            Self::Eta => "eta",
+            Self::Gci => "gci",
+        }
+    }
+}
+
+/// $\sum_j c_j x_j \le u$ over the design variables (fixed ones contribute their value).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinearConstraint {
+    /// A label for the report.
+    pub name: String,
+    /// $c_j$ by variable name (unit: 1 / the variable's unit); missing variables have 0.
+    pub coefficients: BTreeMap<String, f64>,
+    /// $u$.
+    pub at_most: f64,
+}
+
+/// One constraint at the optimum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConstraintValue {
+    /// Its label.
+    pub name: String,
+    /// $g_i = c_i \cdot x - u_i$ ($\le 0$ when satisfied).
+    pub g: f64,
+    /// The solver's multiplier $\mu_i \ge 0$.
+    pub multiplier: f64,
+}
+
+/// How the starts ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StartCounts {
+    /// Starts run.
+    pub total: usize,
+    /// Feasible and converged.
+    pub converged: usize,
+    /// Feasible at the iteration limit.
+    pub at_iteration_limit: usize,
+    /// No feasible design (or another failure).
+    pub failed: usize,
+}
+
+/// The result of an optimize study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OptimizeResult {
+    /// The study's title.
+    pub title: Option<String>,
+    /// `volume` (m³), `eta` (m³) or `gci` (1).
+    pub objective: String,
+    /// Its largest value found.
+    pub maximum: f64,
+    /// The optimised variables, in order.
+    pub variables: Vec<String>,
+    /// The optimum of every design variable (the unit of its key).
+    pub design: BTreeMap<String, f64>,
+    /// The start the optimum came from (from 0).
+    pub best_start: usize,
+    /// Why the augmented Lagrangian stopped there.
+    pub termination: String,
+    /// The constraints there.
+    pub constraints: Vec<ConstraintValue>,
+    /// How the starts ended.
+    pub starts: StartCounts,
+    /// The first- and second-order checks.
+    pub optimality: OptimalityCheck,
+}
+
+/// Every setting of a study, checked: the problem's pieces, the start points and the solver
+/// and check settings.
+struct Checked {
+    nominal: [f64; 6],
+    free: Vec<(usize, Bounds)>,
+    criterion: TsaiCriterion,
+    points: Vec<Vector3<f64>>,
+    inequalities: Vec<LinearInequality>,
+    starts: Vec<Vec<f64>>,
+    check: KktSettings,
+}
+
+/// An optimiser's refusal of the setting at `section` as an error at its key path (the
+/// setting's own name appended when the library names one).
+fn refused(section: &str, e: OptimizeError) -> StudyError {
+    match e {
+        OptimizeError::Invalid(invalid) => {
+            let path = KeyPath::parse(section);
+            let path = if section.ends_with(invalid.name) {
+                path
+            } else {
+                path.field(invalid.name)
+            };
+            StudyError::invalid(path, invalid.to_string())
+        }
+        e => StudyError::invalid(section, e.to_string()),
+    }
+}
+
+/// The Tsai table of the study's mechanism.
+fn tsai_spec(study: &OptimizeStudy) -> Result<&TsaiSpec, StudyError> {
+    match &study.mechanism {
+        MechanismSpec::Tsai(spec) => Ok(spec),
+        _ => Err(StudyError::invalid(
+            "mechanism",
+            "pkm optimize optimises the Tsai platform: expected a [mechanism.tsai] table",
+        )),
+    }
+}
+
+/// The six values of a `[mechanism.tsai]` table, in [`TSAI_VARIABLES`] order.
+pub fn tsai_values(spec: &TsaiSpec) -> [f64; 6] {
+    [
+        spec.a.0,
+        spec.b.0,
+        spec.d_plus_e.0,
+        spec.c_minus_r.0,
+        spec.phi2_deg.0,
+        spec.phi3_deg.0,
+    ]
+}
+
+fn unknown_variable(name: &str) -> String {
+    format!(
+        "unknown design variable `{name}`: expected one of {} (lengths in m, *_deg in degrees)",
+        TSAI_VARIABLES.join(", ")
+    )
+}
+
+fn variable_index(path: KeyPath, name: &str) -> Result<usize, StudyError> {
+    TSAI_VARIABLES
+        .iter()
+        .position(|n| *n == name)
+        .ok_or_else(|| StudyError::invalid(path, unknown_variable(name)))
+}
+
+/// The free variables with their bounds, in design-vector order.
+fn free_variables(o: &OptimizeSection) -> Result<Vec<(usize, Bounds)>, StudyError> {
+    let mut chosen = Vec::new();
+    for (name, [lo, hi]) in &o.variables {
+        let path = KeyPath::parse("optimize.variables").field(name.as_str());
+        let k = variable_index(path.clone(), name)?;
+        let bounds = Bounds::new(*lo, *hi).map_err(|e| {
+            let m = format!("{name} = [{lo}, {hi}]: expected [lower, upper] with lower <= upper");
+            StudyError::invalid(path, format!("{m} ({e})"))
+        })?;
+        chosen.push((k, bounds));
+    }
+    chosen.sort_by_key(|(k, _)| *k);
+    if chosen.is_empty() {
+        return Err(StudyError::invalid(
+            "optimize.variables",
+            "no variable to optimise",
+        ));
+    }
+    Ok(chosen)
+}
+
+/// The linear inequalities, each checked.
+fn inequalities(o: &OptimizeSection) -> Result<Vec<LinearInequality>, StudyError> {
+    let mut rows = Vec::new();
+    for (i, c) in o.constraints.iter().enumerate() {
+        let path = KeyPath::parse("optimize.constraints").index(i);
+        let mut coefficients = [0.0; 6];
+        for (name, value) in &c.coefficients {
+            let at = path.clone().field("coefficients").field(name.as_str());
+            coefficients[variable_index(at, name)?] = *value;
+        }
+        if !(coefficients.iter().all(|v| v.is_finite()) && c.at_most.is_finite()) {
+            return Err(StudyError::invalid(
+                path,
+                "coefficients and at_most must be finite",
+            ));
+        }
+        rows.push(LinearInequality {
+            coefficients,
+            at_most: c.at_most,
+        });
+    }
+    Ok(rows)
+}
+
+/// The criterion and its common points, the quadrature settings checked.
+fn criterion(o: &OptimizeSection) -> Result<(TsaiCriterion, Vec<Vector3<f64>>), StudyError> {
+    let criterion = match o.objective {
+        TsaiObjective::Volume => TsaiCriterion::Volume { columns: o.columns },
+        TsaiObjective::Eta => TsaiCriterion::Eta,
+        TsaiObjective::Gci => TsaiCriterion::Gci,
+    };
+    if o.objective == TsaiObjective::Volume
+        && !(1..=pkm_mechanisms::Tsai3Dof::MAX_COLUMN_GRID).contains(&o.columns)
+    {
+        return Err(StudyError::invalid(
+            "optimize.columns",
+            format!(
+                "expected a count of columns per axis in 1..={}",
+                pkm_mechanisms::Tsai3Dof::MAX_COLUMN_GRID
+            ),
+        ));
+    }
+    let points = match o.objective {
+        TsaiObjective::Eta | TsaiObjective::Gci => Sampler::MonteCarlo {
+            seed: o.points_seed,
+        }
+        .unit_hemisphere_points(o.points)
+        .map_err(|e| StudyError::invalid("optimize.points", e.to_string()))?,
+        TsaiObjective::Volume => Vec::new(),
+    };
+    Ok((criterion, points))
+}
+
+/// Checks every setting of `study` (before any start runs).
+fn check(study: &OptimizeStudy) -> Result<Checked, StudyError> {
+    let spec = tsai_spec(study)?;
+    let o = &study.optimize;
+    let free = free_variables(o)?;
+    let inequalities = inequalities(o)?;
+    o.solver
+        .validate()
+        .map_err(|e| refused("optimize.solver", e))?;
+    let bounds: Vec<Bounds> = free.iter().map(|(_, b)| *b).collect();
+    let check = KktSettings {
+        step: o.check_step,
+        active_tolerance: o.solver.feasibility,
+    };
+    check
+        .validate_for(&bounds)
+        .map_err(|e| refused("optimize.check_step", e))?;
+    let starts = o
+        .starts
+        .start_points(&bounds)
+        .map_err(|e| refused("optimize.starts", e))?;
+    let (criterion, points) = criterion(o)?;
+    Ok(Checked {
+        nominal: tsai_values(spec),
+        free,
+        criterion,
+        points,
+        inequalities,
+        starts,
+        check,
+    })
+}
+
+/// Runs an optimize study: the multistart, the optimality checks at the best start, the starts
+/// as a table and a chart, and the drawing of the optimum.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at its key path for a setting that cannot be used (every one checked
+/// before the first start), or when no start reaches a feasible design (at `optimize.starts`)
+/// or the optimality check fails (at `optimize.check_step`); [`StudyError::Cancelled`] when
+/// `progress` asks to stop.
+pub fn optimize(
+    study: &OptimizeStudy,
+    progress: &dyn Progress,
+) -> Result<Outcome<OptimizeResult>, StudyError> {
+    let c = check(study)?;
+    let problem = TsaiProblem::new(c.nominal, c.free, c.criterion, &c.points, c.inequalities);
+    let settings = study.optimize.solver;
+    let run = multistart(c.starts, progress, |s, cancel| {
+        augmented_lagrangian(&problem, Sense::Maximise, s, &settings, cancel)
+    })?;
+    let (best_start, best) = run.best(Sense::Maximise).map_err(|_| no_feasible(&run))?;
+    progress.phase("optimality checks");
+    let optimality = kkt::check(
+        &problem,
+        Sense::Maximise,
+        &best.design,
+        &best.multipliers,
+        &c.check,
+        progress,
+    )
+    .map_err(|e| match e {
+        OptimizeError::Cancelled => StudyError::Cancelled,
+        e => StudyError::invalid("optimize.check_step", format!("optimality check: {e}")),
+    })?;
+    let result = result_of(study, &problem, &run, (best_start, best), optimality);
+    let mut outcome = Outcome::new(result);
+    summarise(&mut outcome, &problem.names(), best);
+    outcome
+        .artifacts
+        .extend(starts_artifacts(&problem.names(), &outcome.result, &run));
+    let scene = scene::optimum_scene(
+        &study.mechanism,
+        TSAI_VARIABLES
+            .iter()
+            .copied()
+            .zip(problem.design_values(&best.design)),
+    );
+    let quantity = study.optimize.objective.name();
+    outcome.robot(format!("tsai: the {quantity} optimum"), scene);
+    Ok(outcome)
+}
+
+/// The error when no start reached a feasible design, with the last start's reason.
+fn no_feasible(run: &MultistartRun<ConstrainedResult>) -> StudyError {
+    let last = run.outcomes.iter().rev().find_map(|o| o.as_ref().err());
+    StudyError::invalid(
+        "optimize.starts",
+        format!(
+            "no start reached a feasible design ({} starts); last reason: {}",
+            run.starts.len(),
+            last.map_or_else(|| "none".to_owned(), ToString::to_string)
+        ),
+    )
+}
+
+/// The result: the best start's design, constraints and termination, the start counts and the
+/// checks.
+fn result_of(
+    study: &OptimizeStudy,
+    problem: &TsaiProblem<'_>,
+    run: &MultistartRun<ConstrainedResult>,
+    (best_start, best): (usize, &ConstrainedResult),
+    optimality: OptimalityCheck,
+) -> OptimizeResult {
+    let o = &study.optimize;
+    let outcomes = &run.outcomes;
+    let design = TSAI_VARIABLES
+        .iter()
+        .zip(problem.design_values(&best.design))
+        .map(|(n, v)| ((*n).to_owned(), v))
+        .collect();
+    let constraints = o
+        .constraints
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ConstraintValue {
+            name: c.name.clone(),
+            g: best.constraints[i],
+            multiplier: best.multipliers[i],
+        })
+        .collect();
+    let count = |f: &dyn Fn(&Result<ConstrainedResult, OptimizeError>) -> bool| {
+        outcomes.iter().filter(|&o| f(o)).count()
+    };
+    OptimizeResult {
+        title: study.title.clone(),
+        objective: o.objective.name().to_owned(),
+        maximum: best.value,
+        variables: problem.names().iter().map(|n| (*n).to_owned()).collect(),
+        design,
+        best_start,
+        termination: best.termination.to_string(),
+        constraints,
+        starts: StartCounts {
+            total: run.starts.len(),
+            converged: count(&|o| o.as_ref().is_ok_and(|r| r.termination.converged())),
+            at_iteration_limit: count(&|o| o.as_ref().is_ok_and(|r| !r.termination.converged())),
+            failed: count(&|o| o.is_err()),
+        },
+        optimality,
+    }
+}
+
+/// The two summary lines: the optimum, and the first- and second-order checks.
+fn summarise(outcome: &mut Outcome<OptimizeResult>, names: &[&str], best: &ConstrainedResult) {
+    let r = &outcome.result;
+    let optimum = format!(
+        "max {} = {:.6} from start {} of {} ({}): {}",
+        r.objective,
+        best.value,
+        r.best_start,
+        r.starts.total,
+        best.termination,
+        names
+            .iter()
+            .zip(&best.design)
+            .map(|(n, v)| format!("{n} = {v:.5}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let checks = format!(
+        "first order: projected gradient {:.2e} (solver multipliers), stationarity {:.2e} \
+         (least-squares multipliers); second order: reduced Hessian eigenvalues [{}]",
+        r.optimality.projected_gradient_max,
+        r.optimality.stationarity_residual,
+        r.optimality
+            .reduced_hessian_eigenvalues
+            .iter()
+            .map(|v| format!("{v:.3e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    outcome.summary.extend([optimum, checks]);
+}
+
+/// `starts.csv` (each start and where it ended) and `starts.svg` (the values reached, best
+/// first).
+fn starts_artifacts(
+    names: &[&str],
+    result: &OptimizeResult,
+    run: &MultistartRun<ConstrainedResult>,
+) -> [Artifact; 2] {
+    let quantity = result.objective.as_str();
+    let mut header: Vec<String> = vec!["start".into()];
+    header.extend(names.iter().map(|n| format!("start_{n}")));
+    header.extend(names.iter().map(|n| (*n).to_owned()));
+    header.extend([
+        quantity.into(),
+        "max_violation".into(),
+        "termination".into(),
+    ]);
+    let mut table = Table::new(header);
+    table.rows = run
+        .starts
+        .iter()
+        .zip(&run.outcomes)
+        .enumerate()
+        .map(|(k, (start, o))| start_row(k, start, o, names.len()))
+        .collect();
+    [
+        Artifact::Table {
+            name: "starts.csv".into(),
+            table,
+        },
+        Artifact::Chart {
+            name: "starts.svg".into(),
+            chart: Box::new(starts_chart(quantity, result.best_start, run)),
+        },
+    ]
+}
+
+/// Start `k`'s row: the start, then the design reached, its value, largest violation and
+/// termination, or empty cells and the reason it failed.
+fn start_row(
+    k: usize,
+    start: &[f64],
+    outcome: &Result<ConstrainedResult, OptimizeError>,
+    n: usize,
+) -> Vec<Cell> {
+    let mut row = vec![Cell::Text(k.to_string())];
+    row.extend(start.iter().map(|v| Cell::Number(*v)));
+    match outcome {
+        Ok(r) => {
+            row.extend(r.design.iter().map(|v| Cell::Number(*v)));
+            row.push(Cell::Number(r.value));
+            let violation = r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g));
+            row.push(Cell::Number(violation));
+            row.push(Cell::Text(format!("\"{}\"", r.termination)));
+        }
+        Err(e) => {
+            row.extend(std::iter::repeat_n(Cell::Missing, n + 2));
+            row.push(Cell::Text(format!(
+                "\"{}\"",
+                e.to_string().replace('"', "'")
+            )));
+        }
+    }
+    row
+}
+
+/// The values reached, best first (rank from 1), the best labelled with its start.
+fn starts_chart(
+    quantity: &str,
+    best_start: usize,
+    run: &MultistartRun<ConstrainedResult>,
+) -> Chart {
+    let mut reached: Vec<(usize, f64)> = run
+        .outcomes
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| o.as_ref().ok().map(|r| (k, r.value)))
+        .collect();
+    reached.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let ranked: Vec<(f64, f64)> = reached
+        .iter()
+        .enumerate()
+        .map(|(rank, (_, v))| (rank as f64 + 1.0, *v))
+        .collect();
+    let marker = ranked
+        .first()
+        .map(|&(x, y)| Marker::new(format!("start {best_start}"), x, y));
+    let series = vec![
+        Series::points("designs", ranked).with_colour(Colour::Rgb([170, 170, 170])),
+        Series::styled("non-dominated", SeriesStyle::LineAndPoints, Vec::new())
+            .with_colour(Colour::Rgb([0, 0, 255])),
+    ];
+    Chart::series(
+        format!("{quantity} reached from each start"),
+        "rank",
+        quantity,
+        series,
+    )
+    .with_markers(marker)
+    .with_legend(LegendPosition::LowerLeft)
+}
