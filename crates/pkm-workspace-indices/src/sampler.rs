@@ -26,7 +26,8 @@ pub enum Sampler {
     },
     /// Cell centres of a regular grid of `per_axis`³ cells, in lexicographic order ($x$ slowest).
     Grid {
-        /// Cells per axis.
+        /// Cells per axis (0 is read as 1: a grid has at least one cell; [`crate::PointSet::new`]
+        /// refuses it).
         per_axis: u32,
     },
 }
@@ -42,8 +43,10 @@ impl Sampler {
             }
             Self::Sobol { seed } => sobol3(i, seed),
             Self::Grid { per_axis } => {
-                let n = u64::from(per_axis);
-                let cell = [i / (n * n), (i / n) % n, i % n];
+                // At least one cell; indices beyond the n³ cells wrap (n² and n³ may exceed u64,
+                // so the slowest digit is taken modulo n too).
+                let n = u64::from(per_axis.max(1));
+                let cell = [(i / n / n) % n, (i / n) % n, i % n];
                 cell.map(|c| (c as f64 + 0.5) / n as f64)
             }
         }
@@ -70,10 +73,18 @@ impl Sampler {
     /// numbers that [`crate::hemisphere_estimate`] scales by each design's radius.
     ///
     /// # Errors
-    /// [`IndexError::EmptySample`] when `n = 0`.
+    /// [`IndexError::EmptySample`] when `n = 0`, [`IndexError::TooLarge`] above
+    /// [`crate::MAX_POINTS`] (refused before allocating).
     pub fn unit_hemisphere_points(&self, n: u64) -> Result<Vec<Vector3<f64>>, IndexError> {
         if n == 0 {
             return Err(IndexError::EmptySample { n_samples: 0 });
+        }
+        if n > crate::MAX_POINTS {
+            return Err(IndexError::TooLarge {
+                what: "points",
+                requested: n,
+                limit: crate::MAX_POINTS,
+            });
         }
         Ok((0..n)
             .into_par_iter()
