@@ -33,7 +33,8 @@ pub enum Sampler {
 }
 
 impl Sampler {
-    /// Point $i$ in the unit cube.
+    /// Point $i$ in the unit cube. The Sobol sequence is 32-bit: its points repeat for
+    /// $i \ge 2^{32}$ (a [`crate::PointSet`] holds at most [`crate::MAX_POINTS`] $< 2^{32}$).
     pub fn unit_cube(&self, i: u64) -> [f64; 3] {
         match *self {
             Self::MonteCarlo { seed } => {
@@ -61,7 +62,8 @@ impl Sampler {
     /// Point $i$ uniform in the unit upper hemisphere $|p| \le 1$, $z \ge 0$: the direction
     /// has $z = u_0$ (Archimedes: uniform on the half sphere), azimuth $2\pi u_1$, and the
     /// radius is $u_2^{1/3}$. The map preserves volume, so a [`Sampler::Grid`] maps to the centres of a warped
-    /// grid of equal-volume cells.
+    /// grid of equal-volume cells. Rounding of the sine, cosine and cube root may put a point a
+    /// few ulps outside $|p| \le 1$ (kept: membership is the mechanism's test).
     pub fn in_unit_hemisphere(&self, i: u64) -> Vector3<f64> {
         let [u0, u1, u2] = self.unit_cube(i);
         let (sin_az, cos_az) = (TAU * u1).sin_cos();

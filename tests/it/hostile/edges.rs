@@ -535,3 +535,19 @@ fn tsai_legs_at_far_points_are_unreachable() {
         }
     }
 }
+
+/// A tiny rotation is drawn about its axis, not as a translation (|ω|² underflowed to 0).
+#[test]
+fn tiny_rotations_are_drawn_as_rotations() {
+    use pkm::draw::Axis;
+    use pkm_screw_theory::Twist;
+    for size in [1e-170, 1e-200, 1e-300] {
+        let twist = Twist::new(Vector3::new(0.0, 0.0, size), Vector3::new(size, 0.0, 0.0));
+        super::expect(judge(
+            "Axis::of_twist (tiny rotation)",
+            || Axis::of_twist("w", &twist, Vector3::zeros()),
+            // ω = ẑ, v = x̂ (scaled): the axis is along z through ω × v / |ω|² = (0, 1, 0).
+            |a| a.direction.x.abs() < 1e-12 && a.direction.z > 0.0 && (a.point - Vector3::y()).norm() < 1e-12,
+        ));
+    }
+}
