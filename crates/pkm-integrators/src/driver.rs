@@ -20,8 +20,9 @@ const CHECK_EVERY: usize = 64;
 /// # Errors
 /// [`IntegrationError::Invalid`] for a span that is not finite and increasing, invalid
 /// output times or more of them than fit in [`pkm_traits::MEMORY_BUDGET_BYTES`] (refused
-/// before anything is reserved), as many recorded steps ([`OutputTimes::Steps`]), a first step that is not finite and positive, or a fixed step so small that
-/// the span needs more steps than the method's budget (refused before the run starts);
+/// before anything is reserved), more recorded steps than fit in it ([`OutputTimes::Steps`]),
+/// a first step that is not finite and positive, or a fixed step so small that the span needs
+/// more steps than the method's budget (refused before the run starts);
 /// [`IntegrationError::TooManySteps`] when the method's step budget runs out;
 /// [`IntegrationError::StepSizeUnderflow`] when a step does not move `t` (`t + h == t`);
 /// [`IntegrationError::Cancelled`] when `progress` asks to stop; any error of the method's

@@ -36,7 +36,7 @@ pub const MIN_WIDTH: f64 = Bounds::MIN_DIFFERENCE_WIDTH;
 pub const MIN_RELATIVE_STEP: f64 = f64::EPSILON;
 
 /// Checks the arguments every rule here shares: one bound per variable and a relative step
-/// in [[`MIN_RELATIVE_STEP`], 1].
+/// from [`MIN_RELATIVE_STEP`] to 1.
 fn check_arguments(bounds: &[Bounds], n: usize, relative: f64) -> Result<(), ObjectiveError> {
     if bounds.len() != n {
         return Err(ObjectiveError::Dimension {
@@ -90,8 +90,8 @@ pub fn step(bounds: &Bounds, relative: f64) -> f64 {
 ///
 /// # Errors
 /// [`ObjectiveError::Dimension`] unless there is one bound per variable,
-/// [`ObjectiveError::InvalidInput`] for a relative step outside [[`MIN_RELATIVE_STEP`], 1] or a
-/// free variable that the step cannot move; otherwise the first error of `f`.
+/// [`ObjectiveError::InvalidInput`] for a relative step below [`MIN_RELATIVE_STEP`] or above 1
+/// (or NaN), or a free variable that the step cannot move; otherwise the first error of `f`.
 ///
 /// # Example
 /// ```

@@ -547,7 +547,11 @@ fn tiny_rotations_are_drawn_as_rotations() {
             "Axis::of_twist (tiny rotation)",
             || Axis::of_twist("w", &twist, Vector3::zeros()),
             // ω = ẑ, v = x̂ (scaled): the axis is along z through ω × v / |ω|² = (0, 1, 0).
-            |a| a.direction.x.abs() < 1e-12 && a.direction.z > 0.0 && (a.point - Vector3::y()).norm() < 1e-12,
+            |a| {
+                a.direction.x.abs() < 1e-12
+                    && a.direction.z > 0.0
+                    && (a.point - Vector3::y()).norm() < 1e-12
+            },
         ));
     }
 }
