@@ -48,10 +48,26 @@ pub struct Axis {
     pub length: Option<f64>,
 }
 
+/// `(ω, v)` divided by their largest component when $|\omega|^2$ underflows (subnormal), so
+/// that a tiny but representable rotation is not mistaken for a translation; unchanged (same
+/// bits) otherwise.
+fn scaled_if_tiny(w: Vector3<f64>, v: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let w2 = w.norm_squared();
+    if w.amax() == 0.0 || w2.is_normal() {
+        return (w, v);
+    }
+    let scale = w.amax().max(v.amax());
+    (w / scale, v / scale)
+}
+
 impl Axis {
     /// The axis of `twist` $[\omega; v]$: for $\omega \ne 0$ the line along $\omega$ through
     /// $s_0 = \omega \times v / |\omega|^2$ (its point nearest the origin, Wolf & Shoham eq. 3);
-    /// for a pure translation ($\omega = 0$) the line along $v$ through `through`.
+    /// for a pure translation ($\omega = 0$) the line along $v$ through `through`. A tiny
+    /// rotation stays a rotation: where $|\omega|^2$ underflows, the twist is first scaled by its
+    /// largest component ($s_0$ and the direction do not depend on the scale); only an $\omega$
+    /// below about $10^{-154}$ of the twist's size, whose axis would lie that far away, is drawn
+    /// as the translation it approximates.
     ///
     /// # Errors
     /// [`DrawError::ZeroDirection`] for the zero twist, [`DrawError::BadCoordinate`] for a
@@ -65,6 +81,7 @@ impl Axis {
         check_vector("twist", 0, &w)?;
         check_vector("twist", 0, &v)?;
         check_vector("axis point", 0, &through)?;
+        let (w, v) = scaled_if_tiny(w, v);
         let w2 = w.norm_squared();
         let (point, direction) = if w2 > 0.0 {
             (w.cross(&v) / w2, w)

@@ -56,8 +56,10 @@ impl MassParameters {
     /// The coefficients $(m_t, J, k, m_g, c_g)$ for arm length $L_a$.
     ///
     /// # Errors
-    /// [`DesignError`] when a mass is negative or non-finite, or the plate mass is not positive.
+    /// [`DesignError`] when a mass is negative or non-finite, the plate mass or the arm length
+    /// is not positive, or a coefficient overflows.
     pub fn coefficients(&self, arm: f64) -> Result<Coefficients, DesignError> {
+        let arm = DesignError::require_positive("La", arm)?;
         let m_p = DesignError::require_positive("m_p", self.plate)?;
         let i_a = DesignError::require_positive("I_A", self.arm_inertia)?;
         let non_negative = |name, v: f64| {
@@ -81,14 +83,16 @@ impl MassParameters {
             ForearmModel::Rod => (m_p + m_f, i_a + (m_e + m_f / 3.0) * la2, m_f * arm / 6.0),
             ForearmModel::Lumped => (m_p + 1.5 * m_f, i_a + (m_e + m_f / 2.0) * la2, 0.0),
         };
-        Ok(Coefficients {
+        let coefficients = Coefficients {
             m_t,
             j,
             k,
             m_g: m_p + 1.5 * m_f,
             c_g: m_e * arm + m_a * l_g + m_f * arm / 2.0,
             gravity,
-        })
+        };
+        coefficients.require_finite()?;
+        Ok(coefficients)
     }
 }
 
@@ -107,6 +111,25 @@ pub struct Coefficients {
     pub c_g: f64,
     /// Gravity.
     pub gravity: f64,
+}
+
+impl Coefficients {
+    /// Every coefficient, and the gravity terms $g m_g$, $g c_g$ of the model, must be finite.
+    fn require_finite(&self) -> Result<(), DesignError> {
+        let derived = [
+            ("m_t", self.m_t),
+            ("J", self.j),
+            ("k", self.k),
+            ("m_g", self.m_g),
+            ("c_g", self.c_g),
+            ("g m_g", self.gravity * self.m_g),
+            ("g c_g", self.gravity * self.c_g),
+        ];
+        for (name, value) in derived {
+            DesignError::require_derived_finite(name, value)?;
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]

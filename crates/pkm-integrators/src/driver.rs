@@ -19,8 +19,10 @@ const CHECK_EVERY: usize = 64;
 ///
 /// # Errors
 /// [`IntegrationError::Invalid`] for a span that is not finite and increasing, invalid
-/// output times, a first step that is not finite and positive, or a fixed step so small that
-/// the span needs more steps than the method's budget (refused before the run starts);
+/// output times or more of them than fit in [`pkm_traits::MEMORY_BUDGET_BYTES`] (refused
+/// before anything is reserved), more recorded steps than fit in it ([`OutputTimes::Steps`]),
+/// a first step that is not finite and positive, or a fixed step so small that the span needs
+/// more steps than the method's budget (refused before the run starts);
 /// [`IntegrationError::TooManySteps`] when the method's step budget runs out;
 /// [`IntegrationError::StepSizeUnderflow`] when a step does not move `t` (`t + h == t`);
 /// [`IntegrationError::Cancelled`] when `progress` asks to stop; any error of the method's
@@ -48,7 +50,7 @@ where
     }
     require_finite_state(t0, z0)?;
     let targets = output.resolve(t0, t1)?;
-    let mut recorder = Recorder::new(targets);
+    let mut recorder = Recorder::new(targets)?;
     progress.start("integrate", recorder.expected() as u64);
     let start = scheme.start(field, t0, z0, t1)?;
     let dense = scheme.has_dense_output();
@@ -69,7 +71,7 @@ where
     // time, or where the step size changed), not a running sum, so round-off does not
     // accumulate over long runs.
     let (mut anchor, mut k, mut anchor_h) = (t0, 0.0_f64, start.h);
-    recorder.record_up_to(t, &z, None, progress);
+    recorder.record_up_to(t, &z, None, progress)?;
     while t < t1 {
         if stats.steps >= scheme.max_steps() {
             return Err(IntegrationError::TooManySteps {
@@ -112,7 +114,7 @@ where
         }
         t = t_next;
         h = report.h_next;
-        recorder.record_up_to(t, &z, scheme.dense_output(), progress);
+        recorder.record_up_to(t, &z, scheme.dense_output(), progress)?;
     }
     progress.finish();
     Ok(recorder.finish(stats))
@@ -154,14 +156,21 @@ struct Recorder<const M: usize> {
 }
 
 impl<const M: usize> Recorder<M> {
-    fn new(targets: Option<Vec<f64>>) -> Self {
+    /// Bytes of one recorded sample: its time and its state.
+    const SAMPLE_BYTES: usize = size_of::<f64>() + size_of::<SVector<f64, M>>();
+
+    /// Refuses, before reserving them, more output times than fit in the memory budget.
+    fn new(targets: Option<Vec<f64>>) -> Result<Self, IntegrationError> {
+        if let Some(times) = &targets {
+            InvalidInput::require_within_budget("output times", times.len(), Self::SAMPLE_BYTES)?;
+        }
         let capacity = targets.as_ref().map_or(1024, Vec::len);
-        Self {
+        Ok(Self {
             targets,
             next: 0,
             times: Vec::with_capacity(capacity),
             states: Vec::with_capacity(capacity),
-        }
+        })
     }
 
     fn expected(&self) -> usize {
@@ -175,18 +184,24 @@ impl<const M: usize> Recorder<M> {
     }
 
     /// Records every pending sample at or before `t` (the current state `z`), interpolating
-    /// with `dense` when a sample lies strictly inside the last step.
+    /// with `dense` when a sample lies strictly inside the last step; with no output times,
+    /// every step until the memory budget is full.
     fn record_up_to(
         &mut self,
         t: f64,
         z: &SVector<f64, M>,
         dense: Option<&crate::DenseSegment<M>>,
         progress: &dyn Progress,
-    ) {
+    ) -> Result<(), IntegrationError> {
         if self.targets.is_none() {
+            InvalidInput::require_within_budget(
+                "recorded steps",
+                self.times.len() + 1,
+                Self::SAMPLE_BYTES,
+            )?;
             self.times.push(t);
             self.states.push(*z);
-            return;
+            return Ok(());
         }
         let mut recorded = 0;
         while let Some(target) = self.next_time().filter(|&target| target <= t) {
@@ -202,6 +217,7 @@ impl<const M: usize> Recorder<M> {
         if recorded > 0 {
             progress.advance(recorded);
         }
+        Ok(())
     }
 
     fn finish(self, stats: Stats) -> Solution<M> {

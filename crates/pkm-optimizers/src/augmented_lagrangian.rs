@@ -285,8 +285,13 @@ impl AugmentedLagrangianSettings {
         ] {
             InvalidInput::require_positive(setting, value)?;
         }
-        if !(self.fd_step < 0.1) {
-            return Err(InvalidInput::new("fd_step", self.fd_step, "must be < 0.1").into());
+        if !((crate::finite_differences::MIN_RELATIVE_STEP..0.1).contains(&self.fd_step)) {
+            return Err(InvalidInput::new(
+                "fd_step",
+                self.fd_step,
+                "must be in [f64::EPSILON, 0.1)",
+            )
+            .into());
         }
         InvalidInput::require_nonzero_count("max_outer", self.max_outer)?;
         InvalidInput::require_nonzero_count("max_inner", self.max_inner)?;

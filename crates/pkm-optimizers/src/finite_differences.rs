@@ -15,7 +15,7 @@
 //! `pkm-mechanisms`' `StewartTaskProblem` uses the same [`Bounds::difference_points`] with
 //! [`RELATIVE_STEP`] for its design columns.
 
-use pkm_traits::{Bounds, ObjectiveError};
+use pkm_traits::{Bounds, InvalidInput, ObjectiveError};
 
 /// Default relative step $\epsilon$ of first differences ([`crate::LmSettings::fd_step`],
 /// [`crate::AugmentedLagrangianSettings::fd_step`]): [`Bounds::DEFAULT_RELATIVE_STEP`].
@@ -29,6 +29,47 @@ pub const HESSIAN_RELATIVE_STEP: f64 = 1e-4;
 /// Smallest interval width used to scale a step, so that a zero-width interval still gets a
 /// positive step: [`Bounds::MIN_DIFFERENCE_WIDTH`], the floor of [`Bounds::difference_points`].
 pub const MIN_WIDTH: f64 = Bounds::MIN_DIFFERENCE_WIDTH;
+
+/// Smallest relative step $\epsilon$ accepted: one machine epsilon. Below it a step is lost in
+/// the rounding of $x \pm h$ (or is a subnormal number), and a derivative column would silently
+/// come out zero.
+pub const MIN_RELATIVE_STEP: f64 = f64::EPSILON;
+
+/// Checks the arguments every rule here shares: one bound per variable and a relative step
+/// from [`MIN_RELATIVE_STEP`] to 1.
+fn check_arguments(bounds: &[Bounds], n: usize, relative: f64) -> Result<(), ObjectiveError> {
+    if bounds.len() != n {
+        return Err(ObjectiveError::Dimension {
+            expected: bounds.len(),
+            got: n,
+        });
+    }
+    if !((MIN_RELATIVE_STEP..=1.0).contains(&relative)) {
+        return Err(InvalidInput::new(
+            "relative step",
+            relative,
+            "must lie in [MIN_RELATIVE_STEP, 1] (f64::EPSILON to 1)",
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// The two points of a central difference of variable `k` at `x`, refused when a variable that
+/// is free to move (a positive width) gets no step: `x` outside its interval or too large for
+/// the step to change it.
+fn difference_points(b: &Bounds, x: f64, relative: f64) -> Result<(f64, f64), ObjectiveError> {
+    let (hi, lo) = b.difference_points(x, relative);
+    if b.width() > 0.0 && !(hi > lo) {
+        return Err(InvalidInput::new(
+            "x",
+            x,
+            "must lie in its bounds, with a step that changes it",
+        )
+        .into());
+    }
+    Ok((hi, lo))
+}
 
 /// The step $h = \epsilon\,\max(w, w_{\min})$ of one variable.
 ///
@@ -48,7 +89,9 @@ pub fn step(bounds: &Bounds, relative: f64) -> f64 {
 /// itself, at a bound, reuses `f0` instead of evaluating again).
 ///
 /// # Errors
-/// The first error of `f`.
+/// [`ObjectiveError::Dimension`] unless there is one bound per variable,
+/// [`ObjectiveError::InvalidInput`] for a relative step below [`MIN_RELATIVE_STEP`] or above 1
+/// (or NaN), or a free variable that the step cannot move; otherwise the first error of `f`.
 ///
 /// # Example
 /// ```
@@ -69,10 +112,11 @@ pub fn gradient<F>(
 where
     F: Fn(&[f64]) -> Result<f64, ObjectiveError>,
 {
+    check_arguments(bounds, x.len(), relative)?;
     let mut g = vec![0.0; x.len()];
     let mut probe = x.to_vec();
-    for (k, b) in bounds.iter().enumerate().take(x.len()) {
-        let (hi, lo) = b.difference_points(x[k], relative);
+    for (k, b) in bounds.iter().enumerate() {
+        let (hi, lo) = difference_points(b, x[k], relative)?;
         if !(hi > lo) {
             continue;
         }
@@ -97,7 +141,7 @@ where
 /// entry $(i, j)$ at `i * n + j`).
 ///
 /// # Errors
-/// The first error of `residuals`.
+/// As [`gradient`], with the first error of `residuals`.
 ///
 /// # Example
 /// ```
@@ -123,12 +167,21 @@ pub fn jacobian<R>(
 where
     R: Fn(&[f64], &mut [f64]) -> Result<(), ObjectiveError>,
 {
+    check_arguments(bounds, p.len(), relative)?;
     let n = p.len();
-    let mut a = vec![0.0; m * n];
+    let entries = m.checked_mul(n).ok_or_else(|| {
+        ObjectiveError::from(InvalidInput::new(
+            "residuals",
+            m as f64,
+            "m × n entries must fit in memory",
+        ))
+    })?;
+    InvalidInput::require_within_budget("residuals", entries, size_of::<f64>())?;
+    let mut a = vec![0.0; entries];
     let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
     let mut q = p.to_vec();
-    for (j, b) in bounds.iter().enumerate().take(n) {
-        let (hi, lo) = b.difference_points(p[j], relative);
+    for (j, b) in bounds.iter().enumerate() {
+        let (hi, lo) = difference_points(b, p[j], relative)?;
         if !(hi > lo) {
             // A variable fixed by its bounds (lower = upper): its column stays zero.
             continue;
@@ -151,7 +204,8 @@ where
 /// (not clamped: the probes may leave the box by $h$). Row-major, $n_{\mathrm{free}}^2$ entries.
 ///
 /// # Errors
-/// The first error of `f`.
+/// As [`gradient`], and [`ObjectiveError::InvalidInput`] for an index of `free` that names no
+/// variable; otherwise the first error of `f`.
 ///
 /// # Example
 /// ```
@@ -175,6 +229,10 @@ pub fn hessian<F>(
 where
     F: Fn(&[f64]) -> Result<f64, ObjectiveError>,
 {
+    check_arguments(bounds, p.len(), relative)?;
+    if let Some(&j) = free.iter().find(|&&j| j >= p.len()) {
+        return Err(InvalidInput::new("free", j as f64, "must name a design variable").into());
+    }
     let h: Vec<f64> = free.iter().map(|&j| step(&bounds[j], relative)).collect();
     let f_at = |shifts: &[(usize, f64)]| {
         let mut q = p.to_vec();

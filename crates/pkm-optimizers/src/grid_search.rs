@@ -417,7 +417,10 @@ impl Default for RefinementSettings {
 /// Each refined grid spans one coarse spacing either side of the incumbent (clipped to the
 /// objective's bounds) with [`RefinementSettings::nodes_per_axis`] nodes, so the spacing halves
 /// at each level with the default of 5 nodes. The landscape, if `coarse` keeps it, is the
-/// coarse one.
+/// coarse one. The result ends [`Termination::Converged`] at the resolution,
+/// [`Termination::Stalled`] when a level neither shrinks a spacing nor improves the incumbent
+/// (a resolution below the spacing of floats near the optimum), or
+/// [`Termination::MaxIterations`].
 ///
 /// # Errors
 /// As [`grid_search`], and [`OptimizeError::Invalid`] for a resolution that is not
@@ -439,29 +442,41 @@ pub fn refined_grid_search<O: Objective + ?Sized>(
     let mut result = grid_search(objective, sense, coarse, progress)?;
     let mut axes = coarse.axes.clone();
     let resolved = |axes: &[GridAxis]| axes.iter().zip(resolution).all(|(a, r)| a.step() <= *r);
+    let mut stalled = false;
     for _ in 0..settings.max_levels {
         if resolved(&axes) {
             break;
         }
-        axes = refined_axes(
+        let finer = refined_axes(
             objective,
             &axes,
             &result.best,
             resolution,
             settings.nodes_per_axis,
         )?;
+        let shrunk = finer.iter().zip(&axes).any(|(f, a)| f.step() < a.step());
+        axes = finer;
         let level = grid_search(objective, sense, &GridSearch::new(axes.clone())?, progress)?;
         result.evaluations += level.evaluations;
         result.infeasible += level.infeasible;
+        let improved = sense.improves(level.best_value, result.best_value);
         if sense.at_least_as_good(level.best_value, result.best_value) {
             result.best = level.best;
             result.best_value = level.best_value;
+        }
+        // A level whose spacing did not shrink (one float wide: c ± step rounds to the same
+        // nodes; or 3 nodes per axis) and that found nothing better repeats itself for ever.
+        if !shrunk && !improved {
+            stalled = true;
+            break;
         }
     }
     result.termination = if resolved(&axes) {
         Termination::Converged {
             criterion: "resolution reached",
         }
+    } else if stalled {
+        Termination::Stalled
     } else {
         Termination::MaxIterations
     };

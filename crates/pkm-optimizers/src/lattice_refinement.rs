@@ -82,7 +82,8 @@ pub fn lattice_refined_search<O: Objective + ?Sized>(
 ///
 /// # Errors
 /// [`OptimizeError::Invalid`] when `coarse` or `start.0` does not have one entry per
-/// design variable, `start.0` or `start.1` is not finite, or for a level as in
+/// design variable, `start.0` or `start.1` is not finite, `start.0` lies outside the
+/// objective's bounds (a window around it would too), or for a level as in
 /// [`lattice_window`]; otherwise as [`grid_search`] on a window.
 pub fn lattice_refine_from<O: Objective + ?Sized>(
     objective: &O,
@@ -105,6 +106,13 @@ pub fn lattice_refine_from<O: Objective + ?Sized>(
     }
     if let Some(&x) = best.iter().find(|x| !x.is_finite()) {
         return Err(InvalidInput::new("start", x, "must be finite").into());
+    }
+    if let Some((&x, _)) = best
+        .iter()
+        .zip(objective.bounds())
+        .find(|(x, b)| !b.contains(**x))
+    {
+        return Err(InvalidInput::new("start", x, "must lie in the objective's bounds").into());
     }
     if !best_value.is_finite() {
         return Err(InvalidInput::new("start value", best_value, "must be finite").into());

@@ -103,8 +103,13 @@ impl LmSettings {
     pub fn validate(&self) -> Result<(), OptimizeError> {
         InvalidInput::require_nonzero_count("max_iterations", self.max_iterations)?;
         InvalidInput::require_positive("tolerance", self.tolerance)?;
-        if !(self.fd_step > 0.0 && self.fd_step < 0.1) {
-            return Err(InvalidInput::new("fd_step", self.fd_step, "must be in (0, 0.1)").into());
+        if !((finite_differences::MIN_RELATIVE_STEP..0.1).contains(&self.fd_step)) {
+            return Err(InvalidInput::new(
+                "fd_step",
+                self.fd_step,
+                "must be in [f64::EPSILON, 0.1)",
+            )
+            .into());
         }
         Ok(())
     }

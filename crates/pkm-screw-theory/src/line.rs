@@ -95,14 +95,18 @@ impl PluckerLine {
         }
     }
 
-    /// The point of the line closest to the world origin, $d \times m / |d|^2$.
+    /// The point of the line closest to the world origin, $d \times m / |d|^2$; finite for
+    /// every line (its distance $|m|/|d|$ is at most that of a point the line was built through).
     pub fn closest_point_to_origin(&self) -> Vector3<f64> {
         let norm_squared = self.direction.norm_squared();
         if norm_squared.is_normal() {
-            return self.direction.cross(&self.moment) / norm_squared;
+            let point = self.direction.cross(&self.moment) / norm_squared;
+            if point.iter().all(|v| v.is_finite()) {
+                return point;
+            }
         }
-        // |d|² overflows or underflows: (d/|d|) × m / |d| with a scaled norm.
+        // |d|² or d × m overflows or underflows: (d/|d|) × (m/|d|) with a scaled norm.
         let norm = scaled_norm(&self.direction);
-        (self.direction / norm).cross(&self.moment) / norm
+        (self.direction / norm).cross(&(self.moment / norm))
     }
 }

@@ -15,7 +15,8 @@ pub fn task_residuals<const N: usize>(rows: &SMatrix<f64, N, 6>, twist: &Twist) 
 /// $$F = \sum_{i=1}^N (L_i \wedge \chi)^2 = \sum_i (\bar j_i \cdot x + j_i \cdot \bar x)^2,$$
 /// the sum of the squared virtual powers of the rows on the task twist $\chi$ (for a
 /// Stewart–Gough platform: the sum of the squared leg rates). $F = 0$ iff $\chi$ is reciprocal to
-/// every row.
+/// every row. Plain arithmetic: NaN in, NaN out, and ±∞ when the squares overflow (the
+/// mechanisms' `task_objective` methods return a typed error instead).
 ///
 /// # Example
 /// ```

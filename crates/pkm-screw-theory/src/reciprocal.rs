@@ -8,7 +8,8 @@ use crate::screws::{Twist, Wrench};
 
 /// The reciprocal product of two ray-order 6-vectors, $a \wedge b = a_{top} \cdot b_{bottom} +
 /// a_{bottom} \cdot b_{top} = a^\top \Delta b$, where $\Delta$ swaps the halves. Symmetric,
-/// bit for bit.
+/// bit for bit. Plain arithmetic: NaN in, NaN out, and products beyond `f64` give ±∞ (the
+/// validated entry points above it check their results).
 pub fn reciprocal_product_vectors(a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
     let ((a_top, a_bottom), (b_top, b_bottom)) = (ray::halves(a), ray::halves(b));
     a_top.dot(&b_bottom) + a_bottom.dot(&b_top)
@@ -16,7 +17,8 @@ pub fn reciprocal_product_vectors(a: &Vector6<f64>, b: &Vector6<f64>) -> f64 {
 
 /// The reciprocal product (virtual power) of a wrench $L = [j; \bar j]$ and a twist
 /// $\chi = [x; \bar x]$, eq. 5 and 14: $L \wedge \chi = \bar j \cdot x + j \cdot \bar x$.
-/// It vanishes when the wrench does no work on the twist (the screws are reciprocal).
+/// It vanishes when the wrench does no work on the twist (the screws are reciprocal). NaN in,
+/// NaN out, as [`reciprocal_product_vectors`].
 ///
 /// # Example
 /// ```

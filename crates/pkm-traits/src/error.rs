@@ -49,6 +49,31 @@ impl DesignError {
             })
         }
     }
+
+    /// Checks that a quantity *derived* from the given parameters (a reach, a squared length, a
+    /// mass coefficient) is finite: given parameters that are each finite can still overflow
+    /// together, and a model is validated on what it computes with.
+    ///
+    /// # Errors
+    /// A [`DesignError`] naming the derived quantity `parameter` otherwise.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_traits::DesignError;
+    /// let arm = 1e200;
+    /// assert!(DesignError::require_derived_finite("La^2", arm * arm).is_err());
+    /// ```
+    pub fn require_derived_finite(parameter: &'static str, value: f64) -> Result<f64, Self> {
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(Self {
+                parameter,
+                value,
+                requirement: "derived from the design, must be finite (the design overflows)",
+            })
+        }
+    }
 }
 
 /// An argument that violates its requirement: the one error shape for invalid input to an

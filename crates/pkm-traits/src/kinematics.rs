@@ -147,7 +147,8 @@ impl Default for NewtonSettings {
 /// [`KinematicsError::InvalidInput`] for a tolerance that is not finite and positive,
 /// [`KinematicsError::Singular`] when
 /// $J_x$ cannot be inverted at an iterate, [`KinematicsError::NotConverged`] when the residual
-/// stays above the tolerance.
+/// stays above the tolerance after `max_iterations`, or stagnates (no new best residual in 32
+/// iterations: a tolerance below round-off ends by itself, whatever the iteration limit).
 pub fn newton_forward_kinematics<M, const N: usize>(
     mechanism: &M,
     q: &Joints<N>,
@@ -162,7 +163,9 @@ where
     InvalidInput::require_positive("tolerance", settings.tolerance)?;
     let mut x = *guess;
     let mut residual = f64::INFINITY;
-    for _ in 0..settings.max_iterations {
+    let mut stagnation = Stagnation::default();
+    let mut iterations = 0;
+    while iterations < settings.max_iterations {
         let phi = mechanism.closure(&x, q);
         residual = phi.amax();
         if !residual.is_finite() {
@@ -170,6 +173,9 @@ where
         }
         if residual < settings.tolerance {
             return Ok(x);
+        }
+        if stagnation.stalled(residual) {
+            break;
         }
         let j_x_inv =
             mechanism
@@ -180,14 +186,49 @@ where
                     sigma_min: 0.0,
                 })?;
         x -= j_x_inv * phi;
+        iterations += 1;
     }
     if !x.iter().all(|v| v.is_finite()) {
         residual = f64::INFINITY;
     }
     Err(KinematicsError::NotConverged {
-        iterations: settings.max_iterations,
+        iterations,
         residual,
     })
+}
+
+/// Newton's stagnation test: the residual has not fallen below its best for
+/// [`Stagnation::WINDOW`] = 32 iterations in a row (a tolerance below the round-off of $\Phi$, or a
+/// cycle), so more iterations cannot help. Newton improves at every step inside its basin, and
+/// 32 steps without a new best is beyond the wandering of a run that then converges within the
+/// default 50 iterations.
+#[derive(Debug)]
+struct Stagnation {
+    best: f64,
+    without_progress: usize,
+}
+
+impl Default for Stagnation {
+    fn default() -> Self {
+        Self {
+            best: f64::INFINITY,
+            without_progress: 0,
+        }
+    }
+}
+
+impl Stagnation {
+    const WINDOW: usize = 32;
+
+    fn stalled(&mut self, residual: f64) -> bool {
+        if residual < self.best {
+            self.best = residual;
+            self.without_progress = 0;
+        } else {
+            self.without_progress += 1;
+        }
+        self.without_progress >= Self::WINDOW
+    }
 }
 
 /// `Err(NonFinite { what, value })` for the first NaN or infinite entry of `values`.

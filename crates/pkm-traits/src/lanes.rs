@@ -65,10 +65,20 @@ impl<const N: usize> Lanes<N> {
         self.map(|v| v.min(value))
     }
 
-    /// [`f64::clamp`] per lane (a NaN lane stays NaN).
+    /// [`f64::clamp`] per lane (a NaN lane stays NaN), without its panic: for limits that are
+    /// NaN or inverted (`lo > hi`) a lane below `lo` becomes `lo`, then one above `hi` becomes
+    /// `hi`; for valid limits the bits are [`f64::clamp`]'s.
     #[inline(always)]
     pub fn clamp(self, lo: f64, hi: f64) -> Self {
-        self.map(|v| v.clamp(lo, hi))
+        self.map(|v| {
+            if v < lo {
+                lo
+            } else if v > hi {
+                hi
+            } else {
+                v
+            }
+        })
     }
 
     /// $1/x$ per lane.

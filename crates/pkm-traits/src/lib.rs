@@ -12,6 +12,7 @@
 //! | [`workspace`] | workspace constraints (half-spaces, joint ranges, cone limits, clearance) |
 //! | [`progress`] | progress reporting and cooperative cancellation |
 //! | [`error`] | typed errors that carry the offending numbers |
+//! | [`checked`] | NaN- and overflow-safe checks, the memory budget |
 //!
 //! With the `testkit` feature, the `testkit` module provides the conformance checks that every mechanism
 //! passes in its tests.
@@ -38,6 +39,7 @@
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+pub mod checked;
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;
@@ -49,6 +51,7 @@ pub mod region;
 pub mod testkit;
 pub mod workspace;
 
+pub use checked::MEMORY_BUDGET_BYTES;
 pub use dynamics::{IntegrationError, Integrator, RhsError, StepReport, VectorField};
 pub use error::{DesignError, InfeasibleCause, InvalidInput, KinematicsError, ObjectiveError};
 pub use kinematics::{

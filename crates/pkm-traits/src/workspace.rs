@@ -15,6 +15,7 @@
 //! mechanism without spherical joints is a typed error ([`ConstraintError::Unsupported`]),
 //! never a silently ignored limit.
 
+use crate::checked::all_finite;
 use crate::kinematics::{InverseKinematics, Joints, Task};
 use nalgebra::Vector3;
 use thiserror::Error;
@@ -225,19 +226,27 @@ impl WorkspaceConstraint {
     }
 
     /// Whether the position alone satisfies the constraint (`true` for constraints on joints).
+    /// No constraint holds at a position with a NaN or infinite coordinate.
     pub fn holds_at_position(&self, x: &Vector3<f64>) -> bool {
+        if !all_finite(x.iter()) {
+            return false;
+        }
         match self.0 {
             Limit::HalfSpace { normal, offset } => normal.dot(x) <= offset,
             _ => true,
         }
     }
 
-    /// Whether the assembled configuration `(x, q)` satisfies the constraint. NaN angles or
-    /// distances fail it.
+    /// Whether the assembled configuration `(x, q)` satisfies the constraint. No constraint
+    /// holds at a configuration with a NaN or infinite coordinate, and NaN angles or distances
+    /// fail it.
     pub fn holds<M, const NQ: usize>(&self, mechanism: &M, x: &Task<3>, q: &Joints<NQ>) -> bool
     where
         M: ConstrainedWorkspace<3, NQ> + ?Sized,
     {
+        if !(all_finite(x.iter()) && all_finite(q.iter())) {
+            return false;
+        }
         match self.0 {
             Limit::HalfSpace { .. } => self.holds_at_position(x),
             Limit::JointRange {
@@ -274,7 +283,9 @@ pub trait ConstrainedWorkspace<const NX: usize, const NQ: usize>:
     }
 
     /// Whether the mechanism assembles at `x` in `mode`. The default asks the inverse
-    /// kinematics; a mechanism may override it with a cheaper test (no trigonometry).
+    /// kinematics; a mechanism may override it with a cheaper test (no trigonometry) that must
+    /// agree with the inverse kinematics for every `x`, NaN, ±∞ and points whose squares
+    /// overflow included (`tests/it/hostile/edges.rs` checks it).
     fn reachable(&self, x: &Task<NX>, mode: Self::WorkingMode) -> bool {
         self.inverse_kinematics(x, mode).is_ok()
     }
@@ -287,13 +298,13 @@ pub trait ConstrainedWorkspace<const NX: usize, const NQ: usize>:
     }
 
     /// The bend of each passive spherical joint (rad) at an assembled configuration; `None`
-    /// when the mechanism has none (the default).
+    /// when the mechanism has none (the default) or the configuration is not finite.
     fn passive_joint_angles(&self, _x: &Task<NX>, _q: &Joints<NQ>) -> Option<Joints<NQ>> {
         None
     }
 
     /// The smallest distance between links of neighbouring legs (m); `None` when not modelled
-    /// (the default).
+    /// (the default) or the configuration is not finite.
     fn leg_clearance(&self, _x: &Task<NX>, _q: &Joints<NQ>) -> Option<f64> {
         None
     }

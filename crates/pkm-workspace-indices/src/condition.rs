@@ -54,7 +54,9 @@ impl FixedSvd<3> for Dim<3> {
 ///
 /// Returns 0 for a singular matrix, the zero matrix, or a matrix with non-finite entries, so
 /// that integrals of $1/\kappa$ over a workspace stay finite at its boundary (Stamper, Tsai &
-/// Walsh 1997, eq. 4; Miller 2004, eq. 1).
+/// Walsh 1997, eq. 4; Miller 2004, eq. 1). Rank cutoff: the singular values carry an absolute
+/// error of order $\varepsilon\,\sigma_{\max}$, so a $1/\kappa$ below about 1e-15 is not
+/// resolved, and 0 means "rank-deficient to working precision".
 ///
 /// # Example
 /// ```

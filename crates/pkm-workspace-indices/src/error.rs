@@ -30,6 +30,15 @@ pub enum IndexError {
     /// The design itself is invalid.
     #[error(transparent)]
     Design(#[from] DesignError),
+    /// A result overflowed (or came out NaN) from finite inputs: an index whose values or
+    /// domain are too large for `f64` (e.g. $\eta = V_D \sum f_k / n$ with $f_k \sim 10^{300}$).
+    #[error("{what} is not finite ({value}): the inputs overflow f64")]
+    NonFinite {
+        /// Which result (`"eta"`, `"eta standard error"`).
+        what: &'static str,
+        /// The value computed.
+        value: f64,
+    },
     /// The computation was cancelled through [`pkm_traits::Progress`].
     #[error("cancelled")]
     Cancelled,

@@ -11,6 +11,7 @@ use crate::points::MAX_REPLICATES;
 use crate::{Accumulator, IndexError, PointSet, chunked_reduce};
 use nalgebra::Vector3;
 use pkm_traits::Progress;
+use pkm_traits::checked::finite_or;
 
 /// How a standard error was obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -117,7 +118,8 @@ where
 /// $f$ = `local(x)` (a non-finite $f$ counts as 0 and the point as inside).
 ///
 /// # Errors
-/// [`IndexError::Cancelled`].
+/// [`IndexError::Cancelled`]; [`IndexError::NonFinite`] when $\eta$ or its standard error
+/// overflows (finite values of $f$ near `f64::MAX`).
 pub fn workspace_volume_and_eta<F>(
     points: &PointSet,
     progress: &dyn Progress,
@@ -170,11 +172,21 @@ where
             acc.f2[r] += f * f;
         }
     })?;
-    Ok(summarise(&sums, replicates, m, v_domain))
+    summarise(&sums, replicates, m, v_domain)
 }
 
 /// Mean and standard error from per-replicate sums.
-pub(crate) fn summarise(sums: &Sums, replicates: usize, m: u64, v_domain: f64) -> VolumeEstimate {
+///
+/// # Errors
+/// [`IndexError::NonFinite`] when a mean or a standard error overflowed (values of $f$ whose
+/// sum or square is beyond `f64`): never an infinite estimate, nor an error term that a NaN
+/// variance turned into 0.
+pub(crate) fn summarise(
+    sums: &Sums,
+    replicates: usize,
+    m: u64,
+    v_domain: f64,
+) -> Result<VolumeEstimate, IndexError> {
     let mf = m as f64;
     let volumes: Vec<f64> = (0..replicates)
         .map(|r| v_domain * (sums.inside[r] as f64 / mf))
@@ -187,7 +199,13 @@ pub(crate) fn summarise(sums: &Sums, replicates: usize, m: u64, v_domain: f64) -
     let (volume_se, eta_se, error_model) = if replicates == 1 {
         let p = sums.inside[0] as f64 / mf;
         let f_mean = sums.f[0] / mf;
+        // `max` clamps the round-off of a zero variance; a NaN (∞ − ∞) is kept for the check.
         let variance = (sums.f2[0] / mf - f_mean * f_mean).max(0.0);
+        let variance = if sums.f2[0].is_finite() {
+            variance
+        } else {
+            f64::INFINITY
+        };
         (
             v_domain * (p * (1.0 - p) / mf).sqrt(),
             v_domain * (variance / mf).sqrt(),
@@ -200,7 +218,16 @@ pub(crate) fn summarise(sums: &Sums, replicates: usize, m: u64, v_domain: f64) -
             ErrorModel::Replicates(replicates as u32),
         )
     };
-    VolumeEstimate {
+    let results = [
+        ("volume", volume),
+        ("volume standard error", volume_se),
+        ("eta", eta),
+        ("eta standard error", eta_se),
+    ];
+    for (what, value) in results {
+        finite_or(value, |value| IndexError::NonFinite { what, value })?;
+    }
+    Ok(VolumeEstimate {
         n_points: m * replicates as u64,
         n_inside,
         volume,
@@ -209,7 +236,7 @@ pub(crate) fn summarise(sums: &Sums, replicates: usize, m: u64, v_domain: f64) -
         eta_se: Some(eta_se),
         error_model,
         replicate_volumes: volumes,
-    }
+    })
 }
 
 fn mean(values: &[f64]) -> f64 {

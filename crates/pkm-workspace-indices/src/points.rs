@@ -11,8 +11,9 @@ use nalgebra::Vector3;
 use pkm_traits::InvalidInput;
 use rayon::prelude::*;
 
-/// Largest number of points a set may hold (2.4 GB of coordinates): larger requests are
-/// refused with [`IndexError::TooLarge`] before anything is allocated.
+/// Largest number of points a set may hold (2.4 GB of coordinates, within
+/// [`pkm_traits::MEMORY_BUDGET_BYTES`]): larger requests are refused with
+/// [`IndexError::TooLarge`] before anything is allocated.
 pub const MAX_POINTS: u64 = 100_000_000;
 
 /// Largest number of replicates.
@@ -63,8 +64,9 @@ impl PointSet {
             });
         }
         if let Sampler::Grid { per_axis } = sampler {
-            let cells = u64::from(per_axis).pow(3);
-            if replicates != 1 || cells != per_replicate {
+            // Checked: (2³²)³ overflows u64.
+            let cells = u64::from(per_axis).checked_pow(3);
+            if replicates != 1 || cells != Some(per_replicate) {
                 return Err(InvalidInput::new(
                     "grid points",
                     per_replicate as f64,

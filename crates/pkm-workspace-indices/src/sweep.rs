@@ -57,7 +57,7 @@ where
                 sums.inside[r] = block.iter().filter(|x| contains(design, x)).count() as u64;
             }
             progress.advance(1);
-            let mut e = summarise(&sums, replicates, m as u64, v_domain);
+            let mut e = summarise(&sums, replicates, m as u64, v_domain)?;
             e.eta = None;
             e.eta_se = None;
             Ok(e)
@@ -67,7 +67,8 @@ where
 
 /// $\mathrm{sd}/\sqrt R$ of the per-replicate ratios $W_r(a)/W_r(b)$ of two estimates over the
 /// same replicated [`PointSet`] (common points, so the ratio's error is far below either
-/// volume's); `None` with fewer than two replicates or an empty $W_r(b)$.
+/// volume's); `None` with fewer than two replicates, an empty $W_r(b)$, or a ratio or spread
+/// that overflows.
 pub fn ratio_standard_error(a: &VolumeEstimate, b: &VolumeEstimate) -> Option<f64> {
     if a.replicate_volumes.len() < 2 || a.replicate_volumes.len() != b.replicate_volumes.len() {
         return None;
@@ -78,5 +79,7 @@ pub fn ratio_standard_error(a: &VolumeEstimate, b: &VolumeEstimate) -> Option<f6
         .zip(&b.replicate_volumes)
         .map(|(x, y)| (*y > 0.0).then(|| x / y))
         .collect();
-    ratios.map(|r| crate::estimator::standard_error(&r))
+    ratios
+        .map(|r| crate::estimator::standard_error(&r))
+        .filter(|se| se.is_finite())
 }

@@ -47,7 +47,8 @@ impl HemisphereEstimate {
 ///
 /// # Errors
 /// [`IndexError::EmptySample`] for no points, [`IndexError::Invalid`] for a radius that is
-/// not finite and positive or whose hemisphere's volume overflows, [`IndexError::Cancelled`].
+/// not finite and positive or whose hemisphere's volume overflows, [`IndexError::NonFinite`]
+/// when $\eta$ or a standard error overflows, [`IndexError::Cancelled`].
 ///
 /// # Example
 /// ```

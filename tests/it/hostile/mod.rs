@@ -13,6 +13,7 @@
 
 mod chart;
 mod dynamics;
+mod edges;
 mod indices;
 mod integrators;
 mod mechanisms;

@@ -62,10 +62,21 @@ fn saddle(
     r1: &Vector6<f64>,
     r2: &Vector3<f64>,
 ) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
-    super::saddle::solve(at.model_constants(), at.legs(), r1, r2).ok_or(DynamicsError::Singular {
-        matrix: SADDLE_MATRIX,
-        t,
-    })
+    let (a, b) = super::saddle::solve(at.model_constants(), at.legs(), r1, r2).ok_or(
+        DynamicsError::Singular {
+            matrix: SADDLE_MATRIX,
+            t,
+        },
+    )?;
+    // A state or torque whose products overflow (finite inputs near f64::MAX) gives a
+    // non-finite solution of a regular system: an error, never `Ok(inf)`.
+    if !(a.iter().all(|v| v.is_finite()) && b.iter().all(|v| v.is_finite())) {
+        return Err(DynamicsError::NonFinite {
+            what: "accelerations and multipliers of the saddle-point system",
+            t,
+        });
+    }
+    Ok((a, b))
 }
 
 fn joint_force(tau: &Vector3<f64>) -> Vector6<f64> {
@@ -136,7 +147,8 @@ impl<'a, F: Fn(f64) -> Vector3<f64>> HamiltonForm<'a, F> {
     ///
     /// # Errors
     /// [`DynamicsError::Singular`] (matrix [`SADDLE_MATRIX`], time `t`) when the saddle-point
-    /// matrix is singular, e.g. where $\Phi_q$ loses rank. Inside an integration the same failure
+    /// matrix is singular, e.g. where $\Phi_q$ loses rank; [`DynamicsError::NonFinite`] when the
+    /// solution overflows (a state or torque near `f64::MAX`). Inside an integration the same failure
     /// arrives as [`pkm_traits::IntegrationError::Rhs`] with this error's message and time.
     pub fn solve(&self, t: f64, z: &State) -> Result<(Vector6<f64>, Vector3<f64>), DynamicsError> {
         self.solve_at(&self.model.at(&self.positions(z)), t, z)

@@ -41,7 +41,50 @@ pub struct Segment {
     pub reverse: bool,
 }
 
+/// Safety factor on the largest derivatives seen at the probe points of
+/// [`Segment::check_motion_is_finite`]: every motion law has $|s'| \le 2$ and $|s''| \le 2\pi$,
+/// and the paths' derivatives vary by less than this factor between probes.
+const MOTION_MARGIN: f64 = 64.0;
+
 impl Segment {
+    /// Checks that the motion derived from the path and the duration is finite: the path's
+    /// points and derivatives at $u = 0, \tfrac18, \dots, 1$, and the bounds
+    /// $|\dot p| \le 2\,\max|p'|/T$, $|\ddot p| \le (4\max|p''| + 2\pi\max|p'|)/T^2$ with
+    /// a margin of [`MOTION_MARGIN`].
+    fn check_motion_is_finite(&self) -> Result<(), DynamicsError> {
+        let (mut p1, mut p2) = (0.0f64, 0.0f64);
+        for k in 0..=8 {
+            let [p, d1, d2] = self.path.eval(f64::from(k) / 8.0);
+            if !p
+                .iter()
+                .chain(d1.iter())
+                .chain(d2.iter())
+                .all(|v| v.is_finite())
+            {
+                return Err(InvalidInput::new(
+                    "path",
+                    f64::INFINITY,
+                    "must have finite points and derivatives",
+                )
+                .into());
+            }
+            p1 = p1.max(d1.amax());
+            p2 = p2.max(d2.amax());
+        }
+        let t = self.duration;
+        let speed = MOTION_MARGIN * 2.0 * p1 / t;
+        let acceleration = MOTION_MARGIN * (4.0 * p2 + 2.0 * std::f64::consts::PI * p1) / t / t;
+        if !(speed.is_finite() && acceleration.is_finite()) {
+            return Err(InvalidInput::new(
+                "duration",
+                t,
+                "too short for the path: its velocity or acceleration overflows",
+            )
+            .into());
+        }
+        Ok(())
+    }
+
     fn sample(&self, t: f64) -> TaskMotion {
         let (s, s1, s2) = self.law.eval(t / self.duration);
         let (u, sign) = if self.reverse {
@@ -69,8 +112,10 @@ impl Trajectory {
     /// Chains segments.
     ///
     /// # Errors
-    /// [`DynamicsError::Invalid`] for no segment, a non-positive duration or a path that
-    /// fails [`Path::validate`].
+    /// [`DynamicsError::Invalid`] for no segment, a non-positive duration, a path that
+    /// fails [`Path::validate`], a total duration that overflows, or a segment whose positions,
+    /// velocities or accelerations would overflow (a path too large for `f64`, or too long for
+    /// its duration: $|p'|/T$ or $|p''|/T^2$ beyond `f64`).
     pub fn new(segments: Vec<Segment>) -> Result<Self, DynamicsError> {
         if segments.is_empty() {
             return Err(InvalidInput::new("segments", 0.0, "at least one segment").into());
@@ -83,6 +128,11 @@ impl Trajectory {
         }
         for s in &segments {
             s.path.validate()?;
+            s.check_motion_is_finite()?;
+        }
+        let total: f64 = segments.iter().map(|s| s.duration).sum();
+        if !total.is_finite() {
+            return Err(InvalidInput::new("duration", total, "the total must be finite").into());
         }
         Ok(Self { segments })
     }

@@ -116,7 +116,9 @@ impl RotaryDelta {
     /// Builds the mechanism of `design`.
     ///
     /// # Errors
-    /// [`DesignError`] for a non-positive length or a non-finite offset, angle or placement.
+    /// [`DesignError`] for a non-positive length or a non-finite offset, angle or placement, or
+    /// for lengths whose derived quantities overflow: the squares of the kinematics
+    /// ($4L_a^2$, $L_a^2 + L_b^2$) and the volume of [`RotaryDelta::reach_cylinder`].
     pub fn new(design: RotaryDeltaDesign) -> Result<Self, DesignError> {
         let base_radius = DesignError::require_positive("R", design.base_radius)?;
         let r = DesignError::require_finite("r", design.plate_offset)?;
@@ -139,7 +141,16 @@ impl RotaryDelta {
                 plate_offset: radial * r,
             }
         });
-        Ok(Self { design, legs })
+        let (arm, forearm) = (design.arm, design.forearm);
+        DesignError::require_derived_finite("4 La^2", 4.0 * arm * arm)?;
+        DesignError::require_derived_finite("La^2 + Lb^2", arm * arm + forearm * forearm)?;
+        let mechanism = Self { design, legs };
+        let (radius, half_height) = mechanism.reach_cylinder();
+        DesignError::require_derived_finite(
+            "reach cylinder volume",
+            std::f64::consts::PI * radius * radius * 2.0 * half_height,
+        )?;
+        Ok(mechanism)
     }
 
     /// The design the mechanism was built from (the plate offsets as designed, radial even after

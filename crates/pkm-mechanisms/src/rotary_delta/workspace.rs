@@ -3,7 +3,8 @@
 
 use super::{ElbowMode, RotaryDelta};
 use nalgebra::Vector3;
-use pkm_traits::{ConstrainedWorkspace, ConstraintKind, Joints, Task};
+use pkm_traits::checked::{all_finite, min_propagating_nan};
+use pkm_traits::{ConstrainedWorkspace, ConstraintKind, InverseKinematics, Joints, Task};
 
 /// The part of a forearm, from the elbow, on which leg clearance is measured.
 pub const FOREARM_CLEARANCE_SPAN: f64 = 0.75;
@@ -21,17 +22,29 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     /// Leg $i$ reaches $x$ iff $K^2 \le a^2 + b^2$ (the arc cosine of the inverse kinematics
     /// exists), in either elbow mode: $D = x + c_i - A_i$, $K = (|D|^2 + L_a^2 - L_b^2)/(2L_a)$,
     /// $a = D\cdot u_i$, $b = -D\cdot w_i$; tested as $(|D|^2 + L_a^2 - L_b^2)^2 \le
-    /// 4L_a^2 (a^2 + b^2)$, with no division, square root or trigonometry.
-    fn reachable(&self, x: &Task<3>, _mode: ElbowMode) -> bool {
+    /// 4L_a^2 (a^2 + b^2)$, with no division, square root or trigonometry. Where a product of
+    /// that test overflows (points beyond about 1e77 m) it asks the inverse kinematics, whose
+    /// ratio $K/\rho$ does not; a non-finite $x$ is never reachable.
+    fn reachable(&self, x: &Task<3>, mode: ElbowMode) -> bool {
+        if !all_finite(x.iter()) {
+            return false;
+        }
         let offset = self.design.arm * self.design.arm - self.design.forearm * self.design.forearm;
         let scale = 4.0 * self.design.arm * self.design.arm;
-        self.legs.iter().all(|leg| {
+        let mut overflowed = false;
+        let cheap = self.legs.iter().all(|leg| {
             let d = x + (leg.plate_offset - leg.motor);
             let s = d.norm_squared() + offset;
             let (a, b) = (d.dot(&leg.u), d.dot(&leg.w));
             let rho2 = a * a + b * b;
-            s * s <= scale * rho2 && rho2 > 0.0
-        })
+            let (lhs, rhs) = (s * s, scale * rho2);
+            overflowed |= !(lhs.is_finite() && rhs.is_finite());
+            lhs <= rhs && rho2 > 0.0
+        });
+        if overflowed {
+            return self.inverse_kinematics(x, mode).is_ok();
+        }
+        cheap
     }
 
     /// Reachability does not depend on the elbow mode: one test for any non-empty list.
@@ -44,13 +57,20 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     /// normal to $e_i$; its bend is the forearm's angle out of that plane,
     /// $\gamma_i = \arcsin(|\hat v_i \cdot e_i|)$ with $v_i = C_i - B_i$.
     fn passive_joint_angles(&self, x: &Task<3>, q: &Joints<3>) -> Option<Joints<3>> {
+        if !(all_finite(x.iter()) && all_finite(q.iter())) {
+            return None;
+        }
         let mut out = Joints::<3>::zeros();
         for (i, leg) in self.legs.iter().enumerate() {
             let v = self.forearm_vector(i, x, q[i]);
-            let sine = (v.dot(&leg.e) / v.norm()).abs().min(1.0);
-            out[i] = sine.asin();
+            // `f64::min` would turn a NaN sine (a zero or overflowing forearm) into 1.
+            let sine = (v.dot(&leg.e) / v.norm()).abs();
+            if sine.is_nan() {
+                return None;
+            }
+            out[i] = sine.min(1.0).asin();
         }
-        out.iter().all(|a| a.is_finite()).then_some(out)
+        Some(out)
     }
 
     /// The smallest distance between the links of neighbouring legs $i$, $i + 1$: the arms
@@ -58,6 +78,9 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     /// [`FOREARM_CLEARANCE_SPAN`] of the way to $C_i$ (forearms converge on the plate by design,
     /// their ends only $r\sqrt3$ apart, so the stretch next to the plate is not a collision).
     fn leg_clearance(&self, x: &Task<3>, q: &Joints<3>) -> Option<f64> {
+        if !(all_finite(x.iter()) && all_finite(q.iter())) {
+            return None;
+        }
         let links = |i: usize| {
             let leg = &self.legs[i];
             let elbow = self.elbow(i, q[i]);
@@ -69,7 +92,7 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
         for i in 0..3 {
             for a in links(i) {
                 for b in links((i + 1) % 3) {
-                    clearance = clearance.min(segment_distance(a, b));
+                    clearance = min_propagating_nan(clearance, segment_distance(a, b));
                 }
             }
         }
@@ -121,7 +144,6 @@ mod tests {
     use super::*;
     use crate::presets;
     use crate::rotary_delta::Placement;
-    use pkm_traits::InverseKinematics;
     use proptest::prelude::*;
 
     fn nuwar() -> RotaryDelta {

@@ -104,7 +104,9 @@ impl Tsai3Dof {
         let l1 = -4.0 * a * pw;
         let l0 = (pu - a).powi(2) + pw * pw - l * l;
         let disc = l1 * l1 - 4.0 * l0 * l2;
-        if disc < 0.0 {
+        // `!(disc >= 0)`: a NaN discriminant (∞ − ∞ when the squares of a far point overflow)
+        // is unreachable too, never NaN angles.
+        if !(disc >= 0.0) {
             return Err(KinematicsError::Unreachable {
                 leg,
                 discriminant: disc,
