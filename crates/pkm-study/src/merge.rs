@@ -2,7 +2,6 @@
 //! shards 1/N … N/N) into the outcome of a single run, bit for bit: the parts' node values are
 //! concatenated in node order and the study is finished by the same code as a single run.
 
-use crate::registry::StudyMechanism as _;
 use crate::StudyError;
 use crate::grid::{self, NodeOutcome, ShardResult};
 use crate::outcome::Outcome;

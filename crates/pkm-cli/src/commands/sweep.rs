@@ -2,7 +2,6 @@
 //! exhaustive grid over design variables, a weighted utility, refinement, the landscape and
 //! heat maps. A shard writes its nodes' values for `pkm merge`.
 
-use pkm_study::StudyMechanism as _;
 use super::{Context, Report, Run};
 use crate::CliError;
 use pkm_study::Shard;

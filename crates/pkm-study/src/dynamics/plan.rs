@@ -8,7 +8,8 @@ use super::schema::{
     ReadingSpec, SegmentSpec, TrajectorySpec,
 };
 use crate::StudyError;
-use crate::schema::mechanism::{ElbowSpec, MechanismSpec, rotary_delta};
+use crate::schema::mechanism::{MechanismSpec, rotary_delta};
+use pkm_mechanisms::ElbowMode;
 use crate::schema::units::{Metres, Real};
 use nalgebra::Vector3;
 use pkm_dynamics_hamilton::forward::HamiltonForm;
@@ -96,7 +97,7 @@ fn model_of(mechanism: &MechanismSpec, masses: &MassesSpec) -> Result<ExtendedMo
             "pkm dynamics models the rotary Delta family: expected [mechanism.rotary_delta]",
         ));
     };
-    if spec.elbow != [ElbowSpec::Out] {
+    if spec.elbow != [ElbowMode::Out] {
         return Err(StudyError::invalid(
             "mechanism.rotary_delta.elbow",
             "the dynamics follow the elbow-out branch; expected elbow = [\"out\"]",

@@ -6,7 +6,6 @@
 //! the old one (values under different settings are not compared), then the level itself, as
 //! the Linear Delta search of Miller 2004 §2.2.3 does.
 
-use crate::registry::StudyMechanism as _;
 use super::utility;
 use crate::StudyError;
 use crate::grid::Prepared;
