@@ -1,0 +1,123 @@
+//! Pose coordinates of the platform: position and a gimbal-free orientation.
+//!
+//! Two orientation parametrisations, neither with a singularity at home:
+//! - `rotation_vector`: $R = \exp([r]_\times)$, $r = (r_x, r_y, r_z)$, singular only at
+//!   $|r| = 2\pi$; for a planar robot $R = R_z(r_z)$;
+//! - `tilt_torsion`: $R = \exp([(t_x, t_y, 0)]_\times)\,R_z(\sigma)$, the tilt-and-torsion
+//!   angles of Bonev (tilt $\theta = |t|$ about the horizontal axis $t/|t|$, torsion $\sigma$),
+//!   written with the tilt vector so that zero tilt is regular (Briot & Bonev 2008).
+
+use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, Vector3};
+use serde::{Deserialize, Serialize};
+
+/// The orientation coordinates of a robot file.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OrientationKind {
+    /// Rotation vector $r$, $R = \exp([r]_\times)$; coordinates `rx`, `ry`, `rz`.
+    #[default]
+    RotationVector,
+    /// Tilt vector and torsion, $R = \exp([(t_x, t_y, 0)]_\times) R_z(\sigma)$; coordinates
+    /// `tilt_x`, `tilt_y`, `torsion`.
+    TiltTorsion,
+}
+
+/// Six pose coordinates: position (m) then three orientation coordinates (rad).
+pub type PoseCoordinates = [f64; 6];
+
+impl OrientationKind {
+    /// Names of the six pose coordinates, position first.
+    pub fn coordinate_names(self) -> [&'static str; 6] {
+        match self {
+            Self::RotationVector => ["x", "y", "z", "rx", "ry", "rz"],
+            Self::TiltTorsion => ["x", "y", "z", "tilt_x", "tilt_y", "torsion"],
+        }
+    }
+
+    /// The rotation of the orientation coordinates `o`.
+    pub fn rotation(self, o: &Vector3<f64>) -> Rotation3<f64> {
+        match self {
+            Self::RotationVector => Rotation3::new(*o),
+            Self::TiltTorsion => {
+                Rotation3::new(Vector3::new(o.x, o.y, 0.0))
+                    * Rotation3::from_axis_angle(&Vector3::z_axis(), o.z)
+            }
+        }
+    }
+
+    /// Column $k$: the angular velocity $\omega$ (space frame) per unit rate of orientation
+    /// coordinate $k$.
+    fn angular_rates(self, o: &Vector3<f64>) -> Matrix3<f64> {
+        match self {
+            Self::RotationVector => so3_left_jacobian(o),
+            Self::TiltTorsion => {
+                let tilt = Vector3::new(o.x, o.y, 0.0);
+                let mut m = so3_left_jacobian(&tilt);
+                m.set_column(2, &(Rotation3::new(tilt) * Vector3::z()));
+                m
+            }
+        }
+    }
+}
+
+/// The platform pose (world from platform) of the pose coordinates `c`.
+pub fn platform_pose(kind: OrientationKind, c: &PoseCoordinates) -> Isometry3<f64> {
+    let rotation = kind.rotation(&Vector3::new(c[3], c[4], c[5]));
+    Isometry3::from_parts(Translation3::new(c[0], c[1], c[2]), rotation.into())
+}
+
+/// Column $k$: the rates $[\omega; \dot p]$ of the platform (angular velocity, velocity of its
+/// origin) per unit rate of pose coordinate $k$.
+pub(crate) fn hybrid_rates(kind: OrientationKind, c: &PoseCoordinates) -> Matrix6<f64> {
+    let mut h = Matrix6::zeros();
+    h.fixed_view_mut::<3, 3>(3, 0).fill_with_identity();
+    h.fixed_view_mut::<3, 3>(0, 3)
+        .copy_from(&kind.angular_rates(&Vector3::new(c[3], c[4], c[5])));
+    h
+}
+
+/// The left Jacobian of SO(3): $\omega = J_l(r)\,\dot r$ for $R = \exp([r]_\times)$.
+pub(crate) fn so3_left_jacobian(r: &Vector3<f64>) -> Matrix3<f64> {
+    let theta = r.norm();
+    let k = r.cross_matrix();
+    let (a, b) = if theta < 1e-6 {
+        let t2 = theta * theta;
+        (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+    } else {
+        let t2 = theta * theta;
+        (
+            (1.0 - theta.cos()) / t2,
+            (theta - theta.sin()) / (t2 * theta),
+        )
+    };
+    Matrix3::identity() + k * a + k * k * b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rates against central differences of the pose, for both parametrisations.
+    #[test]
+    fn hybrid_rates_match_central_differences() {
+        let c = [0.1, -0.2, 0.3, 0.4, -0.3, 0.7];
+        for kind in [
+            OrientationKind::RotationVector,
+            OrientationKind::TiltTorsion,
+        ] {
+            let h = hybrid_rates(kind, &c);
+            for k in 0..6 {
+                let step = 1e-6;
+                let (mut cp, mut cm) = (c, c);
+                cp[k] += step;
+                cm[k] -= step;
+                let (gp, gm) = (platform_pose(kind, &cp), platform_pose(kind, &cm));
+                let dp = (gp.translation.vector - gm.translation.vector) / (2.0 * step);
+                let dr = (gp.rotation * gm.rotation.inverse()).scaled_axis() / (2.0 * step);
+                let col = h.column(k);
+                assert!((dr - col.fixed_rows::<3>(0)).amax() < 1e-8, "{kind:?} {k}");
+                assert!((dp - col.fixed_rows::<3>(3)).amax() < 1e-8, "{kind:?} {k}");
+            }
+        }
+    }
+}
