@@ -160,8 +160,8 @@ impl<const N: usize> InverseKinematics<N, N> for Robot<N> {
 }
 
 impl<const N: usize> ForwardKinematics<N> for Robot<N> {
-    /// Damped Newton on the full closure, the passive joints started from the home-mode IK at
-    /// `guess` (or from home where the guess is out of reach).
+    /// Damped Newton on the full closure, the passive joints started from the IK at `guess` on
+    /// the branches nearest `q` (or from home where the guess is out of reach).
     fn forward_kinematics(
         &self,
         q: &Joints<N>,
@@ -171,7 +171,7 @@ impl<const N: usize> ForwardKinematics<N> for Robot<N> {
         InvalidInput::require_positive("tolerance", settings.tolerance)?;
         let seed = self
             .model
-            .inverse_kinematics_configuration(guess.as_slice(), self.model.home_mode)
+            .configuration_near(guess.as_slice(), q.as_slice())
             .or_else(|_| {
                 let mut c = Configuration::home(&self.model);
                 c.pose = self.model.pose_with_task(guess.as_slice())?;
