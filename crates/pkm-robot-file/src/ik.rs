@@ -46,6 +46,17 @@ impl RobotModel {
         for (&k, &v) in self.task.iter().zip(x) {
             pose[k] = v;
         }
+        let angle = self
+            .orientation
+            .rotation_angle(&Vector3::new(pose[3], pose[4], pose[5]));
+        if !(angle <= std::f64::consts::PI) {
+            return Err(pkm_traits::InvalidInput::new(
+                "rotation angle of x",
+                angle,
+                "orientation coordinates within one turn: rotation (or tilt) angle and torsion at most π",
+            )
+            .into());
+        }
         Ok(pose)
     }
 

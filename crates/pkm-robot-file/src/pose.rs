@@ -45,6 +45,15 @@ impl OrientationKind {
         }
     }
 
+    /// The largest of the angles the coordinates `o` describe: $|r|$, or the tilt $|t|$ and
+    /// the torsion $|\sigma|$.
+    pub fn rotation_angle(self, o: &Vector3<f64>) -> f64 {
+        match self {
+            Self::RotationVector => o.norm(),
+            Self::TiltTorsion => o.x.hypot(o.y).max(o.z.abs()),
+        }
+    }
+
     /// Column $k$: the angular velocity $\omega$ (space frame) per unit rate of orientation
     /// coordinate $k$.
     fn angular_rates(self, o: &Vector3<f64>) -> Matrix3<f64> {

@@ -20,12 +20,18 @@ fn five_bar_modes_and_jacobian() {
     let mut solutions: Vec<Vector2<f64>> = Vec::new();
     for &mode in &modes {
         let q = robot.inverse_kinematics(&x, mode).unwrap();
-        assert!(solutions.iter().all(|s| (s - q).amax() > 1e-3), "mode {mode:?} repeats a solution");
+        assert!(
+            solutions.iter().all(|s| (s - q).amax() > 1e-3),
+            "mode {mode:?} repeats a solution"
+        );
         solutions.push(q);
         // The closed form, from the elbows of this mode: q_i turns the home arm (−0.12, 0.16)
         // or (0.12, 0.16) about z.
         let a = [Vector3::new(-0.08, 0.0, 0.0), Vector3::new(0.08, 0.0, 0.0)];
-        let arm = [Vector3::new(-0.12, 0.16, 0.0), Vector3::new(0.12, 0.16, 0.0)];
+        let arm = [
+            Vector3::new(-0.12, 0.16, 0.0),
+            Vector3::new(0.12, 0.16, 0.0),
+        ];
         let p = Vector3::new(x[0], x[1], 0.0);
         let expected = Matrix2::from_fn(|i, k| {
             let elbow = a[i] + Rotation3::from_axis_angle(&Vector3::z_axis(), q[i]) * arm[i];
@@ -33,14 +39,27 @@ fn five_bar_modes_and_jacobian() {
             rod[k] / rod.dot(&Vector3::z().cross(&(elbow - a[i])))
         });
         let j = robot.velocity_jacobian_at(&x, mode).unwrap();
-        assert!((j - expected).amax() < 1e-9 * expected.amax(), "mode {mode:?}:\n{j}\n{expected}");
+        assert!(
+            (j - expected).amax() < 1e-9 * expected.amax(),
+            "mode {mode:?}:\n{j}\n{expected}"
+        );
     }
     // Two assembly modes at the actuators of the home working mode.
     let q = robot.inverse_kinematics(&x, model.home_mode()).unwrap();
-    let found = model.assembly_modes(q.as_slice(), &EnumerationSettings::default()).unwrap();
+    let found = model
+        .assembly_modes(q.as_slice(), &EnumerationSettings::default())
+        .unwrap();
     assert_eq!(found.len(), 2, "{found:?}");
-    assert!(found.iter().any(|m| (m.task[0] - x[0]).abs() < 1e-9 && (m.task[1] - x[1]).abs() < 1e-9));
-    assert_eq!(found[0].home_label, Some(0), "the mode continued from home comes first");
+    assert!(
+        found
+            .iter()
+            .any(|m| (m.task[0] - x[0]).abs() < 1e-9 && (m.task[1] - x[1]).abs() < 1e-9)
+    );
+    assert_eq!(
+        found[0].home_label,
+        Some(0),
+        "the mode continued from home comes first"
+    );
 }
 
 /// Acceptance 5: the Orthoglide is isotropic at its isotropic configuration, $J = I$, κ = 1,
@@ -54,7 +73,9 @@ fn orthoglide_is_isotropic_at_home() {
     let kappa = sv.max() / sv.min();
     assert!((kappa - 1.0).abs() < 1e-12, "κ = {kappa}");
     assert!((j - nalgebra::Matrix3::identity()).amax() < 1e-12, "{j}");
-    let off = robot.velocity_jacobian_at(&Vector3::new(0.05, -0.03, 0.02), mode).unwrap();
+    let off = robot
+        .velocity_jacobian_at(&Vector3::new(0.05, -0.03, 0.02), mode)
+        .unwrap();
     let sv = off.singular_values();
     assert!(sv.max() / sv.min() > 1.01);
 }
@@ -73,12 +94,17 @@ fn three_prs_zero_torsion_and_parasitic_motion() {
             for theta in [0.05, 0.15, 0.3] {
                 let phi = f64::from(k) * std::f64::consts::PI / 6.0;
                 let task = [z, -theta * phi.sin(), theta * phi.cos()];
-                let c = model.inverse_kinematics_configuration(&task, WorkingMode::default()).unwrap();
+                let c = model
+                    .inverse_kinematics_configuration(&task, WorkingMode::default())
+                    .unwrap();
                 let pose = c.pose();
                 let x = r / 2.0 * (theta.cos() - 1.0) * (2.0 * phi).cos();
                 let y = -r / 2.0 * (theta.cos() - 1.0) * (2.0 * phi).sin();
                 assert!(pose[5].abs() < 1e-10, "torsion {} at {task:?}", pose[5]);
-                assert!((pose[0] - x).abs() < 1e-10 && (pose[1] - y).abs() < 1e-10, "{pose:?} vs ({x}, {y})");
+                assert!(
+                    (pose[0] - x).abs() < 1e-10 && (pose[1] - y).abs() < 1e-10,
+                    "{pose:?} vs ({x}, {y})"
+                );
                 let jac = model.screw_jacobians(&c).unwrap();
                 assert_eq!(jac.j_c.nrows(), 3);
                 let sv = jac.j_c.singular_values();
