@@ -4,6 +4,7 @@
 
 use crate::chain::JointValue;
 use crate::closure::{ClosureProblem, Configuration};
+use crate::jacobian::SingularityMargins;
 use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::{CoordinateRole, RobotModel};
 use crate::pose::OrientationKind;
@@ -50,6 +51,17 @@ pub struct AssemblyMode {
     /// home assembly mode enumerated `k`-th at home (0 is the home configuration itself);
     /// `None` when the path meets a singularity.
     pub home_label: Option<usize>,
+    /// The singularity margins there; a mode with a zero margin is a singular solution (a
+    /// self-motion, as the Agile Eye's platform axis on an actuated axis), valid for a range
+    /// of actuator coordinates.
+    pub margins: SingularityMargins,
+}
+
+impl AssemblyMode {
+    /// Whether the mode is singular: an inverse or direct margin below `tolerance`.
+    pub fn is_singular(&self, tolerance: f64) -> bool {
+        !(self.margins.inverse > tolerance && self.margins.direct > tolerance)
+    }
 }
 
 impl RobotModel {
@@ -89,7 +101,8 @@ impl RobotModel {
                 .collect(),
             fixed_actuators: true,
         };
-        let (c, _) = levenberg_marquardt(&problem, start, settings)?;
+        let (mut c, _) = levenberg_marquardt(&problem, start, settings)?;
+        c.pose = crate::pose::canonical(self.orientation, &c.pose);
         Ok(c)
     }
 
@@ -190,10 +203,16 @@ impl RobotModel {
                             .position(|m| same_pose(self.orientation, m, &back, settings.distinct))
                     });
                 let task = self.task.iter().map(|&k| c.pose[k]).collect();
+                let margins = self.singularity_margins(&c).unwrap_or(SingularityMargins {
+                    inverse: 0.0,
+                    direct: 0.0,
+                    constraint: Some(0.0),
+                });
                 AssemblyMode {
                     configuration: c,
                     task,
                     home_label,
+                    margins,
                 }
             })
             .collect())

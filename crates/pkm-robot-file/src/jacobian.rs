@@ -249,10 +249,16 @@ impl RobotModel {
             .collect();
         let mut basis = DMatrix::identity(6, 6);
         if !rows.is_empty() {
-            let a = DMatrix::from_fn(rows.len(), 6, |r, c| rows[r][c]);
+            // Zero rows pad A to 6 × 6, so that the SVD returns all six right singular vectors.
+            let a = DMatrix::from_fn(6, 6, |r, c| rows.get(r).map_or(0.0, |row| row[c]));
             let svd = a.svd(false, true);
             if let Some(v_t) = svd.v_t {
-                let complement: Vec<_> = (rows.len()..6).map(|k| v_t.row(k).transpose()).collect();
+                let mut order: Vec<usize> = (0..6).collect();
+                order.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
+                let complement: Vec<_> = order[rows.len()..]
+                    .iter()
+                    .map(|&k| v_t.row(k).transpose())
+                    .collect();
                 basis = DMatrix::from_columns(&complement);
             }
         }

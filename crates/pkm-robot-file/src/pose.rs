@@ -7,7 +7,7 @@
 //!   angles of Bonev (tilt $\theta = |t|$ about the horizontal axis $t/|t|$, torsion $\sigma$),
 //!   written with the tilt vector so that zero tilt is regular (Briot & Bonev 2008).
 
-use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// The orientation coordinates of a robot file.
@@ -41,6 +41,28 @@ impl OrientationKind {
             Self::TiltTorsion => {
                 Rotation3::new(Vector3::new(o.x, o.y, 0.0))
                     * Rotation3::from_axis_angle(&Vector3::z_axis(), o.z)
+            }
+        }
+    }
+
+    /// The coordinates of the rotation `r` within one turn: $|r| \le \pi$, or tilt $\le \pi$
+    /// and torsion in $(-\pi, \pi]$.
+    pub fn coordinates_of(self, r: &Rotation3<f64>) -> Vector3<f64> {
+        match self {
+            Self::RotationVector => rotation_vector(r),
+            Self::TiltTorsion => {
+                let k = r * Vector3::z();
+                let axis = Vector3::z().cross(&k);
+                let tilt = if axis.norm() > 1e-300 {
+                    axis.normalize() * k.z.clamp(-1.0, 1.0).acos()
+                } else if k.z > 0.0 {
+                    Vector3::zeros()
+                } else {
+                    Vector3::x() * std::f64::consts::PI
+                };
+                let torsion = Rotation3::new(tilt).inverse() * r;
+                let m = torsion.matrix();
+                Vector3::new(tilt.x, tilt.y, m[(1, 0)].atan2(m[(0, 0)]))
             }
         }
     }
@@ -102,9 +124,58 @@ pub(crate) fn so3_left_jacobian(r: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::identity() + k * a + k * k * b
 }
 
+/// The rotation vector of `r` with $|r| \le \pi$, through the unit quaternion
+/// $(w, v)$, $w \ge 0$: $r = 2\operatorname{atan2}(|v|, w)\,v/|v|$, accurate up to and at
+/// $\pi$ (the arc cosine of the trace loses half the digits there).
+fn rotation_vector(r: &Rotation3<f64>) -> Vector3<f64> {
+    let q = UnitQuaternion::from_rotation_matrix(r);
+    let (w, v) = if q.w < 0.0 {
+        (-q.w, -q.imag())
+    } else {
+        (q.w, q.imag())
+    };
+    let n = v.norm();
+    if n > 0.0 {
+        v * (2.0 * n.atan2(w) / n)
+    } else {
+        v * 2.0
+    }
+}
+
+/// `c` with its orientation coordinates brought within one turn (the same pose).
+pub(crate) fn canonical(kind: OrientationKind, c: &PoseCoordinates) -> PoseCoordinates {
+    let o = kind.coordinates_of(&kind.rotation(&Vector3::new(c[3], c[4], c[5])));
+    [c[0], c[1], c[2], o.x, o.y, o.z]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn coordinates_of_inverts_rotation_within_one_turn() {
+        for kind in [
+            OrientationKind::RotationVector,
+            OrientationKind::TiltTorsion,
+        ] {
+            for o in [
+                [0.3, -0.2, 0.5],
+                [2.0, 1.0, -3.0],
+                [0.0, 0.0, 0.0],
+                [4.0, 0.0, 1.0],
+                [std::f64::consts::PI, 0.0, 0.0],
+                [1.343, 2.3261, 1.6295],
+            ] {
+                let r = kind.rotation(&Vector3::from(o));
+                let back = kind.coordinates_of(&r);
+                assert!(kind.rotation_angle(&back) <= std::f64::consts::PI + 1e-12);
+                assert!(
+                    (kind.rotation(&back).matrix() - r.matrix()).amax() < 1e-12,
+                    "{kind:?} {o:?}"
+                );
+            }
+        }
+    }
 
     /// The rates against central differences of the pose, for both parametrisations.
     #[test]
