@@ -133,6 +133,9 @@ impl RobotModel {
         x: &[f64],
         mode: WorkingMode,
     ) -> Result<DVector<f64>, KinematicsError> {
+        if self.has_closed_form() {
+            return Ok(DVector::from_vec(self.closed_form_actuators(x, mode)?));
+        }
         let config = self.inverse_kinematics_configuration(x, mode)?;
         Ok(self.actuators_of(&config))
     }
@@ -259,10 +262,14 @@ impl RobotModel {
     }
 
     fn check_limits(&self, i: usize, config: &Configuration) -> Result<(), KinematicsError> {
+        self.check_actuator_limits(i, self.legs[i].offset + config.actuator_motion(self, i))
+    }
+
+    /// `Err(Unreachable)` when actuator coordinate `q` of leg `i` is outside its range.
+    pub(crate) fn check_actuator_limits(&self, i: usize, q: f64) -> Result<(), KinematicsError> {
         let Some([lo, hi]) = self.legs[i].limits else {
             return Ok(());
         };
-        let q = self.legs[i].offset + config.actuator_motion(self, i);
         if (lo..=hi).contains(&q) {
             Ok(())
         } else {

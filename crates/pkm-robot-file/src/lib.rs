@@ -37,6 +37,7 @@
 mod readme {}
 
 mod chain;
+mod closed_form;
 mod closure;
 mod error;
 mod file;
