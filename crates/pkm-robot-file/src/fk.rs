@@ -234,13 +234,14 @@ impl RobotModel {
             } else {
                 self.random_start(&home, &mut rng)
             };
-            if let Ok(c) = self.forward_kinematics_from(q, &seed) {
-                if !found
-                    .iter()
-                    .any(|f| same_pose(self.orientation, f, &c, settings.distinct))
-                {
-                    found.push(c);
-                }
+            let Ok(c) = self.forward_kinematics_from(q, &seed) else {
+                continue;
+            };
+            if !found
+                .iter()
+                .any(|f| same_pose(self.orientation, f, &c, settings.distinct))
+            {
+                found.push(c);
             }
         }
         Ok(found)

@@ -85,10 +85,10 @@ pub(crate) fn check_name(name: &str, legs: &[LegChain]) -> Result<(), RobotFileE
         if n.letters != leg.letters {
             return Err(mismatch());
         }
-        if let Some(k) = n.actuated {
-            if letter_of_actuator(leg) != Some(k) {
-                return Err(mismatch());
-            }
+        if n.actuated
+            .is_some_and(|k| letter_of_actuator(leg) != Some(k))
+        {
+            return Err(mismatch());
         }
     }
     Ok(())

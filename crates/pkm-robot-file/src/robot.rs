@@ -145,12 +145,17 @@ impl<const N: usize> InverseKinematics<N, N> for Robot<N> {
         Ok(Joints::<N>::from_column_slice(q.as_slice()))
     }
 
-    /// $J = D^{-1}J_aT$ at the configuration of the mode, from screws.
+    /// $J = D^{-1}J_aT$ at the configuration of the mode, from screws (from the rods alone
+    /// when every leg has a closed form and no pose coordinate is dependent).
     fn velocity_jacobian_at(
         &self,
         x: &Task<N>,
         mode: WorkingMode,
     ) -> Result<SMatrix<f64, N, N>, KinematicsError> {
+        if self.model.has_closed_form() {
+            let j = self.model.closed_form_jacobian(x.as_slice(), mode)?;
+            return Ok(SMatrix::<f64, N, N>::from_column_slice(j.as_slice()));
+        }
         let c = self
             .model
             .inverse_kinematics_configuration(x.as_slice(), mode)?;

@@ -1,6 +1,13 @@
 //! The acceptance set of issue 18, items 2, 5 and 6 (sources and tolerances in
 //! `docs/conventions.md`, "Robot files: acceptance set").
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
 mod common;
 
 use nalgebra::{Matrix2, Rotation3, Vector2, Vector3};

@@ -1,6 +1,13 @@
 //! The acceptance set of issue 18, items 3, 4, 7 and 8: assembly modes by multistart, working
 //! modes, and actuation wrenches (sources and tolerances in `docs/conventions.md`).
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
 mod common;
 
 use nalgebra::{Rotation2, Vector2, Vector3};

@@ -2,6 +2,13 @@
 //! hand-written models — inverse kinematics, the velocity Jacobian and forward kinematics to
 //! 1e-9 at seeded random poses, in the same working modes.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
 mod common;
 
 use nalgebra::SVector;

@@ -2,6 +2,13 @@
 //! against central differences, `velocity_jacobian_at` against its default, IK → FK round
 //! trips in every working mode.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
 mod common;
 
 use nalgebra::SVector;

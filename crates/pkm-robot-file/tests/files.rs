@@ -1,6 +1,13 @@
 //! Every example robot file loads, passes its mobility check, and its inverse kinematics at
 //! home returns the home actuator coordinates in the home working mode.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
 mod common;
 
 #[test]

@@ -1,5 +1,12 @@
 //! Every public entry point fed hostile input: typed errors, never a panic or a hang.
 
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
 mod common;
 
 use pkm_robot_file::{EnumerationSettings, Robot, RobotFileError, RobotModel, WorkingMode};
@@ -68,10 +75,7 @@ fn malformed_files_are_typed_errors() {
         matches!(name, Err(RobotFileError::NameMismatch { ref found, .. }) if found == "2-RRR"),
         "{name:?}"
     );
-    assert!(matches!(
-        edited("name = \"2-RRR\"", "name = \"2-R\u{332}RR\""),
-        Ok(_)
-    ));
+    assert!(edited("name = \"2-RRR\"", "name = \"2-R\u{332}RR\"").is_ok());
     assert!(matches!(
         edited("name = \"2-RRR\"", "name = \"2-RR\u{332}R\""),
         Err(RobotFileError::NameMismatch { .. })
@@ -199,7 +203,7 @@ fn hostile_poses_and_joints_are_typed_errors() {
         Err(KinematicsError::Unreachable { .. })
     ));
     assert!(matches!(
-        pkm_robot_file::Robot::<2>::new(model.clone()),
+        Robot::<2>::new(model.clone()),
         Err(RobotFileError::Dimension {
             expected: 2,
             found: 3
