@@ -12,12 +12,21 @@ type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let path = args.first().map_or_else(
-        || concat!(env!("CARGO_MANIFEST_DIR"), "/examples/robots/three_prs.toml").to_string(),
+        || {
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/examples/robots/three_prs.toml"
+            )
+            .to_string()
+        },
         Clone::clone,
     );
     let robot = RobotModel::from_toml(&std::fs::read_to_string(&path)?)?;
     let x: Vec<f64> = if args.len() > 1 {
-        args[1..].iter().map(|a| a.parse()).collect::<std::result::Result<_, _>>()?
+        args[1..]
+            .iter()
+            .map(|a| a.parse())
+            .collect::<std::result::Result<_, _>>()?
     } else if path.ends_with("three_prs.toml") {
         vec![0.5, 0.05, -0.02]
     } else {
@@ -27,7 +36,10 @@ fn main() -> Result<()> {
     println!("task {:?} = {x:?}", robot.task_names());
     println!("leg solvers {:?}", robot.leg_solvers());
 
-    println!("\nworking modes (bit i = branch of leg i; home mode {:#b}):", robot.home_mode().0);
+    println!(
+        "\nworking modes (bit i = branch of leg i; home mode {:#b}):",
+        robot.home_mode().0
+    );
     for mode in robot.working_modes() {
         match robot.inverse_kinematics(&x, mode) {
             Ok(q) => println!("  {:#08b}: q = {:?}", mode.0, q.as_slice()),
@@ -50,7 +62,11 @@ fn main() -> Result<()> {
     let jac = robot.screw_jacobians(&config)?;
     println!("\nJ = D⁻¹ J_a T (q̇ = J ẋ):{}", jac.j);
     println!("J_a (actuation wrenches [f; m_O]):{}", jac.j_a);
-    println!("J_c (constraint wrenches, {} rows):{}", jac.j_c.nrows(), jac.j_c);
+    println!(
+        "J_c (constraint wrenches, {} rows):{}",
+        jac.j_c.nrows(),
+        jac.j_c
+    );
     println!("D = {:?}", jac.d.as_slice());
     let margins = robot.singularity_margins(&config)?;
     println!(

@@ -44,7 +44,10 @@ fn sweep<M: InverseKinematics<3, 3>>(m: &M, mode: M::WorkingMode, xs: &[Vector3<
 }
 
 fn ik_j_kappa(c: &mut Criterion) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/robots/rotary_delta.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/robots/rotary_delta.toml"
+    );
     let robot = Robot::<3>::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
     let hand = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
     let xs = poses();

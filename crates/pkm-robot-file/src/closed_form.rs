@@ -11,7 +11,7 @@ use crate::chain::stack;
 use crate::leg_ik::LegClass;
 use crate::model::{CoordinateRole, RobotModel, WorkingMode};
 use crate::pose::{hybrid_rates, platform_pose};
-use nalgebra::{DMatrix, Isometry3, Point3, Rotation3, Unit, Vector3, Vector6};
+use nalgebra::{Isometry3, Point3, Rotation3, Unit, Vector3, Vector6};
 use pkm_screw_theory::reciprocal_product_vectors;
 use pkm_traits::KinematicsError;
 
@@ -105,45 +105,41 @@ impl RobotModel {
         Ok(platform_pose(self.orientation, &self.pose_with_task(x)?))
     }
 
-    /// Actuator coordinates on the closed-form path.
-    pub(crate) fn closed_form_actuators(
+    /// Actuator coordinates on the closed-form path, handed to `set(leg, q)`.
+    pub(crate) fn closed_form_actuators_with(
         &self,
         x: &[f64],
         mode: WorkingMode,
-    ) -> Result<Vec<f64>, KinematicsError> {
+        mut set: impl FnMut(usize, f64),
+    ) -> Result<(), KinematicsError> {
         let pose = self.closed_form_pose(x)?;
-        (0..self.legs.len())
-            .map(|i| {
-                let q =
-                    self.legs[i].offset + self.closed_form_leg(i, &pose, mode.branch(i))?.motion;
-                self.check_actuator_limits(i, q)?;
-                Ok(q)
-            })
-            .collect()
+        for i in 0..self.legs.len() {
+            let q = self.legs[i].offset + self.closed_form_leg(i, &pose, mode.branch(i))?.motion;
+            self.check_actuator_limits(i, q)?;
+            set(i, q);
+        }
+        Ok(())
     }
 
-    /// $J = D^{-1}J_aT$ on the closed-form path, `n × n`.
-    pub(crate) fn closed_form_jacobian(
+    /// $J = D^{-1}J_aT$ on the closed-form path, entry $(i, k)$ handed to `set(i, k, J_ik)`.
+    pub(crate) fn closed_form_jacobian_with(
         &self,
         x: &[f64],
         mode: WorkingMode,
-    ) -> Result<DMatrix<f64>, KinematicsError> {
+        mut set: impl FnMut(usize, usize, f64),
+    ) -> Result<(), KinematicsError> {
         let coordinates = self.pose_with_task(x)?;
         let pose = platform_pose(self.orientation, &coordinates);
         let h = hybrid_rates(self.orientation, &coordinates);
         let p = Vector3::new(coordinates[0], coordinates[1], coordinates[2]);
-        let twists: Vec<Vector6<f64>> = self
-            .task
-            .iter()
-            .map(|&k| {
-                let w: Vector3<f64> = h.fixed_view::<3, 1>(0, k).into();
-                let pd: Vector3<f64> = h.fixed_view::<3, 1>(3, k).into();
-                stack(&w, &(pd - w.cross(&p)))
-            })
-            .collect();
-        let n = self.legs.len();
-        let mut j = DMatrix::zeros(n, n);
-        for i in 0..n {
+        // At most six task coordinates: their platform twists on the stack.
+        let mut twists = [Vector6::zeros(); 6];
+        for (t, &k) in twists.iter_mut().zip(&self.task) {
+            let w: Vector3<f64> = h.fixed_view::<3, 1>(0, k).into();
+            let pd: Vector3<f64> = h.fixed_view::<3, 1>(3, k).into();
+            *t = stack(&w, &(pd - w.cross(&p)));
+        }
+        for i in 0..self.legs.len() {
             let leg = self.closed_form_leg(i, &pose, mode.branch(i))?;
             self.check_actuator_limits(i, self.legs[i].offset + leg.motion)?;
             let d = reciprocal_product_vectors(&leg.wrench, &leg.actuator_twist);
@@ -153,10 +149,10 @@ impl RobotModel {
                     sigma_min: d.abs(),
                 });
             }
-            for (k, t) in twists.iter().enumerate() {
-                j[(i, k)] = reciprocal_product_vectors(&leg.wrench, t) / d;
+            for (k, t) in twists.iter().take(self.task.len()).enumerate() {
+                set(i, k, reciprocal_product_vectors(&leg.wrench, t) / d);
             }
         }
-        Ok(j)
+        Ok(())
     }
 }

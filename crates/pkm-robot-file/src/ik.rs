@@ -134,7 +134,9 @@ impl RobotModel {
         mode: WorkingMode,
     ) -> Result<DVector<f64>, KinematicsError> {
         if self.has_closed_form() {
-            return Ok(DVector::from_vec(self.closed_form_actuators(x, mode)?));
+            let mut q = DVector::zeros(self.legs.len());
+            self.closed_form_actuators_with(x, mode, |i, v| q[i] = v)?;
+            return Ok(q);
         }
         let config = self.inverse_kinematics_configuration(x, mode)?;
         Ok(self.actuators_of(&config))

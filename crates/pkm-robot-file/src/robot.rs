@@ -141,6 +141,12 @@ impl<const N: usize> InverseKinematics<N, N> for Robot<N> {
         x: &Task<N>,
         mode: WorkingMode,
     ) -> Result<Joints<N>, KinematicsError> {
+        if self.model.has_closed_form() {
+            let mut q = Joints::<N>::zeros();
+            self.model
+                .closed_form_actuators_with(x.as_slice(), mode, |i, v| q[i] = v)?;
+            return Ok(q);
+        }
         let q = self.model.inverse_kinematics(x.as_slice(), mode)?;
         Ok(Joints::<N>::from_column_slice(q.as_slice()))
     }
@@ -153,8 +159,10 @@ impl<const N: usize> InverseKinematics<N, N> for Robot<N> {
         mode: WorkingMode,
     ) -> Result<SMatrix<f64, N, N>, KinematicsError> {
         if self.model.has_closed_form() {
-            let j = self.model.closed_form_jacobian(x.as_slice(), mode)?;
-            return Ok(SMatrix::<f64, N, N>::from_column_slice(j.as_slice()));
+            let mut j = SMatrix::<f64, N, N>::zeros();
+            self.model
+                .closed_form_jacobian_with(x.as_slice(), mode, |i, k, v| j[(i, k)] = v)?;
+            return Ok(j);
         }
         let c = self
             .model

@@ -122,3 +122,23 @@ fn three_prs_zero_torsion_and_parasitic_motion() {
     }
     assert_eq!(checked, 108);
 }
+
+/// The inverse-kinematic margin of the five-bar vanishes as leg 0 stretches out
+/// ($|P - A_1| \to l_1 + l_2$), while the direct one stays away from zero.
+#[test]
+fn five_bar_inverse_margin_vanishes_when_a_leg_stretches_out() {
+    let model = common::robot("five_bar.toml");
+    let a1 = Vector2::new(-0.08, 0.0);
+    let direction = Vector2::new(0.3, 1.0).normalize();
+    let mut previous = f64::INFINITY;
+    for gap in [1e-2, 1e-4, 1e-6] {
+        let p = a1 + direction * (0.49 - gap);
+        let c = model
+            .inverse_kinematics_configuration(p.as_slice(), model.home_mode())
+            .unwrap();
+        let m = model.singularity_margins(&c).unwrap();
+        assert!(m.inverse < previous && m.direct > 1e-3, "gap {gap}: {m:?}");
+        previous = m.inverse;
+    }
+    assert!(previous < 1e-2, "{previous}");
+}
