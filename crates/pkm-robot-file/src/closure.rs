@@ -1,0 +1,162 @@
+//! The SE(3) loop-closure residual of the legs and its Jacobian, the one least-squares problem
+//! behind the numerical leg IK, the dependent pose coordinates and the forward kinematics.
+//!
+//! Leg $i$ closes when $D_i(\theta_i)\,M = X(c)$. The residual of the leg is
+//! $r_i = [\log(R_{E} R_X^\top)^\vee;\ p_E - p_X]$ with $E = D_i M$: the rotation error as a
+//! rotation vector (no Euler angles) and the position error of the platform origin. A joint
+//! twist $[\omega; v_O]$ moves it by $[\omega;\ v_O + \omega \times p_E]$, a pose coordinate
+//! by minus its rates $[\omega_k; \dot p_k]$ (exact at $r = 0$, where the Newton steps end).
+
+use crate::chain::{JointValue, stack};
+use crate::lm::LeastSquares;
+use crate::model::RobotModel;
+use crate::pose::{PoseCoordinates, hybrid_rates, platform_pose};
+use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
+
+/// A full configuration: the six pose coordinates and every joint value of every leg.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Configuration {
+    pub(crate) pose: PoseCoordinates,
+    pub(crate) joints: Vec<Vec<JointValue>>,
+}
+
+impl Configuration {
+    /// The home configuration of `model`.
+    pub(crate) fn home(model: &RobotModel) -> Self {
+        Self {
+            pose: model.home,
+            joints: model.legs.iter().map(|l| l.home_values()).collect(),
+        }
+    }
+
+    /// The six pose coordinates.
+    pub fn pose(&self) -> PoseCoordinates {
+        self.pose
+    }
+
+    /// The motion of each leg's actuator from home (rad or m).
+    pub(crate) fn actuator_motion(&self, model: &RobotModel, leg: usize) -> f64 {
+        match self.joints[leg][model.legs[leg].actuator] {
+            JointValue::Scalar(v) => v,
+            JointValue::Ball(_) => f64::NAN,
+        }
+    }
+}
+
+/// Which unknowns a closure problem solves for.
+#[derive(Debug, Clone)]
+pub(crate) struct ClosureProblem<'a> {
+    pub model: &'a RobotModel,
+    /// The legs whose closure is solved.
+    pub legs: Vec<usize>,
+    /// The pose coordinates that are unknown.
+    pub free_pose: Vec<usize>,
+    /// Whether the actuators are held at their values.
+    pub fixed_actuators: bool,
+}
+
+impl ClosureProblem<'_> {
+    fn is_free(&self, leg: usize, joint: usize) -> bool {
+        !(self.fixed_actuators && joint == self.model.legs[leg].actuator)
+    }
+
+    fn unknowns(&self) -> usize {
+        let joints: usize = self
+            .legs
+            .iter()
+            .map(|&i| {
+                let leg = &self.model.legs[i];
+                leg.dof() - usize::from(self.fixed_actuators)
+            })
+            .sum();
+        self.free_pose.len() + joints
+    }
+}
+
+impl LeastSquares for ClosureProblem<'_> {
+    type State = Configuration;
+
+    fn evaluate(&self, c: &Configuration) -> Option<(DVector<f64>, DMatrix<f64>)> {
+        let model = self.model;
+        let target = platform_pose(model.orientation, &c.pose);
+        let rates = hybrid_rates(model.orientation, &c.pose);
+        let mut r = DVector::zeros(6 * self.legs.len());
+        let mut jac = DMatrix::zeros(6 * self.legs.len(), self.unknowns());
+        let mut col = self.free_pose.len();
+        for (block, &i) in self.legs.iter().enumerate() {
+            let leg = &model.legs[i];
+            let lt = leg.twists(&c.joints[i]);
+            let end = lt.displacement * model.home_pose;
+            let rot = (end.rotation * target.rotation.inverse()).scaled_axis();
+            let pos = end.translation.vector - target.translation.vector;
+            r.fixed_rows_mut::<6>(6 * block)
+                .copy_from(&stack(&rot, &pos));
+            for (k, &pose_k) in self.free_pose.iter().enumerate() {
+                jac.fixed_view_mut::<6, 1>(6 * block, k)
+                    .copy_from(&(-rates.column(pose_k)));
+            }
+            let p_end = end.translation.vector;
+            for (joint, twist) in &lt.twists {
+                if !self.is_free(i, *joint) {
+                    continue;
+                }
+                let w: Vector3<f64> = twist.fixed_rows::<3>(0).into();
+                let v: Vector3<f64> = twist.fixed_rows::<3>(3).into();
+                jac.fixed_view_mut::<6, 1>(6 * block, col)
+                    .copy_from(&stack(&w, &(v + w.cross(&p_end))));
+                col += 1;
+            }
+        }
+        let finite = r.iter().chain(jac.iter()).all(|v| v.is_finite());
+        finite.then_some((r, jac))
+    }
+
+    fn step_limits(&self) -> DVector<f64> {
+        let (angle, length) = (0.5, 0.25 * self.model.size);
+        let mut limits: Vec<f64> = self
+            .free_pose
+            .iter()
+            .map(|&k| if k < 3 { length } else { angle })
+            .collect();
+        for &i in &self.legs {
+            for (j, joint) in self.model.legs[i].joints.iter().enumerate() {
+                if !self.is_free(i, j) {
+                    continue;
+                }
+                let limit = match joint {
+                    crate::chain::Joint::Prismatic { .. } => length,
+                    _ => angle,
+                };
+                limits.extend(std::iter::repeat_n(limit, joint.dof()));
+            }
+        }
+        DVector::from_vec(limits)
+    }
+
+    fn apply(&self, c: &Configuration, delta: &DVector<f64>) -> Configuration {
+        let mut next = c.clone();
+        for (k, &pose_k) in self.free_pose.iter().enumerate() {
+            next.pose[pose_k] += delta[k];
+        }
+        let mut col = self.free_pose.len();
+        for &i in &self.legs {
+            for (j, value) in next.joints[i].iter_mut().enumerate() {
+                if !self.is_free(i, j) {
+                    continue;
+                }
+                match value {
+                    JointValue::Scalar(v) => {
+                        *v += delta[col];
+                        col += 1;
+                    }
+                    JointValue::Ball(r) => {
+                        let d = Vector3::new(delta[col], delta[col + 1], delta[col + 2]);
+                        *r = Rotation3::new(d) * *r;
+                        col += 3;
+                    }
+                }
+            }
+        }
+        next
+    }
+}

@@ -1,0 +1,166 @@
+//! The robot file: the TOML schema as serde types, read with unknown keys refused and errors at
+//! line and column. `docs/robots.md` documents every field with its unit.
+
+use crate::error::RobotFileError;
+use crate::pose::OrientationKind;
+use serde::{Deserialize, Serialize};
+
+/// A robot file as written: one rigid base, one rigid platform, the legs (or one leg template
+/// and a [`SymmetrySpec`]), the task coordinates and the home configuration. Lengths in metres,
+/// angles in radians, every point and axis in the base frame at the home pose.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotFile {
+    /// Architecture name, `<legs>-<joints>` (`3-PRS`, `6-UPS`) or legs joined by `+`
+    /// (`RR+RRR`); checked against the expanded joints.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// Orientation coordinates of the pose: `rotation_vector` (default) or `tilt_torsion`.
+    #[serde(default)]
+    pub orientation: OrientationKind,
+    /// Independent task coordinates, names from the pose coordinates of `orientation`.
+    pub task: Vec<String>,
+    /// Pose coordinates the legs determine from the task coordinates (solved, never assumed).
+    #[serde(default)]
+    pub dependent: Vec<String>,
+    /// Pose coordinates the legs leave free and nobody cares about (the spin of a point
+    /// platform); held at their home value.
+    #[serde(default)]
+    pub idle: Vec<String>,
+    /// Length (m) that converts rotations into lengths in the singularity margins; default the
+    /// mean distance of the platform joint centres from the platform origin (1 m if zero).
+    pub characteristic_length: Option<f64>,
+    /// The home configuration: every joint at its `offset`, the platform at this pose.
+    pub home: HomeSpec,
+    /// Repeat the listed legs `count` times about an axis.
+    pub symmetry: Option<SymmetrySpec>,
+    /// The legs (the template when `symmetry` is given).
+    pub legs: Vec<LegSpec>,
+}
+
+/// The platform pose at home; every joint axis and point in the file is given at this pose.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HomeSpec {
+    /// Position of the platform origin (m).
+    pub position: [f64; 3],
+    /// Orientation coordinates (rad), in the file's `orientation`; default zero.
+    #[serde(default)]
+    pub orientation: [f64; 3],
+}
+
+/// Symmetry shorthand: the listed legs are repeated `count` times, copy `k` turned by
+/// $2\pi k/\text{count}$ about the line through `point` along `axis`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SymmetrySpec {
+    /// Number of copies (the listed legs are copy 0).
+    pub count: usize,
+    /// Rotation axis; default $+z$.
+    #[serde(default = "z_axis")]
+    pub axis: [f64; 3],
+    /// A point on the rotation axis (m); default the origin.
+    #[serde(default)]
+    pub point: [f64; 3],
+}
+
+fn z_axis() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+/// One leg: a serial chain from the base to the platform.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LegSpec {
+    /// Joints from the base to the platform.
+    pub joints: Vec<JointSpec>,
+}
+
+/// The joint letters of an architecture name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum JointType {
+    /// Revolute: `axis` and `point`.
+    R,
+    /// Prismatic: `axis`.
+    P,
+    /// Universal: `axes` (two) through `point`.
+    U,
+    /// Spherical: `point` (its centre).
+    S,
+    /// Cylindrical: `axis` and `point` (a revolute then a prismatic joint on the same axis).
+    C,
+}
+
+/// One joint of a leg, at the home pose.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// `R`, `P`, `U`, `S` or `C`.
+    #[serde(rename = "type")]
+    pub kind: JointType,
+    /// Axis direction (R, P, C); normalised on load.
+    pub axis: Option<[f64; 3]>,
+    /// The two axes of a U joint, base side first.
+    pub axes: Option<[[f64; 3]; 2]>,
+    /// A point on the axis (R, C), the centre (U, S), in metres.
+    pub point: Option<[f64; 3]>,
+    /// Whether this joint carries the leg's actuator (exactly one per leg; R or P only).
+    #[serde(default)]
+    pub actuated: bool,
+    /// Joint coordinate at home (rad or m): the actuator reports `offset` plus its motion.
+    #[serde(default)]
+    pub offset: f64,
+    /// Actuator range `[min, max]` (rad or m), checked by the inverse kinematics.
+    pub limits: Option<[f64; 2]>,
+}
+
+impl RobotFile {
+    /// Reads a robot file from TOML text.
+    ///
+    /// # Errors
+    /// [`RobotFileError::Parse`] with the line and column of the offending text.
+    pub fn from_toml(text: &str) -> Result<Self, RobotFileError> {
+        toml::from_str(text).map_err(|e| {
+            let (line, column) = e
+                .span()
+                .map(|span| line_and_column(text, span.start))
+                .unwrap_or((0, 0));
+            RobotFileError::Parse {
+                line,
+                column,
+                message: e.message().to_string(),
+            }
+        })
+    }
+}
+
+/// Line and column (from 1) of byte `offset` in `text`.
+fn line_and_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = text.get(..offset).unwrap_or(text);
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_key_is_reported_at_its_line() {
+        let text = "name = \"1-P\"\ntask = [\"x\"]\nwhat = 3\n";
+        let err = RobotFile::from_toml(text).unwrap_err();
+        match err {
+            RobotFileError::Parse { line, column, .. } => assert_eq!((line, column), (3, 1)),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn line_and_column_count_from_one() {
+        assert_eq!(line_and_column("ab\ncd", 4), (2, 2));
+        assert_eq!(line_and_column("ab", 99), (1, 3));
+    }
+}

@@ -1,0 +1,284 @@
+//! Inverse kinematics of the whole robot: the dependent pose coordinates, then each leg's
+//! actuator (closed form on the mode's branch, or damped Newton), then its passive joints.
+
+use crate::chain::JointValue;
+use crate::closure::{ClosureProblem, Configuration};
+use crate::leg_ik::LegClass;
+use crate::lm::{SolverSettings, levenberg_marquardt};
+use crate::model::{CoordinateRole, RobotModel, WorkingMode};
+use crate::pose::{PoseCoordinates, platform_pose};
+use nalgebra::{DVector, Rotation3, Vector3};
+use pkm_traits::KinematicsError;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Seeds tried for a numerical leg after its home values: a fixed number of ChaCha8 draws.
+const NUMERIC_LEG_STARTS: u64 = 8;
+/// Steps of the continuation from home when the dependent coordinates do not converge directly.
+const CONTINUATION_STEPS: usize = 8;
+
+impl RobotModel {
+    /// The full pose of the task coordinates `x`: task coordinates from `x`, constant and idle
+    /// ones at home, dependent ones solved from the legs' constraints.
+    ///
+    /// # Errors
+    /// [`KinematicsError::InvalidInput`] for a wrong length, [`KinematicsError::NonFinite`] for a
+    /// NaN or infinite coordinate, [`KinematicsError::NotConverged`] when the dependent
+    /// coordinates cannot be solved (the pose is out of reach of the constraints).
+    pub fn full_pose(&self, x: &[f64]) -> Result<PoseCoordinates, KinematicsError> {
+        Ok(self.solve_dependent(x)?.pose)
+    }
+
+    /// Validates `x` and sets the task coordinates of the home pose to it.
+    pub(crate) fn pose_with_task(&self, x: &[f64]) -> Result<PoseCoordinates, KinematicsError> {
+        if x.len() != self.task.len() {
+            return Err(pkm_traits::InvalidInput::new(
+                "x.len()",
+                x.len() as f64,
+                "must equal the number of task coordinates",
+            )
+            .into());
+        }
+        if let Some(&value) = x.iter().find(|v| !v.is_finite()) {
+            return Err(KinematicsError::NonFinite { what: "x", value });
+        }
+        let mut pose = self.home;
+        for (&k, &v) in self.task.iter().zip(x) {
+            pose[k] = v;
+        }
+        let angle = self
+            .orientation
+            .rotation_angle(&Vector3::new(pose[3], pose[4], pose[5]));
+        if !(angle <= std::f64::consts::PI) {
+            return Err(pkm_traits::InvalidInput::new(
+                "rotation angle of x",
+                angle,
+                "orientation coordinates within one turn: rotation (or tilt) angle and torsion at most π",
+            )
+            .into());
+        }
+        Ok(pose)
+    }
+
+    /// The configuration with the dependent coordinates solved (all joints free, from home).
+    fn solve_dependent(&self, x: &[f64]) -> Result<Configuration, KinematicsError> {
+        let pose = self.pose_with_task(x)?;
+        let dependent: Vec<usize> = (0..6)
+            .filter(|&k| self.roles[k] == CoordinateRole::Dependent)
+            .collect();
+        let mut config = Configuration::home(self);
+        config.pose = pose;
+        if dependent.is_empty() {
+            return Ok(config);
+        }
+        let problem = ClosureProblem {
+            model: self,
+            legs: (0..self.legs.len()).collect(),
+            free_pose: dependent,
+            fixed_actuators: false,
+        };
+        let settings = SolverSettings::default();
+        if let Ok((c, _)) = levenberg_marquardt(&problem, config.clone(), &settings) {
+            return Ok(c);
+        }
+        // Continuation: walk the task coordinates from home in equal steps.
+        let mut c = Configuration::home(self);
+        for step in 1..=CONTINUATION_STEPS {
+            let s = step as f64 / CONTINUATION_STEPS as f64;
+            for &k in &self.task {
+                c.pose[k] = self.home[k] + s * (pose[k] - self.home[k]);
+            }
+            c = levenberg_marquardt(&problem, c, &settings)?.0;
+        }
+        Ok(c)
+    }
+
+    /// Inverse kinematics in working mode `mode`: the full configuration (pose, every joint).
+    ///
+    /// # Errors
+    /// [`KinematicsError::Unreachable`] naming the leg that cannot reach the pose or would leave
+    /// its actuator range; [`KinematicsError::NotConverged`] when a numerical solution fails;
+    /// [`KinematicsError::NonFinite`] / [`KinematicsError::InvalidInput`] for a bad `x`.
+    pub fn inverse_kinematics_configuration(
+        &self,
+        x: &[f64],
+        mode: WorkingMode,
+    ) -> Result<Configuration, KinematicsError> {
+        let mut config = self.solve_dependent(x)?;
+        let target = platform_pose(self.orientation, &config.pose);
+        for i in 0..self.legs.len() {
+            config.joints[i] = match self.classes[i] {
+                LegClass::Numeric => self.numeric_leg(i, &config)?,
+                class => {
+                    let motion = class.solve(&target, mode.branch(i)).map_err(|e| {
+                        KinematicsError::Unreachable {
+                            leg: i,
+                            discriminant: e.0,
+                        }
+                    })?;
+                    self.passive_joints(i, motion, &config)?
+                }
+            };
+            self.check_limits(i, &config)?;
+        }
+        Ok(config)
+    }
+
+    /// The actuator coordinates (offset plus motion) at task coordinates `x` in `mode`.
+    ///
+    /// # Errors
+    /// As [`RobotModel::inverse_kinematics_configuration`].
+    pub fn inverse_kinematics(
+        &self,
+        x: &[f64],
+        mode: WorkingMode,
+    ) -> Result<DVector<f64>, KinematicsError> {
+        if self.has_closed_form() {
+            let mut q = DVector::zeros(self.legs.len());
+            self.closed_form_actuators_with(x, mode, |i, v| q[i] = v)?;
+            return Ok(q);
+        }
+        let config = self.inverse_kinematics_configuration(x, mode)?;
+        Ok(self.actuators_of(&config))
+    }
+
+    /// The actuator coordinates (offset plus motion) of a configuration.
+    pub fn actuators_of(&self, config: &Configuration) -> DVector<f64> {
+        DVector::from_fn(self.legs.len(), |i, _| {
+            self.legs[i].offset + config.actuator_motion(self, i)
+        })
+    }
+
+    /// The actuator coordinate of leg `i` on the closed-form branch nearest `q_i`, or by
+    /// damped Newton for a numerical leg, at the full pose `pose`.
+    pub(crate) fn nearest_actuator(
+        &self,
+        i: usize,
+        config: &Configuration,
+        q_i: f64,
+    ) -> Result<f64, KinematicsError> {
+        let target = platform_pose(self.orientation, &config.pose);
+        let class = self.classes[i];
+        if class == LegClass::Numeric {
+            let joints = self.numeric_leg(i, config)?;
+            let mut c = config.clone();
+            c.joints[i] = joints;
+            return Ok(self.legs[i].offset + c.actuator_motion(self, i));
+        }
+        let revolute = matches!(class, LegClass::RevoluteArm { .. });
+        let distance = |m: f64| {
+            let d = self.legs[i].offset + m - q_i;
+            if revolute {
+                crate::leg_ik::wrap_angle(d).abs()
+            } else {
+                d.abs()
+            }
+        };
+        (0..class.branch_count() as u8)
+            .filter_map(|b| class.solve(&target, b).ok())
+            .min_by(|a, b| distance(*a).total_cmp(&distance(*b)))
+            .map(|m| {
+                let q = self.legs[i].offset + m;
+                if revolute {
+                    q_i + crate::leg_ik::wrap_angle(q - q_i)
+                } else {
+                    q
+                }
+            })
+            .ok_or(KinematicsError::Unreachable {
+                leg: i,
+                discriminant: f64::NAN,
+            })
+    }
+
+    /// Leg `i`'s joints with its actuator at `motion`, the passive joints by damped Newton from
+    /// home (then from seeded restarts).
+    pub(crate) fn passive_joints(
+        &self,
+        i: usize,
+        motion: f64,
+        config: &Configuration,
+    ) -> Result<Vec<JointValue>, KinematicsError> {
+        let problem = ClosureProblem {
+            model: self,
+            legs: vec![i],
+            free_pose: vec![],
+            fixed_actuators: true,
+        };
+        let mut start = config.clone();
+        start.joints[i] = self.legs[i].home_values();
+        start.joints[i][self.legs[i].actuator] = JointValue::Scalar(motion);
+        self.solve_from_seeds(&problem, i, start)
+    }
+
+    /// Leg `i` solved whole by damped Newton from its home values, then seeded restarts.
+    fn numeric_leg(
+        &self,
+        i: usize,
+        config: &Configuration,
+    ) -> Result<Vec<JointValue>, KinematicsError> {
+        let problem = ClosureProblem {
+            model: self,
+            legs: vec![i],
+            free_pose: vec![],
+            fixed_actuators: false,
+        };
+        let mut start = config.clone();
+        start.joints[i] = self.legs[i].home_values();
+        self.solve_from_seeds(&problem, i, start)
+    }
+
+    fn solve_from_seeds(
+        &self,
+        problem: &ClosureProblem<'_>,
+        i: usize,
+        start: Configuration,
+    ) -> Result<Vec<JointValue>, KinematicsError> {
+        let settings = SolverSettings::default();
+        let mut last = match levenberg_marquardt(problem, start.clone(), &settings) {
+            Ok((c, _)) => return Ok(c.joints[i].clone()),
+            Err(e) => e,
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
+        for _ in 0..NUMERIC_LEG_STARTS {
+            let mut seed = start.clone();
+            for (j, value) in seed.joints[i].iter_mut().enumerate() {
+                if problem.fixed_actuators && j == self.legs[i].actuator {
+                    continue;
+                }
+                *value = match value {
+                    JointValue::Scalar(_) => JointValue::Scalar(rng.random_range(-1.5..1.5)),
+                    JointValue::Ball(_) => JointValue::Ball(Rotation3::new(Vector3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    ))),
+                };
+            }
+            match levenberg_marquardt(problem, seed, &settings) {
+                Ok((c, _)) => return Ok(c.joints[i].clone()),
+                Err(e) => last = e,
+            }
+        }
+        Err(last)
+    }
+
+    fn check_limits(&self, i: usize, config: &Configuration) -> Result<(), KinematicsError> {
+        self.check_actuator_limits(i, self.legs[i].offset + config.actuator_motion(self, i))
+    }
+
+    /// `Err(Unreachable)` when actuator coordinate `q` of leg `i` is outside its range.
+    pub(crate) fn check_actuator_limits(&self, i: usize, q: f64) -> Result<(), KinematicsError> {
+        let Some([lo, hi]) = self.legs[i].limits else {
+            return Ok(());
+        };
+        if (lo..=hi).contains(&q) {
+            Ok(())
+        } else {
+            Err(KinematicsError::Unreachable {
+                leg: i,
+                discriminant: -(lo - q).max(q - hi),
+            })
+        }
+    }
+}

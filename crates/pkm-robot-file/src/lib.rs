@@ -1,0 +1,64 @@
+//! Any parallel robot from a file.
+//!
+//! A robot file (TOML, `docs/robots.md`) describes one rigid base, one rigid platform and its
+//! legs, each a serial chain of R, P, U, S and C joints given as screw axes at the home pose.
+//! This crate reads it ([`RobotModel::from_toml`]), checks the architecture name and the
+//! mobility, and provides:
+//! - inverse kinematics per leg, in closed form for the distance and arm classes (every branch
+//!   labelled in a [`WorkingMode`]) and by damped Newton on the SE(3) closure otherwise, with
+//!   the dependent pose coordinates of lower-mobility robots solved;
+//! - forward kinematics from an assembly mode, by continuation from home, and every assembly
+//!   mode by seeded multistart ([`RobotModel::assembly_modes`]);
+//! - Jacobians from screws, $J_a$, $J_c$, $D$, $T$ and $J = D^{-1}J_aT$
+//!   ([`RobotModel::screw_jacobians`]), and three singularity margins
+//!   ([`RobotModel::singularity_margins`]);
+//! - the shared kinematics traits through [`Robot`].
+//!
+//! # Example
+//! ```
+//! use pkm_robot_file::RobotModel;
+//! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/robots/three_prs.toml")).unwrap();
+//! let robot = RobotModel::from_toml(&text).unwrap();
+//! assert_eq!(robot.task_names(), ["z", "tilt_x", "tilt_y"]);
+//! let c = robot.inverse_kinematics_configuration(&[0.5, 0.05, -0.02], robot.home_mode()).unwrap();
+//! let torsion = c.pose()[5];
+//! assert!(torsion.abs() < 1e-9);
+//! ```
+//!
+//! # References
+//! Lynch & Park, *Modern Robotics* (2017), ch. 4 (product of exponentials); Joshi & Tsai,
+//! "Jacobian analysis of limited-DOF parallel manipulators", ASME J. Mech. Des. 124(2), 2002;
+//! Gosselin & Angeles 1990 (type I/II singularities); `spec/general-robots.md`.
+#![warn(missing_docs)]
+
+// The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
+mod chain;
+mod closed_form;
+mod closure;
+mod error;
+mod file;
+mod fk;
+mod ik;
+mod jacobian;
+mod leg_ik;
+mod lm;
+mod mobility;
+mod model;
+mod name;
+mod pose;
+mod robot;
+
+pub use chain::{Joint, LegChain};
+pub use closure::Configuration;
+pub use error::RobotFileError;
+pub use file::{HomeSpec, JointSpec, JointType, LegSpec, RobotFile, SymmetrySpec};
+pub use fk::{AssemblyMode, EnumerationSettings};
+pub use jacobian::{ScrewJacobians, SingularityMargins};
+pub use lm::SolverSettings;
+pub use model::{CoordinateRole, MAX_JOINTS_PER_LEG, MAX_LEGS, RobotModel, WorkingMode};
+pub use pose::{OrientationKind, PoseCoordinates, platform_pose};
+pub use robot::{Robot, task_of};

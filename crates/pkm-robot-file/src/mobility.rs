@@ -1,0 +1,90 @@
+//! The mobility check on load: the platform twist system at home is the intersection of the
+//! legs' twist spaces, i.e. the screws reciprocal to every leg's constraint wrenches
+//! (Joshi & Tsai 2002; `spec/general-robots.md` §2a).
+
+use crate::chain::LegChain;
+use crate::error::RobotFileError;
+use crate::model::CoordinateRole;
+use crate::pose::{OrientationKind, PoseCoordinates, hybrid_rates};
+use nalgebra::{DMatrix, Vector3, Vector6};
+use pkm_screw_theory::reciprocal_screw_system;
+
+/// Relative rank tolerance of the screw systems: well above round-off of metre-sized axes and
+/// far below any real first-order motion.
+pub(crate) const RANK_TOLERANCE: f64 = 1e-9;
+
+/// The constraint wrenches of one leg: the screws reciprocal to all its joint twists.
+pub(crate) fn constraint_wrenches(twists: &[Vector6<f64>]) -> Vec<Vector6<f64>> {
+    reciprocal_screw_system(twists, RANK_TOLERANCE).unwrap_or_default()
+}
+
+/// Checks that the platform twist system at home has dimension `task + idle`, moves every
+/// task and idle coordinate independently, and leaves the constant coordinates still.
+/// Returns the twist system (orthonormal basis, `[ω; v_O]`).
+///
+/// # Errors
+/// [`RobotFileError::Mobility`] with the twist system found.
+pub(crate) fn check_mobility(
+    legs: &[LegChain],
+    orientation: OrientationKind,
+    home: &PoseCoordinates,
+    roles: &[CoordinateRole; 6],
+) -> Result<Vec<[f64; 6]>, RobotFileError> {
+    let mut wrenches = Vec::new();
+    for leg in legs {
+        let twists: Vec<_> = leg
+            .twists(&leg.home_values())
+            .twists
+            .iter()
+            .map(|t| t.1)
+            .collect();
+        wrenches.extend(constraint_wrenches(&twists));
+    }
+    let system = reciprocal_screw_system(&wrenches, RANK_TOLERANCE).unwrap_or_default();
+    let basis: Vec<[f64; 6]> = system.iter().map(|t| (*t).into()).collect();
+    let fail = |reason: String| RobotFileError::Mobility {
+        reason,
+        found: basis.len(),
+        twist_system: basis.clone(),
+    };
+    let free: Vec<usize> = (0..6)
+        .filter(|&k| matches!(roles[k], CoordinateRole::Task | CoordinateRole::Idle))
+        .collect();
+    if system.len() != free.len() {
+        return Err(fail(format!(
+            "the file declares {} task and idle coordinates",
+            free.len()
+        )));
+    }
+    // Pose-coordinate rates of each basis twist: ẋ = H⁻¹ [ω; v_O + ω × p].
+    let Some(h_inv) = hybrid_rates(orientation, home).try_inverse() else {
+        return Err(fail(
+            "the orientation coordinates are singular at home".into(),
+        ));
+    };
+    let p = Vector3::new(home[0], home[1], home[2]);
+    let rates = DMatrix::from_fn(6, system.len(), |row, col| {
+        let t = &system[col];
+        let w = Vector3::new(t[0], t[1], t[2]);
+        let v = Vector3::new(t[3], t[4], t[5]) + w.cross(&p);
+        (h_inv * Vector6::new(w.x, w.y, w.z, v.x, v.y, v.z))[row]
+    });
+    let scale = rates.amax().max(1.0);
+    for k in (0..6).filter(|&k| roles[k] == CoordinateRole::Constant) {
+        let moved = rates.row(k).amax();
+        if moved > 1e-7 * scale {
+            return Err(fail(format!(
+                "pose coordinate {k} is not declared but the legs let it move (rate {moved:.3e})"
+            )));
+        }
+    }
+    let selected = DMatrix::from_fn(free.len(), system.len(), |r, c| rates[(free[r], c)]);
+    let sv = selected.singular_values();
+    let smallest = sv.iter().copied().fold(f64::INFINITY, f64::min);
+    if free.is_empty() || !(smallest > 1e-7 * scale) {
+        return Err(fail(format!(
+            "the task and idle coordinates do not parametrise the twist system (smallest singular value {smallest:.3e})"
+        )));
+    }
+    Ok(basis)
+}

@@ -1,0 +1,568 @@
+//! The validated robot: legs expanded into elementary joints, symmetry applied, the name and
+//! the mobility checked, every leg classified for its inverse kinematics.
+
+use crate::chain::{Joint, LegChain};
+use crate::error::RobotFileError;
+use crate::file::{JointSpec, JointType, LegSpec, RobotFile};
+use crate::leg_ik::LegClass;
+use crate::pose::{OrientationKind, PoseCoordinates, platform_pose};
+use nalgebra::{Isometry3, Rotation3, Unit, Vector3};
+
+/// Most legs a robot may have (a working mode is one bit per leg).
+pub const MAX_LEGS: usize = 64;
+/// Most joint letters per leg.
+pub const MAX_JOINTS_PER_LEG: usize = 16;
+/// Largest coordinate accepted in a file (m): beyond it the products of the kinematics lose
+/// every digit.
+const MAX_COORDINATE: f64 = 1e6;
+
+/// What a pose coordinate is in a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoordinateRole {
+    /// An independent task coordinate.
+    Task,
+    /// Solved from the task coordinates through the legs' constraints.
+    Dependent,
+    /// Left free by the legs and held at home (the spin of a point platform).
+    Idle,
+    /// Held at its home value by the legs' constraints.
+    Constant,
+}
+
+/// A working mode: bit $i$ is the branch of leg $i$ (0 or 1) for the legs with two
+/// closed-form branches; legs with one branch or a numerical solution ignore their bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct WorkingMode(pub u64);
+
+impl WorkingMode {
+    /// The branch of leg `leg`.
+    pub fn branch(self, leg: usize) -> u8 {
+        u8::from(leg < 64 && (self.0 >> leg) & 1 == 1)
+    }
+
+    /// The mode with leg `leg` on `branch` (0 or 1).
+    #[must_use]
+    pub fn with_branch(self, leg: usize, branch: u8) -> Self {
+        if leg >= 64 {
+            return self;
+        }
+        let bit = 1u64 << leg;
+        Self(if branch == 1 {
+            self.0 | bit
+        } else {
+            self.0 & !bit
+        })
+    }
+}
+
+/// A parallel robot read from a robot file: one rigid base, one rigid platform, legs of
+/// elementary joints given as screw axes at the home pose.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RobotModel {
+    pub(crate) name: String,
+    pub(crate) orientation: OrientationKind,
+    pub(crate) roles: [CoordinateRole; 6],
+    pub(crate) task: Vec<usize>,
+    pub(crate) home: PoseCoordinates,
+    pub(crate) home_pose: Isometry3<f64>,
+    pub(crate) legs: Vec<LegChain>,
+    pub(crate) classes: Vec<LegClass>,
+    pub(crate) characteristic_length: f64,
+    /// Size of the robot (m): the largest distance of a joint point from the home platform
+    /// origin, at least the characteristic length; scales the step limits.
+    pub(crate) size: f64,
+    pub(crate) home_mode: WorkingMode,
+    pub(crate) twist_system: Vec<[f64; 6]>,
+}
+
+impl RobotModel {
+    /// Reads, validates and checks a robot file.
+    ///
+    /// # Errors
+    /// [`RobotFileError::Parse`] with line and column for text that does not match the schema;
+    /// [`RobotFileError::Invalid`] for a value that violates its requirement;
+    /// [`RobotFileError::NameMismatch`]; [`RobotFileError::Mobility`] when the platform twist
+    /// system at home does not have the declared dimension.
+    pub fn from_toml(text: &str) -> Result<Self, RobotFileError> {
+        Self::from_file(&RobotFile::from_toml(text)?)
+    }
+
+    /// Validates and checks a parsed robot file (see [`RobotModel::from_toml`]).
+    ///
+    /// # Errors
+    /// As [`RobotModel::from_toml`], without the parse errors.
+    pub fn from_file(file: &RobotFile) -> Result<Self, RobotFileError> {
+        let roles = coordinate_roles(file)?;
+        let home = home_coordinates(file)?;
+        let home_pose = platform_pose(file.orientation, &home);
+        let legs = expand_legs(file)?;
+        crate::name::check_name(&file.name, &legs)?;
+        let size = robot_size(&legs, &home_pose);
+        let characteristic_length = match file.characteristic_length {
+            Some(l) if l.is_finite() && l > 0.0 && l <= MAX_COORDINATE => l,
+            Some(l) => {
+                return Err(RobotFileError::invalid(
+                    "characteristic_length",
+                    l,
+                    "must be finite, > 0 and at most 1e6 m",
+                ));
+            }
+            None => default_characteristic_length(&legs, &home_pose),
+        };
+        let task: Vec<usize> = (0..6)
+            .filter(|&k| roles[k] == CoordinateRole::Task)
+            .collect();
+        if task.len() != legs.len() {
+            return Err(RobotFileError::invalid(
+                "task",
+                &file.task,
+                format!(
+                    "{} task coordinates for {} actuated legs: one actuator per task coordinate",
+                    task.len(),
+                    legs.len()
+                ),
+            ));
+        }
+        let twist_system = crate::mobility::check_mobility(&legs, file.orientation, &home, &roles)?;
+        let size = size.max(characteristic_length);
+        let classes = legs
+            .iter()
+            .map(|leg| LegClass::classify(leg, &home_pose, size))
+            .collect::<Vec<_>>();
+        let mut model = Self {
+            name: file.name.clone(),
+            orientation: file.orientation,
+            roles,
+            task,
+            home,
+            home_pose,
+            legs,
+            classes,
+            characteristic_length,
+            size,
+            home_mode: WorkingMode::default(),
+            twist_system,
+        };
+        model.home_mode = model.mode_of_home();
+        Ok(model)
+    }
+
+    /// The branch of every closed-form leg that reproduces the home configuration.
+    fn mode_of_home(&self) -> WorkingMode {
+        let mut mode = WorkingMode::default();
+        for (i, class) in self.classes.iter().enumerate() {
+            if class
+                .solve(&self.home_pose, 1)
+                .is_ok_and(|m| m.abs() < 1e-9 * self.size)
+                && !class
+                    .solve(&self.home_pose, 0)
+                    .is_ok_and(|m| m.abs() < 1e-9 * self.size)
+            {
+                mode = mode.with_branch(i, 1);
+            }
+        }
+        mode
+    }
+
+    /// The architecture name, as written in the file.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Number of task coordinates (= actuated legs).
+    pub fn dof(&self) -> usize {
+        self.task.len()
+    }
+
+    /// The legs, expanded into elementary joints.
+    pub fn legs(&self) -> &[LegChain] {
+        &self.legs
+    }
+
+    /// The orientation coordinates of the pose.
+    pub fn orientation(&self) -> OrientationKind {
+        self.orientation
+    }
+
+    /// The role of each of the six pose coordinates.
+    pub fn coordinate_roles(&self) -> [CoordinateRole; 6] {
+        self.roles
+    }
+
+    /// Names of the task coordinates, in order.
+    pub fn task_names(&self) -> Vec<&'static str> {
+        let names = self.orientation.coordinate_names();
+        self.task.iter().map(|&k| names[k]).collect()
+    }
+
+    /// The six pose coordinates at home.
+    pub fn home(&self) -> PoseCoordinates {
+        self.home
+    }
+
+    /// The task coordinates at home.
+    pub fn home_task(&self) -> Vec<f64> {
+        self.task.iter().map(|&k| self.home[k]).collect()
+    }
+
+    /// The actuator coordinates at home (the offsets).
+    pub fn home_actuators(&self) -> Vec<f64> {
+        self.legs.iter().map(|l| l.offset).collect()
+    }
+
+    /// The working mode of the home configuration.
+    pub fn home_mode(&self) -> WorkingMode {
+        self.home_mode
+    }
+
+    /// The characteristic length (m) of the singularity margins.
+    pub fn characteristic_length(&self) -> f64 {
+        self.characteristic_length
+    }
+
+    /// Number of closed-form branches of each leg (1 or 2; 1 for a numerical leg).
+    pub fn branch_counts(&self) -> Vec<usize> {
+        self.classes.iter().map(LegClass::branch_count).collect()
+    }
+
+    /// Every working mode: all combinations of the legs' branches.
+    pub fn working_modes(&self) -> Vec<WorkingMode> {
+        let mut modes = vec![WorkingMode::default()];
+        for (i, class) in self.classes.iter().enumerate() {
+            if class.branch_count() == 2 {
+                modes = modes
+                    .into_iter()
+                    .flat_map(|m| [m, m.with_branch(i, 1)])
+                    .collect();
+            }
+        }
+        modes
+    }
+
+    /// An orthonormal basis `[ω; v_O]` of the platform twist system at home.
+    pub fn home_twist_system(&self) -> &[[f64; 6]] {
+        &self.twist_system
+    }
+
+    /// Name of each leg's inverse-kinematic solution (`distance`, `revolute arm`,
+    /// `prismatic arm`, `numerical`).
+    pub fn leg_solvers(&self) -> Vec<&'static str> {
+        self.classes.iter().map(LegClass::label).collect()
+    }
+}
+
+fn coordinate_roles(file: &RobotFile) -> Result<[CoordinateRole; 6], RobotFileError> {
+    let names = file.orientation.coordinate_names();
+    let mut roles = [CoordinateRole::Constant; 6];
+    let lists = [
+        ("task", &file.task, CoordinateRole::Task),
+        ("dependent", &file.dependent, CoordinateRole::Dependent),
+        ("idle", &file.idle, CoordinateRole::Idle),
+    ];
+    for (key, list, role) in lists {
+        for (k, name) in list.iter().enumerate() {
+            let Some(index) = names.iter().position(|n| n == name) else {
+                return Err(RobotFileError::invalid(
+                    format!("{key}[{k}]"),
+                    name,
+                    format!(
+                        "must be one of {names:?} (orientation {:?})",
+                        file.orientation
+                    ),
+                ));
+            };
+            if roles[index] != CoordinateRole::Constant {
+                return Err(RobotFileError::invalid(
+                    format!("{key}[{k}]"),
+                    name,
+                    "each pose coordinate may be listed once",
+                ));
+            }
+            roles[index] = role;
+        }
+    }
+    if file.task.is_empty() {
+        return Err(RobotFileError::invalid(
+            "task",
+            &file.task,
+            "must name at least one coordinate",
+        ));
+    }
+    Ok(roles)
+}
+
+fn home_coordinates(file: &RobotFile) -> Result<PoseCoordinates, RobotFileError> {
+    let p = file.home.position;
+    let o = file.home.orientation;
+    finite_vector("home.position", &p, MAX_COORDINATE)?;
+    finite_vector("home.orientation", &o, std::f64::consts::PI)?;
+    Ok([p[0], p[1], p[2], o[0], o[1], o[2]])
+}
+
+fn finite_vector(key: &str, v: &[f64; 3], max: f64) -> Result<Vector3<f64>, RobotFileError> {
+    if v.iter().all(|x| x.is_finite() && x.abs() <= max) {
+        Ok(Vector3::from(*v))
+    } else {
+        Err(RobotFileError::invalid(
+            key,
+            v,
+            format!("must be finite, each entry within ±{max}"),
+        ))
+    }
+}
+
+fn unit_vector(key: &str, v: &[f64; 3]) -> Result<Vector3<f64>, RobotFileError> {
+    let v = finite_vector(key, v, MAX_COORDINATE)?;
+    let norm = v.norm();
+    if norm > 1e-9 {
+        Ok(v / norm)
+    } else {
+        Err(RobotFileError::invalid(
+            key,
+            v.as_slice(),
+            "must have a length above 1e-9",
+        ))
+    }
+}
+
+/// The legs of the file, with the symmetry applied.
+fn expand_legs(file: &RobotFile) -> Result<Vec<LegChain>, RobotFileError> {
+    if file.legs.is_empty() {
+        return Err(RobotFileError::invalid("legs", "[]", "at least one leg"));
+    }
+    let template = file
+        .legs
+        .iter()
+        .enumerate()
+        .map(|(i, leg)| leg_chain(i, leg))
+        .collect::<Result<Vec<_>, _>>()?;
+    let Some(sym) = file.symmetry else {
+        return check_count(template);
+    };
+    if !(1..=MAX_LEGS).contains(&sym.count) || sym.count * template.len() > MAX_LEGS {
+        return Err(RobotFileError::invalid(
+            "symmetry.count",
+            sym.count,
+            format!("must be at least 1, with at most {MAX_LEGS} legs in all"),
+        ));
+    }
+    let axis = unit_vector("symmetry.axis", &sym.axis)?;
+    let point = finite_vector("symmetry.point", &sym.point, MAX_COORDINATE)?;
+    let mut legs = Vec::with_capacity(sym.count * template.len());
+    for k in 0..sym.count {
+        let angle = std::f64::consts::TAU * k as f64 / sym.count as f64;
+        let r = Rotation3::from_axis_angle(&Unit::new_unchecked(axis), angle);
+        legs.extend(template.iter().map(|leg| rotated_leg(leg, &r, &point)));
+    }
+    check_count(legs)
+}
+
+fn check_count(legs: Vec<LegChain>) -> Result<Vec<LegChain>, RobotFileError> {
+    if legs.len() > MAX_LEGS {
+        return Err(RobotFileError::invalid(
+            "legs",
+            legs.len(),
+            format!("at most {MAX_LEGS} legs"),
+        ));
+    }
+    Ok(legs)
+}
+
+fn rotated_leg(leg: &LegChain, r: &Rotation3<f64>, c: &Vector3<f64>) -> LegChain {
+    let turn = |p: &Vector3<f64>| r * (p - c) + c;
+    let joints = leg
+        .joints
+        .iter()
+        .map(|j| match j {
+            Joint::Revolute { axis, point } => Joint::Revolute {
+                axis: r * axis,
+                point: turn(point),
+            },
+            Joint::Prismatic { axis } => Joint::Prismatic { axis: r * axis },
+            Joint::Spherical { center } => Joint::Spherical {
+                center: turn(center),
+            },
+        })
+        .collect();
+    LegChain {
+        joints,
+        ..leg.clone()
+    }
+}
+
+/// One leg of the file as elementary joints.
+fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
+    let key = format!("legs[{i}].joints");
+    if leg.joints.is_empty() || leg.joints.len() > MAX_JOINTS_PER_LEG {
+        return Err(RobotFileError::invalid(
+            &key,
+            leg.joints.len(),
+            format!("a leg has 1 to {MAX_JOINTS_PER_LEG} joints"),
+        ));
+    }
+    let mut joints = Vec::new();
+    let mut letters = String::new();
+    let mut actuated = Vec::new();
+    for (k, spec) in leg.joints.iter().enumerate() {
+        let key = format!("{key}[{k}]");
+        if spec.actuated {
+            actuated.push((joints.len(), spec, key.clone()));
+        }
+        letters.push(letter(spec.kind));
+        joints.extend(elementary_joints(&key, spec)?);
+    }
+    let [(actuator, spec, key)] = actuated.as_slice() else {
+        return Err(RobotFileError::invalid(
+            format!("legs[{i}]"),
+            actuated.len(),
+            "exactly one joint per leg must be `actuated = true`",
+        ));
+    };
+    if !matches!(spec.kind, JointType::R | JointType::P) {
+        return Err(RobotFileError::invalid(
+            format!("{key}.type"),
+            spec.kind,
+            "only an R or a P joint can be actuated",
+        ));
+    }
+    Ok(LegChain {
+        joints,
+        actuator: *actuator,
+        offset: spec.offset,
+        limits: spec.limits,
+        letters,
+    })
+}
+
+fn letter(kind: JointType) -> char {
+    match kind {
+        JointType::R => 'R',
+        JointType::P => 'P',
+        JointType::U => 'U',
+        JointType::S => 'S',
+        JointType::C => 'C',
+    }
+}
+
+/// The elementary joints of one joint of the file (U = two R, C = R + P on one axis).
+fn elementary_joints(key: &str, spec: &JointSpec) -> Result<Vec<Joint>, RobotFileError> {
+    check_scalars(key, spec)?;
+    let needs = |field: &str, present: bool, wanted: bool| {
+        if present == wanted {
+            Ok(())
+        } else if wanted {
+            Err(RobotFileError::invalid(
+                format!("{key}.{field}"),
+                "missing",
+                format!("required by a {:?} joint", spec.kind),
+            ))
+        } else {
+            Err(RobotFileError::invalid(
+                format!("{key}.{field}"),
+                "given",
+                format!("not used by a {:?} joint", spec.kind),
+            ))
+        }
+    };
+    let (axis, axes, point) = (
+        spec.axis.is_some(),
+        spec.axes.is_some(),
+        spec.point.is_some(),
+    );
+    let wanted = match spec.kind {
+        JointType::R | JointType::C => (true, false, true),
+        JointType::P => (true, false, false),
+        JointType::U => (false, true, true),
+        JointType::S => (false, false, true),
+    };
+    needs("axis", axis, wanted.0)?;
+    needs("axes", axes, wanted.1)?;
+    needs("point", point, wanted.2)?;
+    let point = match spec.point {
+        Some(p) => finite_vector(&format!("{key}.point"), &p, MAX_COORDINATE)?,
+        None => Vector3::zeros(),
+    };
+    let axis = match spec.axis {
+        Some(a) => unit_vector(&format!("{key}.axis"), &a)?,
+        None => Vector3::z(),
+    };
+    Ok(match spec.kind {
+        JointType::R => vec![Joint::Revolute { axis, point }],
+        JointType::P => vec![Joint::Prismatic { axis }],
+        JointType::C => vec![Joint::Revolute { axis, point }, Joint::Prismatic { axis }],
+        JointType::S => vec![Joint::Spherical { center: point }],
+        JointType::U => {
+            let [a, b] = spec.axes.unwrap_or_default();
+            let a = unit_vector(&format!("{key}.axes[0]"), &a)?;
+            let b = unit_vector(&format!("{key}.axes[1]"), &b)?;
+            if a.cross(&b).norm() < 1e-6 {
+                return Err(RobotFileError::invalid(
+                    format!("{key}.axes"),
+                    spec.axes,
+                    "the two axes of a U joint must not be parallel",
+                ));
+            }
+            vec![
+                Joint::Revolute { axis: a, point },
+                Joint::Revolute { axis: b, point },
+            ]
+        }
+    })
+}
+
+fn check_scalars(key: &str, spec: &JointSpec) -> Result<(), RobotFileError> {
+    if !(spec.offset.is_finite() && spec.offset.abs() <= MAX_COORDINATE) {
+        return Err(RobotFileError::invalid(
+            format!("{key}.offset"),
+            spec.offset,
+            "must be finite, within ±1e6",
+        ));
+    }
+    if let Some([lo, hi]) = spec.limits {
+        if !(lo.is_finite() && hi.is_finite() && lo <= spec.offset && spec.offset <= hi) {
+            return Err(RobotFileError::invalid(
+                format!("{key}.limits"),
+                [lo, hi],
+                "must be finite with min <= offset <= max",
+            ));
+        }
+        if !spec.actuated {
+            return Err(RobotFileError::invalid(
+                format!("{key}.limits"),
+                [lo, hi],
+                "limits are read for the actuated joint only",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The points of a leg's joints (R points, S centres).
+fn joint_points(leg: &LegChain) -> impl Iterator<Item = Vector3<f64>> + '_ {
+    leg.joints.iter().filter_map(|j| match j {
+        Joint::Revolute { point, .. } => Some(*point),
+        Joint::Spherical { center } => Some(*center),
+        Joint::Prismatic { .. } => None,
+    })
+}
+
+fn robot_size(legs: &[LegChain], home: &Isometry3<f64>) -> f64 {
+    let origin = home.translation.vector;
+    legs.iter()
+        .flat_map(joint_points)
+        .map(|p| (p - origin).norm())
+        .fold(0.0, f64::max)
+        .max(1e-3)
+}
+
+/// Mean distance from the platform origin of each leg's last joint point (1 m if zero).
+fn default_characteristic_length(legs: &[LegChain], home: &Isometry3<f64>) -> f64 {
+    let origin = home.translation.vector;
+    let distances: Vec<f64> = legs
+        .iter()
+        .filter_map(|l| joint_points(l).last())
+        .map(|p| (p - origin).norm())
+        .collect();
+    let mean = distances.iter().sum::<f64>() / distances.len().max(1) as f64;
+    if mean > 1e-9 { mean } else { 1.0 }
+}

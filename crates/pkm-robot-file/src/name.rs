@@ -1,0 +1,138 @@
+//! The architecture name (`3-PRS`, `6-UPS`, `RR+RRR`) checked against the expanded joints.
+//!
+//! A name is `<n>-<chain>` (n identical legs) or chains joined by `+`. The actuated joint may
+//! be marked by an underscore before its letter (`3-_PRS`) or a combining low line after it
+//! (`3-P̲RS`, U+0332); when marked, it must be the actuated joint.
+
+use crate::chain::LegChain;
+use crate::error::RobotFileError;
+
+/// One leg of a name: its letters and, if marked, the index of the actuated letter.
+#[derive(Debug, PartialEq)]
+struct NamedLeg {
+    letters: String,
+    actuated: Option<usize>,
+}
+
+fn parse_chain(chain: &str) -> Option<NamedLeg> {
+    let mut letters = String::new();
+    let mut actuated = None;
+    let mut mark_next = false;
+    for c in chain.chars() {
+        match c {
+            '_' => mark_next = true,
+            '\u{332}' if !letters.is_empty() => actuated = Some(letters.chars().count() - 1),
+            'R' | 'P' | 'U' | 'S' | 'C' => {
+                if mark_next {
+                    actuated = Some(letters.chars().count());
+                    mark_next = false;
+                }
+                letters.push(c);
+            }
+            _ => return None,
+        }
+    }
+    (!letters.is_empty() && !mark_next).then_some(NamedLeg { letters, actuated })
+}
+
+fn parse_name(name: &str) -> Option<Vec<NamedLeg>> {
+    let name = name.trim();
+    if let Some((count, chain)) = name.split_once('-') {
+        let count: usize = count.trim().parse().ok()?;
+        if count == 0 || count > crate::model::MAX_LEGS {
+            return None;
+        }
+        let leg = parse_chain(chain.trim())?;
+        return Some(
+            (0..count)
+                .map(|_| NamedLeg {
+                    letters: leg.letters.clone(),
+                    actuated: leg.actuated,
+                })
+                .collect(),
+        );
+    }
+    name.split('+').map(|c| parse_chain(c.trim())).collect()
+}
+
+/// The name the legs spell: `<n>-<letters>` when all legs are alike, else joined by `+`.
+pub(crate) fn spelled_name(legs: &[LegChain]) -> String {
+    let first = legs.first().map_or("", |l| l.letters.as_str());
+    if legs.iter().all(|l| l.letters == first) {
+        format!("{}-{first}", legs.len())
+    } else {
+        legs.iter()
+            .map(|l| l.letters.as_str())
+            .collect::<Vec<_>>()
+            .join("+")
+    }
+}
+
+/// Checks `name` against `legs` (count, letters, marked actuators).
+///
+/// # Errors
+/// [`RobotFileError::NameMismatch`] naming what the joints spell.
+pub(crate) fn check_name(name: &str, legs: &[LegChain]) -> Result<(), RobotFileError> {
+    let mismatch = || RobotFileError::NameMismatch {
+        name: name.to_string(),
+        found: spelled_name(legs),
+    };
+    let named = parse_name(name).ok_or_else(mismatch)?;
+    if named.len() != legs.len() {
+        return Err(mismatch());
+    }
+    for (n, leg) in named.iter().zip(legs) {
+        if n.letters != leg.letters {
+            return Err(mismatch());
+        }
+        if n.actuated
+            .is_some_and(|k| letter_of_actuator(leg) != Some(k))
+        {
+            return Err(mismatch());
+        }
+    }
+    Ok(())
+}
+
+/// Index of the letter that holds the actuated elementary joint (a U spans two joints, a C two).
+fn letter_of_actuator(leg: &LegChain) -> Option<usize> {
+    let mut joint = 0;
+    for (k, c) in leg.letters.chars().enumerate() {
+        let width = match c {
+            'U' | 'C' => 2,
+            _ => 1,
+        };
+        if (joint..joint + width).contains(&leg.actuator) {
+            return Some(k);
+        }
+        joint += width;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse() {
+        assert_eq!(parse_name("3-PRS").map(|v| v.len()), Some(3));
+        assert_eq!(
+            parse_name("3-_PRS").and_then(|v| v.into_iter().next()),
+            Some(NamedLeg {
+                letters: "PRS".into(),
+                actuated: Some(0)
+            })
+        );
+        assert_eq!(
+            parse_name("3-RP\u{332}R")
+                .and_then(|v| v.into_iter().next())
+                .and_then(|l| l.actuated),
+            Some(1)
+        );
+        assert_eq!(parse_name("RR+RRR").map(|v| v.len()), Some(2));
+        for bad in ["", "3-", "0-RRR", "x-RRR", "3-RQR", "3-RR_", "99999-R"] {
+            assert!(parse_name(bad).is_none(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,144 @@
+//! The acceptance set of issue 18, items 2, 5 and 6 (sources and tolerances in
+//! `docs/conventions.md`, "Robot files: acceptance set").
+
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
+mod common;
+
+use nalgebra::{Matrix2, Rotation3, Vector2, Vector3};
+use pkm_robot_file::{EnumerationSettings, Robot, WorkingMode};
+use pkm_traits::InverseKinematics;
+
+/// Acceptance 2: the five-bar has four inverse working modes (two per leg) with four distinct
+/// actuator solutions, two assembly modes, and its Jacobian equals the closed form
+/// $\dot\theta_i = (P - B_i)\cdot\dot p\,/\,((P - B_i)\cdot(\hat z \times (B_i - A_i)))$.
+#[test]
+fn five_bar_modes_and_jacobian() {
+    let robot = Robot::<2>::new(common::robot("five_bar.toml")).unwrap();
+    let model = robot.model();
+    let x = Vector2::new(0.03, 0.33);
+    let modes = model.working_modes();
+    assert_eq!(modes.len(), 4);
+    let mut solutions: Vec<Vector2<f64>> = Vec::new();
+    for &mode in &modes {
+        let q = robot.inverse_kinematics(&x, mode).unwrap();
+        assert!(
+            solutions.iter().all(|s| (s - q).amax() > 1e-3),
+            "mode {mode:?} repeats a solution"
+        );
+        solutions.push(q);
+        // The closed form, from the elbows of this mode: q_i turns the home arm (−0.12, 0.16)
+        // or (0.12, 0.16) about z.
+        let a = [Vector3::new(-0.08, 0.0, 0.0), Vector3::new(0.08, 0.0, 0.0)];
+        let arm = [
+            Vector3::new(-0.12, 0.16, 0.0),
+            Vector3::new(0.12, 0.16, 0.0),
+        ];
+        let p = Vector3::new(x[0], x[1], 0.0);
+        let expected = Matrix2::from_fn(|i, k| {
+            let elbow = a[i] + Rotation3::from_axis_angle(&Vector3::z_axis(), q[i]) * arm[i];
+            let rod = p - elbow;
+            rod[k] / rod.dot(&Vector3::z().cross(&(elbow - a[i])))
+        });
+        let j = robot.velocity_jacobian_at(&x, mode).unwrap();
+        assert!(
+            (j - expected).amax() < 1e-9 * expected.amax(),
+            "mode {mode:?}:\n{j}\n{expected}"
+        );
+    }
+    // Two assembly modes at the actuators of the home working mode.
+    let q = robot.inverse_kinematics(&x, model.home_mode()).unwrap();
+    let found = model
+        .assembly_modes(q.as_slice(), &EnumerationSettings::default())
+        .unwrap();
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(
+        found
+            .iter()
+            .any(|m| (m.task[0] - x[0]).abs() < 1e-9 && (m.task[1] - x[1]).abs() < 1e-9)
+    );
+    assert_eq!(
+        found[0].home_label,
+        Some(0),
+        "the mode continued from home comes first"
+    );
+}
+
+/// Acceptance 5: the Orthoglide is isotropic at its isotropic configuration, $J = I$, κ = 1,
+/// and only there among nearby poses.
+#[test]
+fn orthoglide_is_isotropic_at_home() {
+    let robot = Robot::<3>::new(common::robot("orthoglide.toml")).unwrap();
+    let mode = robot.model().home_mode();
+    let j = robot.velocity_jacobian_at(&Vector3::zeros(), mode).unwrap();
+    let sv = j.singular_values();
+    let kappa = sv.max() / sv.min();
+    assert!((kappa - 1.0).abs() < 1e-12, "κ = {kappa}");
+    assert!((j - nalgebra::Matrix3::identity()).amax() < 1e-12, "{j}");
+    let off = robot
+        .velocity_jacobian_at(&Vector3::new(0.05, -0.03, 0.02), mode)
+        .unwrap();
+    let sv = off.singular_values();
+    assert!(sv.max() / sv.min() > 1.01);
+}
+
+/// Acceptance 6: the symmetric 3-PRS has zero torsion over its workspace, its parasitic x, y
+/// follow $x = \tfrac r2(\cos\theta - 1)\cos 2\phi$, $y = -\tfrac r2(\cos\theta - 1)\sin 2\phi$
+/// (tilt θ about the axis at azimuth φ + 90°), and its three constraint wrenches have rank 3.
+#[test]
+fn three_prs_zero_torsion_and_parasitic_motion() {
+    let robot = Robot::<3>::new(common::robot("three_prs.toml")).unwrap();
+    let model = robot.model();
+    let r = 0.1;
+    let mut checked = 0;
+    for z in [0.45, 0.5, 0.55] {
+        for k in 0..12 {
+            for theta in [0.05, 0.15, 0.3] {
+                let phi = f64::from(k) * std::f64::consts::PI / 6.0;
+                let task = [z, -theta * phi.sin(), theta * phi.cos()];
+                let c = model
+                    .inverse_kinematics_configuration(&task, WorkingMode::default())
+                    .unwrap();
+                let pose = c.pose();
+                let x = r / 2.0 * (theta.cos() - 1.0) * (2.0 * phi).cos();
+                let y = -r / 2.0 * (theta.cos() - 1.0) * (2.0 * phi).sin();
+                assert!(pose[5].abs() < 1e-10, "torsion {} at {task:?}", pose[5]);
+                assert!(
+                    (pose[0] - x).abs() < 1e-10 && (pose[1] - y).abs() < 1e-10,
+                    "{pose:?} vs ({x}, {y})"
+                );
+                let jac = model.screw_jacobians(&c).unwrap();
+                assert_eq!(jac.j_c.nrows(), 3);
+                let sv = jac.j_c.singular_values();
+                assert!(sv.min() > 1e-3 * sv.max(), "rank-3 J_c: {sv}");
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 108);
+}
+
+/// The inverse-kinematic margin of the five-bar vanishes as leg 0 stretches out
+/// ($|P - A_1| \to l_1 + l_2$), while the direct one stays away from zero.
+#[test]
+fn five_bar_inverse_margin_vanishes_when_a_leg_stretches_out() {
+    let model = common::robot("five_bar.toml");
+    let a1 = Vector2::new(-0.08, 0.0);
+    let direction = Vector2::new(0.3, 1.0).normalize();
+    let mut previous = f64::INFINITY;
+    for gap in [1e-2, 1e-4, 1e-6] {
+        let p = a1 + direction * (0.49 - gap);
+        let c = model
+            .inverse_kinematics_configuration(p.as_slice(), model.home_mode())
+            .unwrap();
+        let m = model.singularity_margins(&c).unwrap();
+        assert!(m.inverse < previous && m.direct > 1e-3, "gap {gap}: {m:?}");
+        previous = m.inverse;
+    }
+    assert!(previous < 1e-2, "{previous}");
+}

@@ -1,0 +1,212 @@
+//! The acceptance set of issue 18, items 3, 4, 7 and 8: assembly modes by multistart, working
+//! modes, and actuation wrenches (sources and tolerances in `docs/conventions.md`).
+
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
+mod common;
+
+use nalgebra::{Rotation2, Vector2, Vector3};
+use pkm_robot_file::{AssemblyMode, EnumerationSettings, Robot, RobotModel};
+use pkm_traits::InverseKinematics;
+
+/// Every assembly mode closes: the IK of its pose, on the branches nearest `q`, gives back `q`.
+fn assert_genuine(model: &RobotModel, q: &[f64], modes: &[AssemblyMode]) {
+    for m in modes {
+        let c = model.configuration_near(&m.task, q).unwrap();
+        let back = model.actuators_of(&c);
+        let error = back
+            .iter()
+            .zip(q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(error < 1e-9, "spurious mode {:?}: {back} vs {q:?}", m.task);
+    }
+}
+
+/// Real solutions of the 3-RPR forward kinematics counted independently of the library: for
+/// each platform angle φ, legs 1 and 2 place the platform by a circle–circle intersection (two
+/// branches), and leg 3's length error changes sign at each solution.
+fn independent_rpr_count(a: &[Vector2<f64>; 3], b: &[Vector2<f64>; 3], rho: &[f64; 3]) -> usize {
+    let n = 40_000;
+    let residual = |phi: f64, branch: f64| -> Option<f64> {
+        let r = Rotation2::new(phi);
+        let (c1, c2) = (a[0], a[1] - r * (b[1] - b[0]));
+        let d = (c2 - c1).norm();
+        if !(d < rho[0] + rho[1] && d > (rho[0] - rho[1]).abs()) {
+            return None;
+        }
+        let along = (rho[0] * rho[0] - rho[1] * rho[1] + d * d) / (2.0 * d);
+        let h = (rho[0] * rho[0] - along * along).max(0.0).sqrt();
+        let u = (c2 - c1) / d;
+        let p1 = c1 + u * along + Vector2::new(-u.y, u.x) * h * branch;
+        Some((p1 + r * (b[2] - b[0]) - a[2]).norm() - rho[2])
+    };
+    let mut count = 0;
+    for branch in [1.0, -1.0] {
+        let values: Vec<Option<f64>> = (0..=n)
+            .map(|k| {
+                residual(
+                    -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / n as f64,
+                    branch,
+                )
+            })
+            .collect();
+        count += values
+            .windows(2)
+            .filter(|w| matches!((w[0], w[1]), (Some(u), Some(v)) if u * v < 0.0))
+            .count();
+    }
+    count
+}
+
+/// Acceptance 3: a planar 3-RPR design with six real forward solutions; all six found by the
+/// multistart, none spurious, and six counted independently.
+#[test]
+fn three_rpr_six_assembly_modes() {
+    let model = common::robot("three_rpr.toml");
+    let q = [0.375, 0.669, 0.393];
+    let a = [
+        Vector2::new(0.44, -0.74),
+        Vector2::new(-0.46, -0.7),
+        Vector2::new(0.22, -0.41),
+    ];
+    let b = [
+        Vector2::new(0.37, -0.23),
+        Vector2::new(0.14, 0.14),
+        Vector2::new(0.44, 0.22),
+    ];
+    assert_eq!(independent_rpr_count(&a, &b, &q), 6);
+    let modes = model
+        .assembly_modes(&q, &EnumerationSettings::default())
+        .unwrap();
+    assert_eq!(
+        modes.len(),
+        6,
+        "{:?}",
+        modes.iter().map(|m| &m.task).collect::<Vec<_>>()
+    );
+    assert_genuine(&model, &q, &modes);
+}
+
+/// Acceptance 4: the Agile Eye has eight inverse working modes (eight distinct actuator
+/// solutions at a generic orientation) and four assembly modes.
+#[test]
+fn agile_eye_working_and_assembly_modes() {
+    let robot = Robot::<3>::new(common::robot("agile_eye.toml")).unwrap();
+    let x = Vector3::new(0.2, -0.1, 0.15);
+    let modes = robot.model().working_modes();
+    assert_eq!(modes.len(), 8);
+    let solutions: Vec<_> = modes
+        .iter()
+        .map(|&m| robot.inverse_kinematics(&x, m).unwrap())
+        .collect();
+    for (i, a) in solutions.iter().enumerate() {
+        for b in &solutions[..i] {
+            assert!((a - b).amax() > 1e-6, "two modes give one solution");
+        }
+    }
+    let q = solutions[0];
+    let found = robot
+        .model()
+        .assembly_modes(q.as_slice(), &EnumerationSettings::default())
+        .unwrap();
+    let regular: Vec<_> = found
+        .iter()
+        .filter(|m| !m.is_singular(1e-6))
+        .cloned()
+        .collect();
+    println!(
+        "Agile Eye: {} solutions, {} regular: {:?}",
+        found.len(),
+        regular.len(),
+        regular.iter().map(|m| &m.task).collect::<Vec<_>>()
+    );
+    assert_genuine(robot.model(), q.as_slice(), &regular);
+    assert_eq!(regular.len(), 4);
+    // The singular solutions are self-motions: a platform axis on an actuated axis, so the
+    // leg closes for every actuator value.
+    assert!(
+        found
+            .iter()
+            .filter(|m| m.is_singular(1e-6))
+            .all(|m| m.margins.inverse < 1e-6)
+    );
+}
+
+/// Acceptance 7: the Hexa with the TUBS Hexa2 dimensions reaches a test pose, and each leg's
+/// actuation wrench is the force along its rod (elbow U centre to platform S centre).
+#[test]
+fn hexa_actuation_wrenches_lie_along_the_rods() {
+    let model = common::robot("hexa.toml");
+    let mut x = model.home_task();
+    for (k, dx) in [
+        0.02,
+        -0.01,
+        0.03,
+        10f64.to_radians(),
+        -10f64.to_radians(),
+        5f64.to_radians(),
+    ]
+    .iter()
+    .enumerate()
+    {
+        x[k] += dx;
+    }
+    let c = model
+        .inverse_kinematics_configuration(&x, model.home_mode())
+        .unwrap();
+    let jac = model.screw_jacobians(&c).unwrap();
+    let pose = pkm_robot_file::platform_pose(model.orientation(), &c.pose());
+    for (i, leg) in model.legs().iter().enumerate() {
+        let (
+            pkm_robot_file::Joint::Revolute { axis, point },
+            pkm_robot_file::Joint::Spherical { center },
+        ) = (leg.joints[0], leg.joints[3])
+        else {
+            panic!("leg {i} is not R-U-S");
+        };
+        // Elbow: the home elbow turned by the actuator about its axis; S centre: with the platform.
+        let q = model.actuators_of(&c)[i];
+        let elbow_home = match leg.joints[1] {
+            pkm_robot_file::Joint::Revolute { point, .. } => point,
+            _ => unreachable!(),
+        };
+        let turn = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), q);
+        let elbow = point + turn * (elbow_home - point);
+        let home_pose = pkm_robot_file::platform_pose(model.orientation(), &model.home());
+        let s_centre = pose * (home_pose.inverse() * nalgebra::Point3::from(center));
+        let s = (s_centre.coords - elbow).normalize();
+        let moment = elbow.cross(&s);
+        let w = jac.j_a.row(i);
+        let sign = w[0] * s.x + w[1] * s.y + w[2] * s.z;
+        let expected = [s.x, s.y, s.z, moment.x, moment.y, moment.z].map(|v| v * sign.signum());
+        for k in 0..6 {
+            assert!(
+                (w[k] - expected[k]).abs() < 1e-9,
+                "leg {i}: {w} vs {expected:?}"
+            );
+        }
+    }
+}
+
+/// Acceptance 8: the Stewart–Gough forward kinematics never reports more than 40 distinct
+/// assembly modes, and every mode it reports closes.
+#[test]
+fn stewart_gough_at_most_forty_assembly_modes() {
+    let model = common::robot("stewart_gough.toml");
+    let q = model.home_actuators();
+    let settings = EnumerationSettings {
+        starts: 300,
+        ..Default::default()
+    };
+    let modes = model.assembly_modes(&q, &settings).unwrap();
+    println!("Stewart–Gough: {} assembly modes", modes.len());
+    assert!((1..=40).contains(&modes.len()), "{}", modes.len());
+    assert_genuine(&model, &q, &modes);
+    assert_eq!(modes[0].home_label, Some(0));
+}

@@ -1,0 +1,32 @@
+//! Shared helpers of the integration tests: the example robot files.
+
+#![allow(dead_code)]
+
+use pkm_robot_file::RobotModel;
+
+/// The text of `examples/robots/<name>`.
+pub(crate) fn robot_text(name: &str) -> String {
+    let path = format!(
+        "{}/../../examples/robots/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// The model of `examples/robots/<name>`.
+pub(crate) fn robot(name: &str) -> RobotModel {
+    RobotModel::from_toml(&robot_text(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Every example robot file.
+pub(crate) fn all_files() -> Vec<String> {
+    let dir = format!("{}/../../examples/robots", env!("CARGO_MANIFEST_DIR"));
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    names
+}

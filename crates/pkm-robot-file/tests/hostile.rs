@@ -1,0 +1,212 @@
+//! Every public entry point fed hostile input: typed errors, never a panic or a hang.
+
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
+mod common;
+
+use pkm_robot_file::{EnumerationSettings, Robot, RobotFileError, RobotModel, WorkingMode};
+use pkm_traits::{
+    ClosedChain, ForwardKinematics, InverseKinematics, KinematicsError, NewtonSettings,
+};
+
+/// The five-bar file with `from` replaced by `to`.
+fn edited(from: &str, to: &str) -> Result<RobotModel, RobotFileError> {
+    let text = common::robot_text("five_bar.toml");
+    assert!(text.contains(from), "{from}");
+    RobotModel::from_toml(&text.replacen(from, to, 1))
+}
+
+#[test]
+fn malformed_files_are_typed_errors() {
+    let parse = |r: Result<RobotModel, RobotFileError>| matches!(r, Err(RobotFileError::Parse { line, .. }) if line > 0);
+    assert!(parse(RobotModel::from_toml("name = ")));
+    assert!(parse(edited(
+        "task = [\"x\", \"y\"]",
+        "task = [\"x\", \"y\"]\ncolour = 3"
+    )));
+    assert!(parse(edited("type = \"R\"", "type = \"Q\"")));
+    assert!(matches!(
+        RobotModel::from_toml(""),
+        Err(RobotFileError::Parse { .. })
+    ));
+    let invalid =
+        |r: Result<RobotModel, RobotFileError>| matches!(r, Err(RobotFileError::Invalid { .. }));
+    for (from, to) in [
+        ("point = [-0.08, 0.0, 0.0]", "point = [nan, 0.0, 0.0]"),
+        ("point = [-0.08, 0.0, 0.0]", "point = [inf, 0.0, 0.0]"),
+        ("point = [-0.08, 0.0, 0.0]", "point = [1e300, 0.0, 0.0]"),
+        (
+            "axis = [0.0, 0.0, 1.0], point = [-0.08",
+            "axis = [0.0, 0.0, 0.0], point = [-0.08",
+        ),
+        ("actuated = true }", "actuated = true, offset = nan }"),
+        (
+            "actuated = true }",
+            "actuated = true, limits = [1.0, -1.0] }",
+        ),
+        ("actuated = true }", "actuated = false }"),
+        (
+            "point = [-0.2, 0.16, 0.0] }",
+            "point = [-0.2, 0.16, 0.0], actuated = true }",
+        ),
+        (
+            "type = \"R\", axis = [0.0, 0.0, 1.0], point = [-0.2",
+            "type = \"S\", axis = [0.0, 0.0, 1.0], point = [-0.2",
+        ),
+        ("task = [\"x\", \"y\"]", "task = [\"x\", \"w\"]"),
+        ("task = [\"x\", \"y\"]", "task = [\"x\", \"x\"]"),
+        ("task = [\"x\", \"y\"]", "task = []"),
+        (
+            "characteristic_length = 0.2",
+            "characteristic_length = -1.0",
+        ),
+        ("position = [0.0, 0.37, 0.0]", "position = [0.0, nan, 0.0]"),
+    ] {
+        let r = edited(from, to);
+        assert!(invalid(r.clone()), "{to}: {r:?}");
+    }
+    let name = edited("name = \"2-RRR\"", "name = \"3-RRR\"");
+    assert!(
+        matches!(name, Err(RobotFileError::NameMismatch { ref found, .. }) if found == "2-RRR"),
+        "{name:?}"
+    );
+    assert!(edited("name = \"2-RRR\"", "name = \"2-R\u{332}RR\"").is_ok());
+    assert!(matches!(
+        edited("name = \"2-RRR\"", "name = \"2-RR\u{332}R\""),
+        Err(RobotFileError::NameMismatch { .. })
+    ));
+}
+
+#[test]
+fn empty_and_oversized_robots_are_refused() {
+    let text = common::robot_text("three_prs.toml");
+    for (from, to) in [("count = 3", "count = 0"), ("count = 3", "count = 1000000")] {
+        let r = RobotModel::from_toml(&text.replacen(from, to, 1));
+        assert!(
+            matches!(r, Err(RobotFileError::Invalid { .. })),
+            "{to}: {r:?}"
+        );
+    }
+    let no_legs = "name = \"1-R\"\ntask = [\"x\"]\nlegs = []\n[home]\nposition = [0.0, 0.0, 0.0]\n";
+    assert!(matches!(
+        RobotModel::from_toml(no_legs),
+        Err(RobotFileError::Invalid { .. })
+    ));
+    let empty_leg = "name = \"1-R\"\ntask = [\"x\"]\n[home]\nposition = [0.0, 0.0, 0.0]\n[[legs]]\njoints = []\n";
+    assert!(matches!(
+        RobotModel::from_toml(empty_leg),
+        Err(RobotFileError::Invalid { .. })
+    ));
+}
+
+/// Park's 3-UPU (all upper U-joint normals vertical) lets the platform tilt: declaring it
+/// translational is refused with the twist system found (dimension 5).
+#[test]
+fn a_wrong_mobility_is_refused_with_the_twist_system() {
+    let text = common::robot_text("three_upu.toml");
+    // Turn each leg's platform-side U into a spherical joint: the legs are then 6-DOF UPS…
+    let mut edited = String::new();
+    for line in text.lines() {
+        if line.contains("type = \"U\"") && line.contains("0.3]") {
+            let point = &line[line.find("point").unwrap()..];
+            edited.push_str(&format!("  {{ type = \"S\", {point}\n"));
+        } else {
+            edited.push_str(line);
+            edited.push('\n');
+        }
+    }
+    let edited = edited.replace("name = \"3-UPU\"", "name = \"3-UPS\"");
+    match RobotModel::from_toml(&edited) {
+        Err(RobotFileError::Mobility {
+            found,
+            twist_system,
+            ..
+        }) => {
+            assert_eq!(found, 6);
+            assert_eq!(twist_system.len(), 6);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn hostile_poses_and_joints_are_typed_errors() {
+    let robot = Robot::<3>::new(common::robot("three_prs.toml")).unwrap();
+    let mode = robot.model().home_mode();
+    for x in [
+        [f64::NAN, 0.0, 0.0],
+        [0.5, f64::INFINITY, 0.0],
+        [1e300, 0.0, 0.0],
+        [0.5, 1e6, -1e6],
+    ] {
+        let x = x.into();
+        let ik = robot.inverse_kinematics(&x, mode);
+        assert!(ik.is_err(), "{x}: {ik:?}");
+        assert!(robot.velocity_jacobian_at(&x, mode).is_err());
+        let phi = robot.closure(&x, &[0.35; 3].into());
+        assert!(phi.iter().all(|v| v.is_nan()), "{x}: {phi:?}");
+    }
+    let settings = NewtonSettings::default();
+    let home = [0.5, 0.0, 0.0].into();
+    for q in [
+        [f64::NAN, 0.35, 0.35],
+        [1e300, 0.35, 0.35],
+        [5.0, -5.0, 0.35],
+    ] {
+        let fk = robot.forward_kinematics(&q.into(), &home, &settings);
+        assert!(fk.is_err(), "{q:?}: {fk:?}");
+    }
+    let bad = NewtonSettings {
+        tolerance: f64::NAN,
+        ..settings
+    };
+    assert!(matches!(
+        robot.forward_kinematics(&[0.35; 3].into(), &home, &bad),
+        Err(KinematicsError::InvalidInput(_))
+    ));
+    let model = robot.model();
+    assert!(matches!(
+        model.inverse_kinematics(&[0.5], mode),
+        Err(KinematicsError::InvalidInput(_))
+    ));
+    assert!(
+        model
+            .inverse_kinematics(&[], WorkingMode(u64::MAX))
+            .is_err()
+    );
+    let too_many = EnumerationSettings {
+        starts: usize::MAX,
+        ..Default::default()
+    };
+    assert!(matches!(
+        model.assembly_modes(&[0.35; 3], &too_many),
+        Err(KinematicsError::InvalidInput(_))
+    ));
+    let nan_distinct = EnumerationSettings {
+        distinct: f64::NAN,
+        ..Default::default()
+    };
+    assert!(model.assembly_modes(&[0.35; 3], &nan_distinct).is_err());
+    assert!(
+        model
+            .assembly_modes(&[0.35, f64::NAN, 0.35], &EnumerationSettings::default())
+            .is_err()
+    );
+    // Actuator limits: the sliders of the file stay in [0, 1] m (the closure has no limits).
+    assert!(matches!(
+        model.inverse_kinematics(&[50.0, 0.0, 0.0], mode),
+        Err(KinematicsError::Unreachable { .. })
+    ));
+    assert!(matches!(
+        Robot::<2>::new(model.clone()),
+        Err(RobotFileError::Dimension {
+            expected: 2,
+            found: 3
+        })
+    ));
+}
