@@ -3,7 +3,6 @@
 //! path of the offending setting as `.key_path` (`None` when the error is not about one).
 
 use pkm_study::StudyError;
-use pkm_traits::KinematicsError;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 
@@ -55,7 +54,6 @@ pub(crate) enum Kind {
     Other,
     Invalid,
     Infeasible,
-    NotConverged,
     Cancelled,
 }
 
@@ -65,7 +63,6 @@ pub(crate) fn raise(py: Python<'_>, kind: Kind, message: String, key_path: Optio
         Kind::Other => Error::new_err(message),
         Kind::Invalid => InvalidInput::new_err(message),
         Kind::Infeasible => Infeasible::new_err(message),
-        Kind::NotConverged => NotConverged::new_err(message),
         Kind::Cancelled => Cancelled::new_err(message),
     };
     // Setting an attribute on a fresh exception instance cannot fail in practice; if it did,
@@ -100,15 +97,4 @@ fn optimize_kind(e: &pkm_optimizers::OptimizeError) -> Kind {
         O::Cancelled => Kind::Cancelled,
         _ => Kind::Other,
     }
-}
-
-/// The exception of a kinematics error that is not a per-point outcome.
-pub(crate) fn kinematics_error(py: Python<'_>, e: &KinematicsError) -> PyErr {
-    let kind = match e {
-        KinematicsError::NotConverged { .. } => Kind::NotConverged,
-        KinematicsError::Unreachable { .. } => Kind::Infeasible,
-        KinematicsError::NonFinite { .. } | KinematicsError::InvalidInput(_) => Kind::Invalid,
-        _ => Kind::Other,
-    };
-    raise(py, kind, e.to_string(), None)
 }

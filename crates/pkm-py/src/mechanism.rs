@@ -23,9 +23,6 @@ struct Design {
     constraints: Option<ConstraintsSpec>,
 }
 
-/// Mechanism(design, constraints=None)
-/// --
-///
 /// A parallel kinematic machine: `design` is a preset name (see `pkm.presets()`) or the
 /// study layer's `[mechanism]` table as a dict (`{"rotary_delta": {"arm": 0.2, ...}}`);
 /// `constraints` is a `[constraints]` table (`{"joint_range_deg": [-40, 90]}`).
@@ -83,9 +80,6 @@ impl Mechanism {
         self.spec.variables().to_vec()
     }
 
-    /// design() -> dict
-    /// --
-    ///
     /// The `[mechanism]` and `[constraints]` tables of this mechanism, as a dict a study takes.
     fn design<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let out = PyDict::new(py);
@@ -105,9 +99,6 @@ impl Mechanism {
         )
     }
 
-    /// inverse_kinematics(points) -> tuple[ndarray, ndarray]
-    /// --
-    ///
     /// Joint coordinates at each position: `points` is N × 3 (m); returns the N × joints
     /// array (rad or m) of the first working mode that assembles within the constraints, and
     /// the boolean mask of the rows inside the workspace (the other rows are NaN).
@@ -120,9 +111,6 @@ impl Mechanism {
         Ok((points::array(py, values, &[n, self.joints])?, points::mask(py, mask)))
     }
 
-    /// velocity_jacobian(points) -> tuple[ndarray, ndarray]
-    /// --
-    ///
     /// The velocity Jacobian J = -J_q⁻¹ J_x (q̇ = J ẋ) at each position: N × joints × 3, and
     /// the mask of the rows where the point is inside the workspace and J is defined (not at
     /// an inverse-kinematic singularity); the other rows are NaN.
@@ -136,9 +124,6 @@ impl Mechanism {
         Ok((points::array(py, values, &shape)?, points::mask(py, mask)))
     }
 
-    /// local_indices(points) -> dict[str, ndarray]
-    /// --
-    ///
     /// The local index of the workspace studies at each position: `"inverse_condition"`
     /// (1/κ of J in [0, 1], 0 where J_q is singular; the value the workspace study
     /// integrates) and `"inside"` (the mask; outside rows are NaN).
@@ -154,9 +139,6 @@ impl Mechanism {
         Ok(out)
     }
 
-    /// contains(points) -> ndarray
-    /// --
-    ///
     /// Whether each position (N × 3, m) belongs to the workspace under the constraints.
     fn contains<'py>(
         &self,
@@ -167,9 +149,6 @@ impl Mechanism {
         Ok(points::mask(py, mask))
     }
 
-    /// forward_kinematics(joints, guess) -> tuple[ndarray, ndarray]
-    /// --
-    ///
     /// Positions that close the loops for N × 3 `joints` (Newton from the N × 3 `guess`, which
     /// selects the assembly mode): the N × 3 positions and the mask of the rows where Newton
     /// converged (the others are NaN). Not defined for the Stewart–Gough platform at a fixed
@@ -197,6 +176,24 @@ impl Mechanism {
             .detach(|| kernels::forward(spec, q, g))
             .map_err(|m| errors::invalid(py, m))?;
         Ok((points::array(py, values, &[n, 3])?, points::mask(py, mask)))
+    }
+
+    /// For benches/python: seconds the `local_indices` kernel takes on a Rust-owned copy of
+    /// `points` (the copy is made before the clock starts), without any Python object.
+    fn _time_rust_kernel(&self, py: Python<'_>, points: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let owned = points::rows(points, "points", 3)?.as_array().to_owned();
+        let (spec, constraints) = (&self.spec, &self.constraints);
+        py.detach(|| {
+            let start = std::time::Instant::now();
+            let kernel = Kernel {
+                points: owned.view(),
+                op: Op::InverseCondition,
+            };
+            let out = spec.with_workspace(constraints, kernel);
+            let seconds = start.elapsed().as_secs_f64();
+            out.map(|_| seconds)
+        })
+        .map_err(|e| errors::study_error(py, &StudyError::from(e)))
     }
 }
 

@@ -99,9 +99,6 @@ fn stewart(d: StewartDesign) -> MechanismSpec {
     })
 }
 
-/// presets() -> dict[str, dict]
-/// --
-///
 /// The preset designs by name, each as its `[mechanism]` table (a dict that
 /// `pkm.Mechanism` also takes) with a `"description"` beside it.
 #[pyfunction]

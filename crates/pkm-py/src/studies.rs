@@ -59,9 +59,6 @@ where
     Ok(convert::outcome(py, &outcome)?.into_any().unbind())
 }
 
-/// workspace(study, progress=None) -> dict
-/// --
-///
 /// The workspace study (`pkm workspace`): volume ± standard error, η and GCI, slices of 1/κ.
 /// `study` is a dict or a TOML path; `progress(task, label, done, total)` is called on the
 /// main thread as the study advances. Returns {"result", "summary", "tables", "figures"}.
