@@ -58,7 +58,12 @@ pub(crate) enum Kind {
 }
 
 /// The exception of `kind` with `message`, and `.key_path` set to `key_path`.
-pub(crate) fn raise(py: Python<'_>, kind: Kind, message: String, key_path: Option<String>) -> PyErr {
+pub(crate) fn raise(
+    py: Python<'_>,
+    kind: Kind,
+    message: String,
+    key_path: Option<String>,
+) -> PyErr {
     let err = match kind {
         Kind::Other => Error::new_err(message),
         Kind::Invalid => InvalidInput::new_err(message),

@@ -133,9 +133,13 @@ pub(crate) fn forward(
 ) -> Result<(Vec<f64>, Vec<bool>), String> {
     let built = |e: pkm_study::schema::mechanism::BuildError| e.to_string();
     match spec {
-        MechanismSpec::RotaryDelta(s) => Ok(forward_rows(&rotary_delta(s).map_err(built)?, q, guess)),
+        MechanismSpec::RotaryDelta(s) => {
+            Ok(forward_rows(&rotary_delta(s).map_err(built)?, q, guess))
+        }
         MechanismSpec::Tsai(s) => Ok(forward_rows(&tsai(s).map_err(built)?, q, guess)),
-        MechanismSpec::LinearDelta(s) => Ok(forward_rows(&linear_delta(s).map_err(built)?, q, guess)),
+        MechanismSpec::LinearDelta(s) => {
+            Ok(forward_rows(&linear_delta(s).map_err(built)?, q, guess))
+        }
         MechanismSpec::ThreeUpu(s) => Ok(forward_rows(&three_upu(s).map_err(built)?, q, guess)),
         MechanismSpec::StewartGough(_) => Err(
             "forward_kinematics: the Stewart–Gough platform at a fixed orientation has 6 legs \
@@ -152,7 +156,9 @@ fn forward_rows<M: ForwardKinematics<3> + Sync>(
 ) -> (Vec<f64>, Vec<bool>) {
     let settings = NewtonSettings::default();
     map_rows(q.nrows(), 3, |i, out| {
-        let x = m.forward_kinematics(&row(&q, i), &row(&guess, i), &settings).ok()?;
+        let x = m
+            .forward_kinematics(&row(&q, i), &row(&guess, i), &settings)
+            .ok()?;
         out.copy_from_slice(x.as_slice());
         Some(())
     })

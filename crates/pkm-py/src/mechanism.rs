@@ -49,8 +49,8 @@ impl Mechanism {
         let table = PyDict::new(py);
         match design.cast::<PyString>() {
             Ok(name) => {
-                let name = name.to_str()?;
-                let spec = presets::spec(name).ok_or_else(|| presets::unknown(py, name))?;
+                let name: String = name.extract()?;
+                let spec = presets::spec(&name).ok_or_else(|| presets::unknown(py, &name))?;
                 table.set_item("mechanism", convert::to_python(py, &spec)?)?;
             }
             Err(_) => table.set_item("mechanism", design)?,
@@ -108,7 +108,10 @@ impl Mechanism {
         points: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let (values, mask, n) = self.run(py, points, Op::Inverse)?;
-        Ok((points::array(py, values, &[n, self.joints])?, points::mask(py, mask)))
+        Ok((
+            points::array(py, values, &[n, self.joints])?,
+            points::mask(py, mask),
+        ))
     }
 
     /// The velocity Jacobian J = -J_q⁻¹ J_x (q̇ = J ẋ) at each position: N × joints × 3, and

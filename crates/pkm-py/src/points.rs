@@ -4,7 +4,10 @@
 //! `pkm.InvalidInput`.
 
 use crate::errors;
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArray, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray2, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 
 /// Largest number of rows a kernel takes in one call (10⁷: a 6 × 3 Jacobian per row is then
@@ -40,9 +43,9 @@ pub(crate) fn rows<'py>(
 fn as_array<'py>(value: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
     let py = value.py();
     let numpy = py.import("numpy")?;
-    let array = numpy.call_method1("asarray", (value,)).map_err(|e| {
-        errors::invalid(py, format!("{name}: not an array of numbers ({e})"))
-    })?;
+    let array = numpy
+        .call_method1("asarray", (value,))
+        .map_err(|e| errors::invalid(py, format!("{name}: not an array of numbers ({e})")))?;
     array
         .cast_into::<PyUntypedArray>()
         .map_err(|_| errors::invalid(py, format!("{name}: not an array of numbers")))
@@ -58,7 +61,10 @@ fn check_shape(py: Python<'_>, shape: &[usize], name: &str, columns: usize) -> P
     if shape[0] > MAX_POINTS {
         return Err(errors::invalid(
             py,
-            format!("{name}: {} rows, at most {MAX_POINTS} in one call (split the array)", shape[0]),
+            format!(
+                "{name}: {} rows, at most {MAX_POINTS} in one call (split the array)",
+                shape[0]
+            ),
         ));
     }
     Ok(())
@@ -80,9 +86,12 @@ fn to_float64<'py>(
         ));
     }
     let converted = array.call_method1("astype", ("float64",))?;
-    converted
-        .cast_into::<numpy::PyArray2<f64>>()
-        .map_err(|_| errors::invalid(py, format!("{name}: cannot convert dtype {dtype} to float64")))
+    converted.cast_into::<numpy::PyArray2<f64>>().map_err(|_| {
+        errors::invalid(
+            py,
+            format!("{name}: cannot convert dtype {dtype} to float64"),
+        )
+    })
 }
 
 /// A NumPy array of shape `shape` holding `values` (row-major), without a copy.

@@ -3,9 +3,8 @@
 //! `pkm.presets()` shows them), so a preset and the same dict build the same mechanism.
 
 use crate::errors;
-use pkm_mechanisms::{
-    AngleMode, Pairing, Placement, RotaryDeltaDesign, StewartDesign, TsaiDesign, presets,
-};
+use pkm_mechanisms::presets as library;
+use pkm_mechanisms::{AngleMode, Pairing, Placement, RotaryDeltaDesign, StewartDesign, TsaiDesign};
 use pkm_study::schema::mechanism::{
     AngleModeSpec, ElbowSpec, MechanismSpec, PairingSpec, RotaryDeltaSpec, StewartOrientationSpec,
     StewartSpec, ThreeUpuSpec, TsaiElbowSpec, TsaiSpec,
@@ -16,28 +15,37 @@ use pyo3::types::PyDict;
 
 /// The preset names, with what each is.
 const PRESETS: [(&str, &str); 5] = [
-    ("nuwar", "Miller 2004 NUWAR prototype (§3.5, α = 35.26°, β = 60°)"),
+    (
+        "nuwar",
+        "Miller 2004 NUWAR prototype (§3.5, α = 35.26°, β = 60°)",
+    ),
     ("delta", "Miller 2004 Delta prototype (§3.5, α = β = 0)"),
     ("tsai", "Stamper, Tsai & Walsh 1997 maximum-GCI design (§5)"),
-    ("three_upu", "Park's 3-UPU as Wolf & Shoham 2006 §4.4 use it"),
-    ("stewart_gough", "Wolf & Shoham 2006 §4.1 Stewart–Gough platform at R = I"),
+    (
+        "three_upu",
+        "Park's 3-UPU as Wolf & Shoham 2006 §4.4 use it",
+    ),
+    (
+        "stewart_gough",
+        "Wolf & Shoham 2006 §4.1 Stewart–Gough platform at R = I",
+    ),
 ];
 
 /// The design of preset `name`, or `None`.
 pub(crate) fn spec(name: &str) -> Option<MechanismSpec> {
     Some(match name {
-        "nuwar" => rotary(presets::nuwar(Placement::canonical())),
-        "delta" => rotary(presets::miller_delta(Placement::canonical())),
-        "tsai" => tsai(presets::stamper_max_gci()),
+        "nuwar" => rotary(library::nuwar(Placement::canonical())),
+        "delta" => rotary(library::miller_delta(Placement::canonical())),
+        "tsai" => tsai(library::stamper_max_gci()),
         "three_upu" => {
-            let d = presets::park_3upu();
+            let d = library::park_3upu();
             MechanismSpec::ThreeUpu(ThreeUpuSpec {
                 base_radius: PositiveMetres(d.base_radius),
                 platform_radius: PositiveMetres(d.platform_radius),
-                azimuths_deg: presets::PARK_AZIMUTHS_DEG.map(Degrees),
+                azimuths_deg: library::PARK_AZIMUTHS_DEG.map(Degrees),
             })
         }
-        "stewart_gough" => stewart(presets::wolf_shoham_stewart_s4_1()),
+        "stewart_gough" => stewart(library::wolf_shoham_stewart_s4_1()),
         _ => return None,
     })
 }
@@ -47,7 +55,10 @@ pub(crate) fn unknown(py: Python<'_>, name: &str) -> PyErr {
     let names: Vec<&str> = PRESETS.iter().map(|(n, _)| *n).collect();
     errors::invalid(
         py,
-        format!("no preset `{name}`: expected one of {}, or a design dict", names.join(", ")),
+        format!(
+            "no preset `{name}`: expected one of {}, or a design dict",
+            names.join(", ")
+        ),
     )
 }
 
