@@ -46,10 +46,11 @@ elapsed = time.perf_counter() - start
 inside = local["inside"]
 print(f"1/κ at {len(x):,} points in {elapsed * 1e3:.0f} ms: {inside.mean():.1%} inside, "
       f"mean 1/κ inside {np.mean(local['inverse_condition'][inside]):.4f}")
-q, ok = nuwar.inverse_kinematics(x[:5])
-print("joints of the first points (deg):", np.round(np.rad2deg(q), 2).tolist(), ok.tolist())
-back, converged = nuwar.forward_kinematics(q[ok], x[:5][ok] + 1e-3)
-print("IK → FK round trip, largest error (m):", float(np.max(np.abs(back - x[:5][ok]), initial=0.0)))
+some = x[inside][:5]
+q, ok = nuwar.inverse_kinematics(some)
+print("joints at five points inside (deg):", np.round(np.rad2deg(q), 2).tolist())
+back, converged = nuwar.forward_kinematics(q, some + 1e-3)
+print("IK → FK round trip, largest error (m):", float(np.max(np.abs(back - some))))
 
 # %% 3. The slice of 1/κ on the plane y = 0
 table = outcome["tables"]["slice-1-xz.csv"]
