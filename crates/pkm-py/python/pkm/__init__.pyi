@@ -1,0 +1,71 @@
+"""Type stubs of pkm (the extension module pkm._native and its Python wrappers)."""
+
+import os
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+MAX_POINTS: int
+"""Largest number of rows a kernel takes in one call (larger inputs raise InvalidInput)."""
+
+Study = Union[Dict[str, Any], str, "os.PathLike[str]"]
+"""A study: the dict of a study file, or the path of a TOML (or JSON) study file."""
+
+Points = npt.ArrayLike
+"""An N × 3 array of real numbers (float64 read in place, any strides; other real dtypes converted)."""
+
+class Error(Exception):
+    """Every error of pkm."""
+
+    key_path: Optional[str]
+    """The study setting the error is about (``"sweep.refine[1].step"``), or None."""
+
+class InvalidInput(Error):
+    """An argument, a design or a study setting that violates its requirement."""
+
+class Infeasible(Error):
+    """No feasible design or pose."""
+
+class NotConverged(Error):
+    """An iterative solver stopped before its tolerance."""
+
+class Cancelled(Error):
+    """The computation was cancelled."""
+
+class Mechanism:
+    """A parallel kinematic machine from a preset name or a ``[mechanism]`` dict, under a
+    ``[constraints]`` dict."""
+
+    def __init__(self, design: Union[str, Dict[str, Any]], constraints: Optional[Dict[str, Any]] = None) -> None: ...
+    @property
+    def kind(self) -> str:
+        """The mechanism kind (``"rotary_delta"``, ``"tsai"``, ...)."""
+    @property
+    def joints(self) -> int:
+        """The number of actuated joints (3, or 6 for the Stewart–Gough platform)."""
+    @property
+    def variables(self) -> List[str]:
+        """The design variables a sweep may vary."""
+    def design(self) -> Dict[str, Any]:
+        """The ``[mechanism]`` and ``[constraints]`` tables as a dict."""
+    def inverse_kinematics(self, points: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+        """Joints (N × joints) and the inside mask; outside rows are NaN."""
+    def velocity_jacobian(self, points: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+        """J = -J_q⁻¹ J_x (N × joints × 3) and the mask of rows where it is defined."""
+    def local_indices(self, points: Points) -> Dict[str, npt.NDArray[Any]]:
+        """``{"inverse_condition": (N,), "inside": (N,) bool}``."""
+    def contains(self, points: Points) -> npt.NDArray[np.bool_]:
+        """Whether each point belongs to the workspace."""
+    def forward_kinematics(self, joints: Points, guess: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+        """Positions (N × 3) closing the loops from ``guess`` and the converged mask."""
+
+def presets() -> Dict[str, Dict[str, Any]]:
+    """The preset designs by name: ``{"description": str, "mechanism": dict}``."""
+
+Outcome = Dict[str, Any]
+"""``{"result": dict, "summary": list[str], "tables": {name: {column: ndarray}}, "figures": list[str]}``."""
+
+def workspace(study: Study, *, progress: bool = True) -> Outcome:
+    """The workspace study (``pkm workspace``)."""

@@ -1,0 +1,85 @@
+//! Python values to and from the study layer's serde types, and a study's [`Outcome`] as a
+//! plain dict: `result` (exactly the `result` of the `pkm` command's `results.json`),
+//! `summary` (lines), `tables` (name → {column → NumPy array}) and `figures` (the names of the
+//! charts the command writes as SVG).
+
+use crate::errors;
+use pkm_study::{Artifact, Cell, Outcome, StudyError, Table, from_deserializer};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+/// `value` (a dict, list, number, ...) as the serde type `T`.
+///
+/// # Errors
+/// `pkm.InvalidInput` with the key path where the value does not fit.
+pub(crate) fn from_python<T: DeserializeOwned>(value: &Bound<'_, PyAny>) -> PyResult<T> {
+    let mut de = pythonize::Depythonizer::from_object(value);
+    from_deserializer(&mut de).map_err(|e| errors::study_error(value.py(), &e))
+}
+
+/// `value` as plain Python objects (dicts, lists, floats, str, None).
+pub(crate) fn to_python<'py, T: Serialize>(
+    py: Python<'py>,
+    value: &T,
+) -> PyResult<Bound<'py, PyAny>> {
+    pythonize::pythonize(py, value).map_err(|e| errors::study_error(py, &schema_error(&e)))
+}
+
+fn schema_error(e: &dyn std::fmt::Display) -> StudyError {
+    StudyError::invalid("(result)", e.to_string())
+}
+
+/// The outcome as a dict (see the module documentation).
+pub(crate) fn outcome<'py, R: Serialize>(
+    py: Python<'py>,
+    outcome: &Outcome<R>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("result", to_python(py, &outcome.result)?)?;
+    out.set_item("summary", PyList::new(py, &outcome.summary)?)?;
+    let tables = PyDict::new(py);
+    let figures = PyList::empty(py);
+    for artifact in &outcome.artifacts {
+        match artifact {
+            Artifact::Table { name, table } => tables.set_item(name, columns(py, table)?)?,
+            Artifact::Chart { name, .. } => figures.append(name)?,
+            Artifact::Robot { .. } => figures.append(pkm_study::scene::ROBOT_SVG)?,
+        }
+    }
+    out.set_item("tables", tables)?;
+    out.set_item("figures", figures)?;
+    Ok(out)
+}
+
+/// A table as {column → values}: a float64 array (NaN for a missing cell) for a numeric
+/// column, a list for a column with text.
+fn columns<'py>(py: Python<'py>, table: &Table) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    for (k, name) in table.header.iter().enumerate() {
+        let cells: Vec<&Cell> = table.rows.iter().filter_map(|r| r.get(k)).collect();
+        if cells.iter().any(|c| matches!(c, Cell::Text(_))) {
+            let list = PyList::empty(py);
+            for cell in cells {
+                match cell {
+                    Cell::Number(v) => list.append(v)?,
+                    Cell::Missing => list.append(py.None())?,
+                    Cell::Text(t) => list.append(t)?,
+                }
+            }
+            out.set_item(name, list)?;
+        } else {
+            let values: Vec<f64> = cells
+                .iter()
+                .map(|c| match c {
+                    Cell::Number(v) => *v,
+                    _ => f64::NAN,
+                })
+                .collect();
+            let n = values.len();
+            out.set_item(name, crate::points::array(py, values, &[n])?)?;
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,180 @@
+//! The per-row kernels of `pkm.Mechanism`, as [`WorkspaceVisitor`]s of the study layer's built
+//! workspace (so the constraints and working modes are the studies'), mapped over the rows on
+//! rayon threads. Each row is independent, so the output is the same for any thread count.
+
+use nalgebra::Vector3;
+use numpy::ndarray::ArrayView2;
+use pkm_study::schema::mechanism::{
+    MechanismSpec, WorkspaceVisitor, linear_delta, rotary_delta, three_upu, tsai,
+};
+use pkm_traits::{ConstrainedWorkspace, ForwardKinematics, NewtonSettings};
+use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// Rows per rayon task: large enough that scheduling costs little next to the kinematics.
+const ROWS_PER_TASK: usize = 512;
+
+/// What a [`Kernel`] computes at each row.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Op {
+    /// The joints of the first mode that assembles within the constraints.
+    Inverse,
+    /// $J = -J_q^{-1} J_x$ at that assembly, row-major NQ × 3.
+    Jacobian,
+    /// $1/\kappa$ as the workspace study evaluates it.
+    InverseCondition,
+    /// Membership only.
+    Contains,
+}
+
+/// `op` at every row of `points`.
+pub(crate) struct Kernel<'a> {
+    pub(crate) points: ArrayView2<'a, f64>,
+    pub(crate) op: Op,
+}
+
+impl WorkspaceVisitor for Kernel<'_> {
+    type Output = (Vec<f64>, Vec<bool>);
+
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+        self,
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
+        let m = workspace.mechanism();
+        let n = self.points.nrows();
+        match self.op {
+            Op::Inverse => map_rows(n, NQ, |i, out| {
+                let q = workspace.assembly(&row(&self.points, i))?;
+                out.copy_from_slice(q.as_slice());
+                Some(())
+            }),
+            Op::Jacobian => map_rows(n, NQ * 3, |i, out| {
+                let x = row(&self.points, i);
+                let j = m.jacobian(&x, &workspace.assembly(&x)?).ok()?;
+                for (k, v) in out.iter_mut().enumerate() {
+                    *v = j[(k / 3, k % 3)];
+                }
+                Some(())
+            }),
+            Op::InverseCondition => map_rows(n, 1, |i, out| {
+                out[0] = workspace.inverse_condition(&row(&self.points, i))?;
+                Some(())
+            }),
+            Op::Contains => map_rows(n, 0, |i, _| {
+                workspace.contains(&row(&self.points, i)).then_some(())
+            }),
+        }
+    }
+}
+
+/// The number of actuated joints of a built workspace.
+pub(crate) struct JointCount;
+
+impl WorkspaceVisitor for JointCount {
+    type Output = usize;
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+        self,
+        _: &Workspace<'_, M, NQ>,
+    ) -> usize
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
+        NQ
+    }
+}
+
+/// Row `i` of an N × 3 array.
+fn row(points: &ArrayView2<'_, f64>, i: usize) -> Vector3<f64> {
+    Vector3::new(points[(i, 0)], points[(i, 1)], points[(i, 2)])
+}
+
+/// `f(i, out)` for every row `i < n` in parallel, writing `width` values to `out`: NaN and
+/// `false` where `f` returns `None`.
+fn map_rows<F>(n: usize, width: usize, f: F) -> (Vec<f64>, Vec<bool>)
+where
+    F: Fn(usize, &mut [f64]) -> Option<()> + Sync,
+{
+    let mut values = vec![f64::NAN; n * width];
+    let mut mask = vec![false; n];
+    let visit = |(i, (out, inside)): (usize, (&mut [f64], &mut bool))| {
+        *inside = f(i, out).is_some();
+        if !*inside {
+            out.fill(f64::NAN);
+        }
+    };
+    if width == 0 {
+        mask.par_iter_mut()
+            .with_min_len(ROWS_PER_TASK)
+            .enumerate()
+            .for_each(|(i, inside)| visit((i, (&mut [], inside))));
+    } else {
+        values
+            .par_chunks_mut(width)
+            .zip(mask.par_iter_mut())
+            .with_min_len(ROWS_PER_TASK)
+            .enumerate()
+            .for_each(visit);
+    }
+    (values, mask)
+}
+
+/// Forward kinematics row by row (Newton from `guess`, the library's settings).
+///
+/// # Errors
+/// A message for a mechanism without forward kinematics in task space, or an invalid design.
+pub(crate) fn forward(
+    spec: &MechanismSpec,
+    q: ArrayView2<'_, f64>,
+    guess: ArrayView2<'_, f64>,
+) -> Result<(Vec<f64>, Vec<bool>), String> {
+    let built = |e: pkm_study::schema::mechanism::BuildError| e.to_string();
+    match spec {
+        MechanismSpec::RotaryDelta(s) => {
+            Ok(forward_rows(&rotary_delta(s).map_err(built)?, q, guess))
+        }
+        MechanismSpec::Tsai(s) => Ok(forward_rows(&tsai(s).map_err(built)?, q, guess)),
+        MechanismSpec::LinearDelta(s) => {
+            Ok(forward_rows(&linear_delta(s).map_err(built)?, q, guess))
+        }
+        MechanismSpec::ThreeUpu(s) => Ok(forward_rows(&three_upu(s).map_err(built)?, q, guess)),
+        MechanismSpec::StewartGough(_) => Err(
+            "forward_kinematics: the Stewart–Gough platform at a fixed orientation has 6 legs \
+             for 3 coordinates; its forward kinematics is over the 6-D pose"
+                .into(),
+        ),
+    }
+}
+
+fn forward_rows<M: ForwardKinematics<3> + Sync>(
+    m: &M,
+    q: ArrayView2<'_, f64>,
+    guess: ArrayView2<'_, f64>,
+) -> (Vec<f64>, Vec<bool>) {
+    let settings = NewtonSettings::default();
+    map_rows(q.nrows(), 3, |i, out| {
+        let x = m
+            .forward_kinematics(&row(&q, i), &row(&guess, i), &settings)
+            .ok()?;
+        out.copy_from_slice(x.as_slice());
+        Some(())
+    })
+}
+
+/// `pkm.InvalidInput` naming the first non-finite entry of `values`.
+pub(crate) fn require_finite(
+    py: Python<'_>,
+    values: &ArrayView2<'_, f64>,
+    name: &str,
+) -> PyResult<()> {
+    match values.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        None => Ok(()),
+        Some(((row, column), v)) => Err(crate::errors::invalid(
+            py,
+            format!("{name}[{row}, {column}] = {v}: every coordinate must be finite"),
+        )),
+    }
+}

@@ -1,0 +1,237 @@
+//! `pkm.Mechanism`: one design (a preset name or a `[mechanism.<kind>]` dict) under its
+//! workspace constraints, with its kinematics vectorised over N × 3 arrays.
+//!
+//! Every kernel reads the array in place, releases the GIL and maps the rows on rayon threads;
+//! a row the library puts outside the workspace (no working mode assembles within the
+//! constraints, or Newton does not converge) is NaN with `False` in the mask beside it.
+
+use crate::kernels::{self, Kernel, Op};
+use crate::{convert, errors, points, presets};
+use pkm_study::StudyError;
+use pkm_study::schema::mechanism::{ConstraintsSpec, MechanismSpec};
+use pkm_study::workspace::constraints_of;
+use pkm_traits::WorkspaceConstraint;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use serde::Deserialize;
+
+/// A design with its workspace constraints, as a study's `[mechanism]` and `[constraints]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Design {
+    mechanism: MechanismSpec,
+    constraints: Option<ConstraintsSpec>,
+}
+
+/// A parallel kinematic machine: `design` is a preset name (see `pkm.presets()`) or the
+/// study layer's `[mechanism]` table as a dict (`{"rotary_delta": {"arm": 0.2, ...}}`);
+/// `constraints` is a `[constraints]` table (`{"joint_range_deg": [-40, 90]}`).
+///
+/// Raises `pkm.InvalidInput` (with `.key_path`) for a design or constraint the study layer
+/// refuses.
+#[pyclass(frozen, module = "pkm")]
+pub(crate) struct Mechanism {
+    spec: MechanismSpec,
+    constraints_spec: Option<ConstraintsSpec>,
+    constraints: Vec<WorkspaceConstraint>,
+    joints: usize,
+}
+
+#[pymethods]
+impl Mechanism {
+    #[new]
+    #[pyo3(signature = (design, constraints = None))]
+    fn new(
+        py: Python<'_>,
+        design: &Bound<'_, PyAny>,
+        constraints: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let table = PyDict::new(py);
+        match design.cast::<PyString>() {
+            Ok(name) => {
+                let name: String = name.extract()?;
+                let spec = presets::spec(&name).ok_or_else(|| presets::unknown(py, &name))?;
+                table.set_item("mechanism", convert::to_python(py, &spec)?)?;
+            }
+            Err(_) => table.set_item("mechanism", design)?,
+        }
+        if let Some(c) = constraints {
+            table.set_item("constraints", c)?;
+        }
+        let design: Design = convert::from_python(&table)?;
+        Self::build(py, design)
+    }
+
+    /// The mechanism kind (`"rotary_delta"`, `"tsai"`, ...).
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.spec.kind()
+    }
+
+    /// The number of actuated joints (3, or 6 for the Stewart–Gough platform).
+    #[getter]
+    fn joints(&self) -> usize {
+        self.joints
+    }
+
+    /// The design variables a sweep may vary.
+    #[getter]
+    fn variables(&self) -> Vec<&'static str> {
+        self.spec.variables().to_vec()
+    }
+
+    /// The `[mechanism]` and `[constraints]` tables of this mechanism, as a dict a study takes.
+    fn design<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        out.set_item("mechanism", convert::to_python(py, &self.spec)?)?;
+        if let Some(c) = &self.constraints_spec {
+            out.set_item("constraints", convert::to_python(py, c)?)?;
+        }
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "pkm.Mechanism({:?}, {} joints, {} constraints)",
+            self.spec.kind(),
+            self.joints,
+            self.constraints.len()
+        )
+    }
+
+    /// Joint coordinates at each position: `points` is N × 3 (m); returns the N × joints
+    /// array (rad or m) of the first working mode that assembles within the constraints, and
+    /// the boolean mask of the rows inside the workspace (the other rows are NaN).
+    fn inverse_kinematics<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let (values, mask, n) = self.run(py, points, Op::Inverse)?;
+        Ok((
+            points::array(py, values, &[n, self.joints])?,
+            points::mask(py, mask),
+        ))
+    }
+
+    /// The velocity Jacobian J = -J_q⁻¹ J_x (q̇ = J ẋ) at each position: N × joints × 3, and
+    /// the mask of the rows where the point is inside the workspace and J is defined (not at
+    /// an inverse-kinematic singularity); the other rows are NaN.
+    fn velocity_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let (values, mask, n) = self.run(py, points, Op::Jacobian)?;
+        let shape = [n, self.joints, 3];
+        Ok((points::array(py, values, &shape)?, points::mask(py, mask)))
+    }
+
+    /// The local index of the workspace studies at each position: `"inverse_condition"`
+    /// (1/κ of J in [0, 1], 0 where J_q is singular; the value the workspace study
+    /// integrates) and `"inside"` (the mask; outside rows are NaN).
+    fn local_indices<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (values, mask, n) = self.run(py, points, Op::InverseCondition)?;
+        let out = PyDict::new(py);
+        out.set_item("inverse_condition", points::array(py, values, &[n])?)?;
+        out.set_item("inside", points::mask(py, mask))?;
+        Ok(out)
+    }
+
+    /// Whether each position (N × 3, m) belongs to the workspace under the constraints.
+    fn contains<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (_, mask, _) = self.run(py, points, Op::Contains)?;
+        Ok(points::mask(py, mask))
+    }
+
+    /// Positions that close the loops for N × 3 `joints` (Newton from the N × 3 `guess`, which
+    /// selects the assembly mode): the N × 3 positions and the mask of the rows where Newton
+    /// converged (the others are NaN). Not defined for the Stewart–Gough platform at a fixed
+    /// orientation (6 legs, 3 coordinates).
+    fn forward_kinematics<'py>(
+        &self,
+        py: Python<'py>,
+        joints: &Bound<'py, PyAny>,
+        guess: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let q = points::rows(joints, "joints", 3)?;
+        let g = points::rows(guess, "guess", 3)?;
+        let (q, g) = (q.as_array(), g.as_array());
+        if q.nrows() != g.nrows() {
+            return Err(errors::invalid(
+                py,
+                format!("guess: {} rows for {} rows of joints", g.nrows(), q.nrows()),
+            ));
+        }
+        kernels::require_finite(py, &q, "joints")?;
+        kernels::require_finite(py, &g, "guess")?;
+        let n = q.nrows();
+        let spec = &self.spec;
+        let (values, mask) = py
+            .detach(|| kernels::forward(spec, q, g))
+            .map_err(|m| errors::invalid(py, m))?;
+        Ok((points::array(py, values, &[n, 3])?, points::mask(py, mask)))
+    }
+
+    /// For benches/python: seconds the `local_indices` kernel takes on a Rust-owned copy of
+    /// `points` (the copy is made before the clock starts), without any Python object.
+    fn _time_rust_kernel(&self, py: Python<'_>, points: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let owned = points::rows(points, "points", 3)?.as_array().to_owned();
+        let (spec, constraints) = (&self.spec, &self.constraints);
+        py.detach(|| {
+            let start = std::time::Instant::now();
+            let kernel = Kernel {
+                points: owned.view(),
+                op: Op::InverseCondition,
+            };
+            let out = spec.with_workspace(constraints, kernel);
+            let seconds = start.elapsed().as_secs_f64();
+            out.map(|_| seconds)
+        })
+        .map_err(|e| errors::study_error(py, &StudyError::from(e)))
+    }
+}
+
+impl Mechanism {
+    fn build(py: Python<'_>, design: Design) -> PyResult<Self> {
+        let spec = design.mechanism;
+        let constraints = constraints_of(&spec, design.constraints.as_ref())
+            .map_err(|e| errors::study_error(py, &e))?;
+        let joints = spec
+            .with_workspace(&constraints, kernels::JointCount)
+            .map_err(|e| errors::study_error(py, &StudyError::from(e)))?;
+        Ok(Self {
+            spec,
+            constraints_spec: design.constraints,
+            constraints,
+            joints,
+        })
+    }
+
+    /// Runs `op` on the rows of `points` with the GIL released: the values (row-major), the
+    /// mask and the number of rows.
+    fn run(
+        &self,
+        py: Python<'_>,
+        points: &Bound<'_, PyAny>,
+        op: Op,
+    ) -> PyResult<(Vec<f64>, Vec<bool>, usize)> {
+        let array = points::rows(points, "points", 3)?;
+        let view = array.as_array();
+        kernels::require_finite(py, &view, "points")?;
+        let n = view.nrows();
+        let (spec, constraints) = (&self.spec, &self.constraints);
+        let (values, mask) = py
+            .detach(|| spec.with_workspace(constraints, Kernel { points: view, op }))
+            .map_err(|e| errors::study_error(py, &StudyError::from(e)))?;
+        Ok((values, mask, n))
+    }
+}

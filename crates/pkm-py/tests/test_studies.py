@@ -1,0 +1,93 @@
+"""Studies through Python give the `pkm` command's numbers to the last bit; their errors
+carry key paths; Ctrl-C cancels a running study."""
+
+import json
+import subprocess
+import threading
+import time
+import _thread
+
+import numpy as np
+import pytest
+
+import pkm
+from conftest import to_toml
+
+
+def run_command(pkm_command, kind, study, tmp_path):
+    path = tmp_path / f"{kind}.toml"
+    path.write_text(to_toml(study))
+    out = tmp_path / "out"
+    subprocess.run([str(pkm_command), kind, str(path), "--out", str(out), "--quiet"], check=True, capture_output=True)
+    return path, json.loads((out / "results.json").read_text())
+
+
+def test_workspace_result_is_the_commands_to_the_last_bit(pkm_command, nuwar_study, tmp_path):
+    path, command = run_command(pkm_command, "workspace", nuwar_study, tmp_path)
+    from_dict = pkm.workspace(nuwar_study, progress=False)
+    from_file = pkm.workspace(str(path), progress=False)
+    assert from_dict["result"] == command["result"]
+    assert from_file["result"] == command["result"]
+    # The same floats, not merely equal after rounding: compare their JSON texts too.
+    assert json.dumps(from_dict["result"], sort_keys=True) == json.dumps(command["result"], sort_keys=True)
+    assert from_dict["result"]["estimate"]["n_inside"] > 0
+
+
+def test_workspace_tables_are_arrays_matching_the_commands_csv(pkm_command, nuwar_study, tmp_path):
+    _, command = run_command(pkm_command, "workspace", nuwar_study, tmp_path)
+    outcome = pkm.workspace(nuwar_study, progress=False)
+    table = outcome["tables"]["slice-1-xy.csv"]
+    csv = np.genfromtxt(tmp_path / "out" / "slice-1-xy.csv", delimiter=",", names=True)
+    for column in ["x", "y", "inside", "inverse_condition"]:
+        assert isinstance(table[column], np.ndarray) and table[column].dtype == np.float64
+        np.testing.assert_array_equal(table[column], csv[column])
+    assert "slice-1-xy.svg" in outcome["figures"]
+    assert any("W =" in line for line in outcome["summary"])
+
+
+def test_study_errors_carry_their_key_path(nuwar_study):
+    nuwar_study["workspace"]["slices"][0]["cells"] = 0
+    with pytest.raises(pkm.InvalidInput) as caught:
+        pkm.workspace(nuwar_study, progress=False)
+    assert caught.value.key_path == "workspace.slices[0].cells"
+    nuwar_study["workspace"]["slices"][0]["cells"] = 12
+    nuwar_study["sampling"]["points"] = "many"
+    with pytest.raises(pkm.InvalidInput) as caught:
+        pkm.workspace(nuwar_study, progress=False)
+    assert caught.value.key_path == "sampling.points"
+
+
+@pytest.mark.parametrize("study", [None, 3.5, "/no/such/study.toml", ["mechanism"]])
+def test_unreadable_studies_raise_pkm_errors(study):
+    with pytest.raises(pkm.Error):
+        pkm.workspace(study, progress=False)
+
+
+def test_toml_errors_name_their_key(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text('[mechanism.tsai]\na = 0.2\nb = "x"\n')
+    with pytest.raises(pkm.InvalidInput) as caught:
+        pkm.workspace(path, progress=False)
+    assert caught.value.key_path == "mechanism.tsai.b"
+
+
+def test_progress_reaches_the_callback(nuwar_study):
+    seen = []
+    pkm._native.workspace(nuwar_study, lambda *a: seen.append(a))
+    labels = {label for _, label, _, _ in seen}
+    assert "workspace points" in labels or "sampling points" in labels
+
+
+def test_keyboard_interrupt_cancels_a_running_study_within_a_second(nuwar_study):
+    nuwar_study["sampling"]["points"] = 1 << 17  # seconds of work if not cancelled
+    nuwar_study["sampling"]["replicates"] = 8
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        pkm.workspace(nuwar_study, progress=False)
+    elapsed = time.monotonic() - start
+    timer.cancel()
+    print(f"cancelled after {elapsed:.2f} s")
+    assert elapsed < 1.5, f"cancelled after {elapsed:.2f} s (interrupt at 0.5 s)"
+    assert timer.finished.is_set()
