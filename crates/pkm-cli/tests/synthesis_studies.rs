@@ -11,12 +11,12 @@ use pkm_cli::commands::task::TaskResult;
 use pkm_cli::output::Results;
 use pkm_cli::{Cli, run};
 use pkm_mechanisms::{
-    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu,
-    ThreeUpuDesign, UJointAxes, WrenchSystem, pose_from_task, presets,
+    StewartDesign, StewartGough, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes,
+    WrenchSystem, pose_from_task, presets,
 };
 use pkm_optimizers::{LmSettings, Multistart, Sense, multistart_levenberg_marquardt};
-use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Silent, Task};
 use pkm_screw_theory::Twist;
+use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals, Silent, Task};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
@@ -388,9 +388,7 @@ fn a_cancelled_run_stops_without_results() {
         matches!(optimized, Err(pkm_study::StudyError::Cancelled)),
         "{optimized:?}"
     );
-    let outcomes = [
-        pkm_cli::commands::task::compute(&task, &context).map(|_| ()),
-    ];
+    let outcomes = [pkm_cli::commands::task::compute(&task, &context).map(|_| ())];
     for outcome in outcomes {
         assert!(
             matches!(outcome, Err(pkm_cli::CliError::Cancelled)),

@@ -8,6 +8,7 @@
 use crate::kernels::{self, Kernel, Op};
 use crate::{convert, errors, points, presets};
 use pkm_study::StudyError;
+use pkm_study::StudyMechanism as _;
 use pkm_study::schema::mechanism::{ConstraintsSpec, MechanismSpec};
 use pkm_study::workspace::constraints_of;
 use pkm_traits::WorkspaceConstraint;
@@ -77,7 +78,7 @@ impl Mechanism {
     /// The design variables a sweep may vary.
     #[getter]
     fn variables(&self) -> Vec<&'static str> {
-        self.spec.variables().to_vec()
+        self.spec.variables().iter().map(|v| v.name).collect()
     }
 
     /// The `[mechanism]` and `[constraints]` tables of this mechanism, as a dict a study takes.

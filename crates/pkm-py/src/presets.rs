@@ -4,10 +4,9 @@
 
 use crate::errors;
 use pkm_mechanisms::presets as library;
-use pkm_mechanisms::{AngleMode, Pairing, Placement, RotaryDeltaDesign, StewartDesign, TsaiDesign};
+use pkm_mechanisms::{Elbow, ElbowMode, Placement, RotaryDeltaDesign, StewartDesign, TsaiDesign};
 use pkm_study::schema::mechanism::{
-    AngleModeSpec, ElbowSpec, MechanismSpec, PairingSpec, RotaryDeltaSpec, StewartOrientationSpec,
-    StewartSpec, ThreeUpuSpec, TsaiElbowSpec, TsaiSpec,
+    MechanismSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec,
 };
 use pkm_study::schema::units::{Degrees, Metres, NonNegativeMetres, PositiveMetres};
 use pyo3::prelude::*;
@@ -73,7 +72,7 @@ fn rotary(d: RotaryDeltaDesign) -> MechanismSpec {
         motor_plane_z: Metres(d.placement.motor_plane_z),
         azimuth_motor_1_deg: Degrees(d.placement.azimuth_motor_1.to_degrees()),
         turned_plate_offsets: false,
-        elbow: vec![ElbowSpec::Out],
+        elbow: vec![ElbowMode::Out],
     })
 }
 
@@ -85,28 +84,20 @@ fn tsai(d: TsaiDesign) -> MechanismSpec {
         c_minus_r: Metres(d.c_minus_r),
         phi2_deg: Degrees(d.phi2.to_degrees()),
         phi3_deg: Degrees(d.phi3.to_degrees()),
-        modes: vec![[TsaiElbowSpec::Out; 3]],
+        modes: vec![[Elbow::Out; 3]],
     })
 }
 
 fn stewart(d: StewartDesign) -> MechanismSpec {
-    MechanismSpec::StewartGough(StewartOrientationSpec {
+    MechanismSpec::StewartGough(StewartSpec {
+        base_radius: PositiveMetres(d.base_radius),
+        platform_radius: PositiveMetres(d.platform_radius),
+        base_separation_deg: Degrees(d.base_separation.to_degrees()),
+        platform_separation_deg: Degrees(d.platform_separation.to_degrees()),
+        pairing: d.layout.pairing,
+        angle_mode: d.layout.angle_mode,
+        offset_deg: Degrees(d.layout.offset_deg),
         rotation_deg: [Degrees(0.0); 3],
-        design: StewartSpec {
-            base_radius: PositiveMetres(d.base_radius),
-            platform_radius: PositiveMetres(d.platform_radius),
-            base_separation_deg: Degrees(d.base_separation.to_degrees()),
-            platform_separation_deg: Degrees(d.platform_separation.to_degrees()),
-            pairing: match d.layout.pairing {
-                Pairing::SamePattern => PairingSpec::SamePattern,
-                Pairing::ZigZag => PairingSpec::ZigZag,
-            },
-            angle_mode: match d.layout.angle_mode {
-                AngleMode::Separation => AngleModeSpec::Separation,
-                AngleMode::Half => AngleModeSpec::Half,
-            },
-            offset_deg: Degrees(d.layout.offset_deg),
-        },
     })
 }
 

@@ -65,5 +65,9 @@ where
 #[pyfunction]
 #[pyo3(signature = (study, progress = None))]
 fn workspace(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Py<PyAny>> {
-    run(study, progress, pkm_study::workspace)
+    run(
+        study,
+        progress,
+        pkm_study::workspace::<pkm_study::MechanismSpec>,
+    )
 }

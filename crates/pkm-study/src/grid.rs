@@ -3,9 +3,9 @@
 //! evaluation of every node (in parallel, collected in node order: bit-identical for any thread
 //! count); and the deterministic split into shards that [`merge`](crate::merge) joins.
 
-use crate::registry::StudyMechanism as _;
 use crate::indices::{Evaluator, Infeasible};
 use crate::outcome::{Cell, Outcome, Table};
+use crate::registry::StudyMechanism as _;
 use crate::schema::grid::{GridStudy, IndexName, IndexSettings, VariableSpec};
 use crate::workspace::constraints_of;
 use crate::{KeyPath, StudyError};

@@ -7,8 +7,8 @@
 //! experiments), cached per exact design for the one study ([`SectionIndexCache`]): a design is
 //! never given another design's values, however close the nodes of a sweep.
 
-use crate::registry::StudyMechanism as _;
 use crate::StudyError;
+use crate::registry::StudyMechanism as _;
 use crate::schema::grid::{IndexName, IndexSettings};
 use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};

@@ -25,8 +25,8 @@ pub use outcome::{Artifact, Cell, Outcome, Table, short};
 pub use pareto::{ParetoResult, ParetoStudy, pareto};
 pub use parse::{from_deserializer, from_json_str, from_toml_str};
 pub use registry::{Actuation, StudyMechanism, Unit, Variable};
-pub use schema::mechanism::MechanismSpec;
 pub use schema::grid::GridStudy;
+pub use schema::mechanism::MechanismSpec;
 pub use sweep::{SweepResult, SweepStudy, sweep};
 pub use workspace::{WorkspaceResult, WorkspaceStudy, workspace};
 

@@ -6,9 +6,9 @@
 //! of the weight simplex); the weighted optima of the study's `weights` are reported for any
 //! number of indices. Like a sweep, a Pareto study can be split into shards and merged.
 
-use crate::registry::StudyMechanism as _;
 use crate::grid::{self, GridRun, NodeOutcome, Prepared, Shard};
 use crate::outcome::{Artifact, Cell, Outcome, Table, short};
+use crate::registry::StudyMechanism as _;
 use crate::schema::grid::{GridStudy, IndexName};
 use crate::{KeyPath, StudyError};
 use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};

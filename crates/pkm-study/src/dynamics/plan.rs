@@ -9,7 +9,6 @@ use super::schema::{
 };
 use crate::StudyError;
 use crate::schema::mechanism::{MechanismSpec, rotary_delta};
-use pkm_mechanisms::ElbowMode;
 use crate::schema::units::{Metres, Real};
 use nalgebra::Vector3;
 use pkm_dynamics_hamilton::forward::HamiltonForm;
@@ -18,6 +17,7 @@ use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
 use pkm_dynamics_hamilton::trajectory::{MotionLaw, Path, Segment, Trajectory};
 use pkm_dynamics_hamilton::{DynamicsError, ExtendedModel, ForearmModel, MassParameters};
 use pkm_integrators::AdaptiveSettings;
+use pkm_mechanisms::ElbowMode;
 use pkm_traits::DesignError;
 
 /// Most samples of one study: each costs about 1 kB along the inverse dynamics and the

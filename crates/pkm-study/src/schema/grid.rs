@@ -2,10 +2,10 @@
 //! variables with their grids, the indices and their settings, and each kind's section. One
 //! study may hold both sections; each kind reads its own.
 
-use crate::registry::StudyMechanism as _;
 use super::mechanism::{ConstraintsSpec, MechanismSpec};
 use super::sampling::SamplingSpec;
 use super::units::Real;
+use crate::registry::StudyMechanism as _;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

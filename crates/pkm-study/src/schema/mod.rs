@@ -2,8 +2,8 @@
 //! ([`mechanism`]), `[sampling]` ([`sampling`]) and the checked quantities with units that they
 //! are made of ([`units`]).
 
-mod kinds;
 pub mod grid;
+mod kinds;
 pub mod mechanism;
 pub mod sampling;
 pub mod units;

@@ -9,9 +9,9 @@
 
 mod refine;
 
-use crate::registry::StudyMechanism as _;
 use crate::grid::{self, GridRun, NodeOutcome, Prepared, Shard};
 use crate::outcome::{Artifact, Cell, Outcome, Table, short};
+use crate::registry::StudyMechanism as _;
 use crate::schema::grid::{GridStudy, IndexName, SweepSection};
 use crate::{KeyPath, StudyError};
 use pkm_draw::chart::{self, Chart, Marker};
