@@ -18,6 +18,9 @@ use pkm_workspace_indices::{
     Workspace,
 };
 
+/// A design's workspace volume W and, when asked for, its η = ∫ 1/κ dW.
+type VolumeAndEtaValues = (f64, Option<f64>);
+
 /// Why a design has no value: recorded with the node (in the result and the landscape), never
 /// an abort.
 pub type Infeasible = String;
@@ -148,7 +151,7 @@ impl Evaluator {
         &self,
         spec: &MechanismSpec,
         indices: &[IndexName],
-    ) -> Result<Result<Option<(f64, Option<f64>)>, Infeasible>, StudyError> {
+    ) -> Result<Result<Option<VolumeAndEtaValues>, Infeasible>, StudyError> {
         if !indices.iter().any(|i| i.needs_points()) {
             return Ok(Ok(None));
         }

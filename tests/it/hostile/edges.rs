@@ -287,7 +287,7 @@ proptest! {
     fn trajectories_are_finite(end in any_vec3(), durations in prop::collection::vec(any_f64(), 1..4), t in any_f64()) {
         let accepted = || {
             let path = Path::line(Vector3::new(0.0, 0.0, -0.8), end)?;
-            let segments = durations.iter().map(|&duration| Segment { path: path.clone(), law: MotionLaw::Cycloidal, duration, reverse: false }).collect();
+            let segments = durations.iter().map(|&duration| Segment { path, law: MotionLaw::Cycloidal, duration, reverse: false }).collect();
             Trajectory::new(segments)
         };
         judge("Trajectory::new (whole range)", accepted, |tr| {
