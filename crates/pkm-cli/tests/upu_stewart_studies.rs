@@ -306,17 +306,17 @@ fn bad_three_upu_and_stewart_files_are_rejected_at_their_line() {
     );
     rejects(
         &STEWART.replacen("base_radius = 0.3", "base_radius = -0.3", 1),
-        5,
+        3,
         "metres",
     );
     rejects(
         &STEWART.replacen("joint_range = [0.45, 0.7]", "joint_range_deg = [0, 90]", 1),
-        10,
+        8,
         "leg lengths in metres",
     );
     rejects(
         &STEWART.replacen("joint_range = [0.45, 0.7]", "passive_cone_deg = 30", 1),
-        10,
+        8,
         "PassiveCone",
     );
 }
