@@ -79,15 +79,20 @@ def test_progress_reaches_the_callback(nuwar_study):
 
 
 def test_keyboard_interrupt_cancels_a_running_study_within_a_second(nuwar_study):
-    nuwar_study["sampling"]["points"] = 1 << 17  # seconds of work if not cancelled
+    # About a second of work on an idle machine (2^17 points finished before the interrupt
+    # there). Generating the points is not cancellable yet (issue 19's remaining work), so the
+    # bound allows for it: 2^20 points took 3 s to cancel, 2^18 take under 1 s.
+    nuwar_study["sampling"]["points"] = 1 << 18
     nuwar_study["sampling"]["replicates"] = 8
     timer = threading.Timer(0.5, _thread.interrupt_main)
     start = time.monotonic()
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        pkm.workspace(nuwar_study, progress=False)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            pkm.workspace(nuwar_study, progress=False)
+    finally:
+        timer.cancel()  # never a stray interrupt after the test
     elapsed = time.monotonic() - start
-    timer.cancel()
     print(f"cancelled after {elapsed:.2f} s")
-    assert elapsed < 1.5, f"cancelled after {elapsed:.2f} s (interrupt at 0.5 s)"
+    assert elapsed < 2.0, f"cancelled after {elapsed:.2f} s (interrupt at 0.5 s)"
     assert timer.finished.is_set()
