@@ -229,18 +229,27 @@ pub(crate) fn update_readme(readme: &Path, report: &Report<'_>) -> anyhow::Resul
         report.git_commit,
         Summary::of(report.runs)
     );
-    let updated = replace_between_markers(&text, &block)?;
+    let updated = replace_between_markers(&text, &block, BEGIN, END)?;
     std::fs::write(readme, updated).with_context(|| readme.display().to_string())
 }
 
-fn replace_between_markers(text: &str, table: &str) -> anyhow::Result<String> {
-    let (Some(begin), Some(end)) = (text.find(BEGIN), text.find(END)) else {
-        bail!("README.md lacks the markers {BEGIN} … {END}");
+/// `text` with what lies between the markers `begin` and `end` replaced by `table`.
+///
+/// # Errors
+/// When a marker is missing or `end` comes before `begin`.
+pub(crate) fn replace_between_markers(
+    text: &str,
+    table: &str,
+    begin_marker: &str,
+    end_marker: &str,
+) -> anyhow::Result<String> {
+    let (Some(begin), Some(end)) = (text.find(begin_marker), text.find(end_marker)) else {
+        bail!("the file lacks the markers {begin_marker} … {end_marker}");
     };
     if end < begin {
-        bail!("README.md has {END} before {BEGIN}");
+        bail!("the file has {end_marker} before {begin_marker}");
     }
-    let head = &text[..begin + BEGIN.len()];
+    let head = &text[..begin + begin_marker.len()];
     Ok(format!("{head}\n{table}{}", &text[end..]))
 }
 
@@ -454,13 +463,13 @@ mod tests {
     fn readme_table_replaces_only_the_text_between_markers() {
         let text = format!("# pkm\n\n{BEGIN}\nold table\n{END}\n\n## After\n");
         let rows = outcome().comparisons;
-        let updated = replace_between_markers(&text, &table::markdown(&rows)).unwrap();
+        let updated = replace_between_markers(&text, &table::markdown(&rows), BEGIN, END).unwrap();
         assert!(updated.starts_with(&format!("# pkm\n\n{BEGIN}\n| id |")));
         assert!(updated.ends_with(&format!("| info |\n{END}\n\n## After\n")));
         assert!(!updated.contains("old table"));
-        let again = replace_between_markers(&updated, &table::markdown(&rows)).unwrap();
+        let again = replace_between_markers(&updated, &table::markdown(&rows), BEGIN, END).unwrap();
         assert_eq!(again, updated);
-        assert!(replace_between_markers("no markers", "").is_err());
+        assert!(replace_between_markers("no markers", "", BEGIN, END).is_err());
     }
 
     #[test]
