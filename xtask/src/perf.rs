@@ -526,7 +526,10 @@ mod tests {
         .unwrap();
         let figures = read_criterion(dir.path(), since).unwrap();
         assert_eq!(figures.len(), 1);
-        assert_eq!(figures[0].median_ns.map(f64::to_bits), [1.0f64, 2.0, 3.0].map(f64::to_bits));
+        assert_eq!(
+            figures[0].median_ns.map(f64::to_bits),
+            [1.0f64, 2.0, 3.0].map(f64::to_bits)
+        );
         assert_eq!(figures[0].elements, Some(1_048_576));
         let later = SystemTime::now() + std::time::Duration::from_secs(60);
         assert!(
