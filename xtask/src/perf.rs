@@ -46,6 +46,9 @@ pub(crate) struct PerfArgs {
     /// Where to write `perf.md` and `perf.json` [default: target/perf in the workspace].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
+    /// Skip the timed full `reproduce` run.
+    #[arg(long)]
+    skip_reproduce: bool,
     /// Also write the tables into `docs/performance.md` between `<!-- perf:begin -->` and
     /// `<!-- perf:end -->`.
     #[arg(long)]
@@ -101,6 +104,8 @@ struct Ratio {
 #[derive(Debug, Serialize)]
 struct Perf {
     window: Window,
+    /// Wall seconds of a full `reproduce` run by this binary (its profile), when run.
+    reproduce_wall_s: Option<f64>,
     benches: Vec<BenchFigure>,
     peers: Vec<PeerFigure>,
     peers_skipped: Vec<String>,
@@ -116,6 +121,11 @@ pub(crate) fn run(args: &PerfArgs) -> anyhow::Result<()> {
     let mut out = OutputDir::create(&args.out.clone().unwrap_or(root.join("target/perf")))?;
     let (start, load_start) = (now(), load_average());
     let since = SystemTime::now();
+    let reproduce_wall_s = if args.skip_reproduce {
+        None
+    } else {
+        Some(time_reproduce(&out.dir().join("reproduce"))?)
+    };
     run_benches(&root, args)?;
     let benches = read_criterion(&root.join("target/criterion"), since)?;
     let (peers, peers_skipped) = run_peers(&root, args);
@@ -129,6 +139,7 @@ pub(crate) fn run(args: &PerfArgs) -> anyhow::Result<()> {
     let ratios = ratios(&benches, &peers);
     let perf = Perf {
         window,
+        reproduce_wall_s,
         benches,
         peers,
         peers_skipped,
@@ -160,6 +171,25 @@ fn load_average() -> String {
         .ok()
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|| "unknown".to_owned())
+}
+
+/// Wall seconds of `reproduce` (every experiment, full sizes) run by this very binary, its
+/// report written to `report`.
+///
+/// # Errors
+/// When the binary cannot be started or the run fails.
+fn time_reproduce(report: &Path) -> anyhow::Result<f64> {
+    let exe = std::env::current_exe().context("cannot locate the xtask binary")?;
+    let start = std::time::Instant::now();
+    let status = Command::new(exe)
+        .args(["reproduce", "--out"])
+        .arg(report)
+        .status()
+        .context("cannot run reproduce")?;
+    if !status.success() {
+        bail!("reproduce failed ({status})");
+    }
+    Ok(start.elapsed().as_secs_f64())
 }
 
 fn run_benches(root: &Path, args: &PerfArgs) -> anyhow::Result<()> {
@@ -235,16 +265,19 @@ fn median_of(estimates: &Value) -> Option<[f64; 3]> {
 
 /// A peer script, the JSON fields it times and the unit of each.
 struct Peer {
+    /// Its path in the peers folder, or in the repository when `in_repository`.
     script: &'static str,
-    args: &'static [&'static str],
+    /// A script of the repository that compares pkm's Python package with the NumPy peer
+    /// (it needs `pkm` importable by `--python` and is given the peer's path).
+    in_repository: bool,
     /// (figure id, JSON pointer to the best value, pointer to the median value, unit)
     figures: &'static [(&'static str, &'static str, &'static str, &'static str)],
 }
 
-const PEERS: [Peer; 2] = [
+const PEERS: [Peer; 3] = [
     Peer {
         script: "numpy_delta_gci.py",
-        args: &[],
+        in_repository: false,
         figures: &[
             (
                 "numpy_svd",
@@ -262,7 +295,7 @@ const PEERS: [Peer; 2] = [
     },
     Peer {
         script: "pin_bench.py",
-        args: &[],
+        in_repository: false,
         figures: &[
             (
                 "pinocchio_id_torques_cpu",
@@ -284,15 +317,42 @@ const PEERS: [Peer; 2] = [
             ),
         ],
     },
+    Peer {
+        script: "benches/python/kernels.py",
+        in_repository: true,
+        figures: &[
+            (
+                "python_over_rust",
+                "/python_over_rust",
+                "/python_over_rust",
+                "×",
+            ),
+            (
+                "numpy_over_python",
+                "/numpy_over_python",
+                "/numpy_over_python",
+                "×",
+            ),
+        ],
+    },
 ];
 
 /// Runs every peer `args.peer_runs` times; a peer that cannot run is listed with the reason.
 fn run_peers(root: &Path, args: &PerfArgs) -> (Vec<PeerFigure>, Vec<String>) {
     let dir = root.join(&args.peers);
+    let numpy_peer = dir.join(PEERS[0].script);
     let (mut figures, mut skipped) = (Vec::new(), Vec::new());
     for peer in &PEERS {
+        let (script, peer_args) = if peer.in_repository {
+            (
+                root.join(peer.script),
+                vec!["--peer".as_ref(), numpy_peer.as_os_str()],
+            )
+        } else {
+            (dir.join(peer.script), vec![])
+        };
         let runs: Result<Vec<Value>, String> = (0..args.peer_runs.max(1))
-            .map(|_| run_peer(&args.python, &dir.join(peer.script), peer.args))
+            .map(|_| run_peer(&args.python, &script, &peer_args))
             .collect();
         match runs {
             Ok(runs) => figures.extend(peer.figures.iter().filter_map(|f| summarise(&runs, f))),
@@ -303,7 +363,7 @@ fn run_peers(root: &Path, args: &PerfArgs) -> (Vec<PeerFigure>, Vec<String>) {
 }
 
 /// One run of a peer script: the JSON object on its last output line.
-fn run_peer(python: &Path, script: &Path, args: &[&str]) -> Result<Value, String> {
+fn run_peer(python: &Path, script: &Path, args: &[&std::ffi::OsStr]) -> Result<Value, String> {
     if !script.is_file() {
         return Err(format!("{} not found", script.display()));
     }
@@ -404,7 +464,8 @@ fn figure(bench: &BenchFigure) -> String {
 fn number(value: f64, unit: &str) -> String {
     match unit {
         "points/s" if value >= 1e6 => format!("{:.2} M points/s", value / 1e6),
-        "points/s" => format!("{:.0} points/s", value),
+        "points/s" => format!("{value:.0} points/s"),
+        "×" => format!("{value:.3} ×"),
         _ => format!("{value:.3} {unit}"),
     }
 }
@@ -415,6 +476,9 @@ fn markdown(perf: &Perf) -> String {
         "Measured by `cargo xtask perf` from {} to {}, commit `{}`, load average {} at the start and {} at the end.\n\n",
         w.start, w.end, w.commit, w.load_start, w.load_end
     );
+    if let Some(wall) = perf.reproduce_wall_s {
+        s += &format!("Full `cargo xtask reproduce`: **{wall:.1} s** wall.\n\n");
+    }
     s += "| bench | median time per iteration [95 % interval] | rate at the median |\n|---|---|---|\n";
     for b in &perf.benches {
         let [lo, mid, hi] = b.median_ns.map(format_time);
