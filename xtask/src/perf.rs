@@ -192,18 +192,27 @@ fn time_reproduce(report: &Path) -> anyhow::Result<f64> {
     Ok(start.elapsed().as_secs_f64())
 }
 
+/// The root package's benches under `--filter`, then the robot-file bench (all of it).
 fn run_benches(root: &Path, args: &PerfArgs) -> anyhow::Result<()> {
+    let targets: [(&[&str], &str); 2] = [
+        (&["--bench", "main"], &args.filter),
+        (&["-p", "pkm-robot-file", "--bench", "robot_file"], ""),
+    ];
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
-        .current_dir(root)
-        .args(["bench", "--bench", "main", "--"])
-        .args(["--warm-up-time", &args.warm_up_time.to_string()])
-        .args(["--measurement-time", &args.measurement_time.to_string()])
-        .arg(&args.filter)
-        .status()
-        .context("cannot run cargo bench")?;
-    if !status.success() {
-        bail!("cargo bench failed ({status})");
+    for (target, filter) in targets {
+        let status = Command::new(&cargo)
+            .current_dir(root)
+            .arg("bench")
+            .args(target)
+            .arg("--")
+            .args(["--warm-up-time", &args.warm_up_time.to_string()])
+            .args(["--measurement-time", &args.measurement_time.to_string()])
+            .args((!filter.is_empty()).then_some(filter))
+            .status()
+            .context("cannot run cargo bench")?;
+        if !status.success() {
+            bail!("cargo bench {} failed ({status})", target.join(" "));
+        }
     }
     Ok(())
 }
@@ -403,50 +412,83 @@ fn summarise(
     })
 }
 
-/// The ratios that `docs/performance.md` quotes: (what, pkm bench, peer figure).
-const RATIOS: [(&str, &str, &str); 5] = [
+/// What a pkm bench is compared with.
+#[derive(Clone, Copy)]
+enum Against {
+    /// A peer figure (NumPy, Pinocchio).
+    Peer(&'static str),
+    /// Another pkm bench.
+    Bench(&'static str),
+}
+
+/// The ratios that `docs/performance.md` quotes: (what, pkm bench, what it is compared with).
+const RATIOS: [(&str, &str, Against); 7] = [
     (
         "Delta design index, 1 thread, vs NumPy SVD",
         "delta_kernel/batch/1_threads",
-        "numpy_svd",
+        Against::Peer("numpy_svd"),
     ),
     (
         "Delta design index, 1 thread, vs NumPy eigvalsh",
         "delta_kernel/batch/1_threads",
-        "numpy_eigvalsh",
+        Against::Peer("numpy_eigvalsh"),
     ),
     (
         "NUWAR inverse dynamics, one sample (CPU time)",
         "miller2004_inverse_dynamics_cpu/lagrange_one_sample",
-        "pinocchio_id_torques_cpu",
+        Against::Peer("pinocchio_id_torques_cpu"),
     ),
     (
         "NUWAR forward dynamics, one evaluation (CPU time), vs constraintDynamics",
         "miller2004_forward_cpu/acceleration_form_rhs",
-        "pinocchio_constraintDynamics_cpu",
+        Against::Peer("pinocchio_constraintDynamics_cpu"),
     ),
     (
         "NUWAR forward dynamics, one evaluation (CPU time), vs dense KKT",
         "miller2004_forward_cpu/acceleration_form_rhs",
-        "pinocchio_forwardDynamics_kkt_cpu",
+        Against::Peer("pinocchio_forwardDynamics_kkt_cpu"),
+    ),
+    (
+        "Delta design index, lane kernel vs scalar kernel, 1 thread",
+        "delta_kernel/batch/1_threads",
+        Against::Bench("delta_kernel/scalar/1_threads"),
+    ),
+    (
+        "IK + J + 1/κ of the Delta: hand-written model vs the same robot from a file (goal: the file within 5 ×)",
+        "robot_file/rotary_delta/ik_j_inverse_kappa/hand_written",
+        Against::Bench("robot_file/rotary_delta/ik_j_inverse_kappa/general"),
     ),
 ];
 
 fn ratios(benches: &[BenchFigure], peers: &[PeerFigure]) -> Vec<Ratio> {
+    let bench = |id: &str| benches.iter().find(|b| b.id == id);
     RATIOS
         .iter()
-        .filter_map(|&(what, bench_id, peer_id)| {
-            let bench = benches.iter().find(|b| b.id == bench_id)?;
-            let peer = peers.iter().find(|p| p.id == peer_id)?;
-            let factor = match (bench.rate(), peer.unit) {
-                (Some(rate), "points/s") => rate / peer.median,
-                (None, "µs") => peer.median * 1e3 / bench.median_ns[1],
-                _ => return None,
+        .filter_map(|&(what, bench_id, against)| {
+            let ours = bench(bench_id)?;
+            let (factor, other) = match against {
+                Against::Peer(id) => {
+                    let peer = peers.iter().find(|p| p.id == id)?;
+                    let factor = match (ours.rate(), peer.unit) {
+                        (Some(rate), "points/s") => rate / peer.median,
+                        (None, "µs") => peer.median * 1e3 / ours.median_ns[1],
+                        _ => return None,
+                    };
+                    (
+                        factor,
+                        format!("{id} {} (median)", number(peer.median, peer.unit)),
+                    )
+                }
+                Against::Bench(id) => {
+                    let theirs = bench(id)?;
+                    let factor = theirs.median_ns[1] / ours.median_ns[1];
+                    (factor, format!("{id} {}", figure(theirs)))
+                }
             };
             Some(Ratio {
                 what,
-                pkm: format!("{} {}", bench.id, figure(bench)),
-                peer: format!("{} {} (median)", peer.id, number(peer.median, peer.unit)),
+                pkm: format!("{bench_id} {}", figure(ours)),
+                peer: other,
                 factor,
             })
         })
@@ -497,7 +539,7 @@ fn markdown(perf: &Perf) -> String {
     for reason in &perf.peers_skipped {
         s += &format!("| skipped: {reason} | | |\n");
     }
-    s += "\n| ratio | pkm | peer | pkm faster by |\n|---|---|---|---|\n";
+    s += "\n| ratio | pkm | compared with | pkm (first column) faster by |\n|---|---|---|---|\n";
     for r in &perf.ratios {
         s += &format!(
             "| {} | {} | {} | {:.1} × |\n",
@@ -547,6 +589,11 @@ mod tests {
                 elements: Some(2_000_000),
             },
             BenchFigure {
+                id: "delta_kernel/scalar/1_threads".into(),
+                median_ns: [3.5e9, 4e9, 4.5e9],
+                elements: Some(2_000_000),
+            },
+            BenchFigure {
                 id: "miller2004_inverse_dynamics_cpu/lagrange_one_sample".into(),
                 median_ns: [60.0, 70.0, 80.0],
                 elements: None,
@@ -567,9 +614,17 @@ mod tests {
             },
         ];
         let r = ratios(&benches, &peers);
-        assert_eq!(r.len(), 2);
-        assert!((r[0].factor - 5.0).abs() < 1e-12, "{}", r[0].factor);
-        assert!((r[1].factor - 300.0).abs() < 1e-9, "{}", r[1].factor);
+        let factors: Vec<f64> = r.iter().map(|r| r.factor).collect();
+        assert_eq!(factors.len(), 3, "{factors:?}");
+        assert!((factors[0] - 5.0).abs() < 1e-12, "vs NumPy: {factors:?}");
+        assert!(
+            (factors[1] - 300.0).abs() < 1e-9,
+            "vs Pinocchio: {factors:?}"
+        );
+        assert!(
+            (factors[2] - 4.0).abs() < 1e-12,
+            "lanes vs scalar: {factors:?}"
+        );
     }
 
     #[test]
