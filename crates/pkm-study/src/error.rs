@@ -4,7 +4,8 @@
 
 use pkm_dynamics_hamilton::DynamicsError;
 use pkm_optimizers::OptimizeError;
-use pkm_traits::IntegrationError;
+use pkm_screw_theory::ScrewError;
+use pkm_traits::{IntegrationError, ObjectiveError};
 use pkm_workspace_indices::IndexError;
 use std::fmt;
 use std::ops::Range;
@@ -161,6 +162,12 @@ pub enum StudyError {
     /// The forward integration failed (tolerance not met, step budget spent, ...).
     #[error("forward integration: {0}")]
     Integration(IntegrationError),
+    /// An objective could not be evaluated at a design a search returned.
+    #[error("{0}")]
+    Objective(ObjectiveError),
+    /// A screw computation (a line set's rank, a twist) refused its input.
+    #[error("{0}")]
+    Screw(ScrewError),
     /// The caller's progress reporter asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -215,6 +222,15 @@ impl From<DynamicsError> for StudyError {
         match e {
             DynamicsError::Integration(e) => e.into(),
             e => Self::Dynamics(e),
+        }
+    }
+}
+
+impl From<ObjectiveError> for StudyError {
+    fn from(e: ObjectiveError) -> Self {
+        match e {
+            ObjectiveError::Cancelled => Self::Cancelled,
+            e => Self::Objective(e),
         }
     }
 }
