@@ -299,11 +299,14 @@ fn edited(text: &str, edits: &[(&str, &str)]) -> String {
     text
 }
 
+/// A study text, its edits and the key path of the error they cause.
+type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str);
+
 #[test]
 fn every_setting_is_refused_at_its_key_before_the_first_start() {
     let sg = example("stewart_task_synthesis.toml");
     let upu = example("three_upu_singularity.toml");
-    let cases: [(&str, &[(&str, &str)], &str); 14] = [
+    let cases: [Case<'_>; 14] = [
         (
             &sg,
             &[("seed = 2006", "seed = 2006\n[task.solver]\nfd_step = -1.0")],
