@@ -306,7 +306,7 @@ type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a str);
 fn every_setting_is_refused_at_its_key_before_the_first_start() {
     let sg = example("stewart_task_synthesis.toml");
     let upu = example("three_upu_singularity.toml");
-    let cases: [Case<'_>; 14] = [
+    let cases: [Case<'_>; 15] = [
         (
             &sg,
             &[("seed = 2006", "seed = 2006\n[task.solver]\nfd_step = -1.0")],
@@ -372,8 +372,51 @@ fn every_setting_is_refused_at_its_key_before_the_first_start() {
             &[("[task.variables]", "max_angle_deg = 10.0\n[task.variables]")],
             "task.max_angle_deg",
         ),
+        (
+            &sg,
+            &[(
+                "platform_separation_deg = 8.0",
+                "platform_separation_deg = 8.0\nrotation_deg = [0.0, 0.0, 5.0]",
+            )],
+            "mechanism.stewart_gough.rotation_deg",
+        ),
     ];
     for (text, edits, path) in cases {
         assert_eq!(refused_at(&edited(text, edits)), path, "{edits:?}");
     }
+    // A mechanism without a wrench system is refused at its table.
+    let section = &upu[upu.find("[task]").unwrap()..];
+    let delta = format!(
+        "[mechanism.linear_delta]\nl1_over_yr = 2.0\nya_over_yr = 0.0\nzr_over_yr = 0.0\n\
+         l2_over_l1 = 1.0\n\n{section}"
+    );
+    assert_eq!(refused_at(&delta), "mechanism");
+}
+
+#[test]
+fn the_three_upu_table_is_one_for_every_study() {
+    // The task's 3-UPU table is the workspace's: its tilts are design variables of the registry,
+    // and the built mechanism carries them (rows of a tilted design differ from Park's).
+    use pkm_study::schema::mechanism::{ThreeUpuSpec, three_upu};
+    use pkm_study::{MechanismSpec, StudyMechanism};
+    let study: TaskStudy = from_toml_str(&example("three_upu_singularity.toml")).unwrap();
+    let MechanismSpec::ThreeUpu(spec) = &study.mechanism else {
+        panic!("a 3-UPU study")
+    };
+    assert_eq!(spec.get("gamma1_deg"), Some(30.0));
+    let park = ThreeUpuSpec {
+        gamma1_deg: pkm_study::schema::units::Degrees(0.0),
+        gamma2_deg: pkm_study::schema::units::Degrees(0.0),
+        gamma3_deg: pkm_study::schema::units::Degrees(0.0),
+        ..spec.clone()
+    };
+    let pose = Isometry3::translation(0.0, 0.0, 0.2);
+    let tilted = three_upu(spec).unwrap().wrench_rows(&pose).unwrap();
+    let parks = three_upu(&park).unwrap().wrench_rows(&pose).unwrap();
+    assert!((tilted - parks).norm() > 0.1);
+    let direct = ThreeUpu::new(upu_design())
+        .unwrap()
+        .wrench_rows(&pose)
+        .unwrap();
+    assert!((tilted - direct).norm() < 1e-12);
 }

@@ -184,6 +184,12 @@ impl StudyMechanism for ThreeUpuSpec {
     design_variables! {
         "base_radius" Length => |s| s.base_radius.0,
         "platform_radius" Length => |s| s.platform_radius.0,
+        "beta1_deg" Angle => |s| s.beta1_deg.0,
+        "gamma1_deg" Angle => |s| s.gamma1_deg.0,
+        "beta2_deg" Angle => |s| s.beta2_deg.0,
+        "gamma2_deg" Angle => |s| s.gamma2_deg.0,
+        "beta3_deg" Angle => |s| s.beta3_deg.0,
+        "gamma3_deg" Angle => |s| s.gamma3_deg.0,
     }
 
     fn kind(&self) -> &'static str {

@@ -10,7 +10,7 @@ use super::units::{
 };
 use crate::StudyError;
 use crate::registry::Actuation;
-use nalgebra::Vector3;
+use nalgebra::{Rotation3, Unit, Vector3};
 use pkm_mechanisms::{
     AngleMode, ConstantOrientation, Elbow, ElbowMode, JointLayout, LinearDelta, LinearDeltaDesign,
     LinearDeltaMode, LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign,
@@ -36,8 +36,9 @@ crate::mechanisms! {
     }
 }
 
-/// `[mechanism.three_upu]`: the 3-UPU's joint circles. The upper U-joint axes do not enter the
-/// translational model (they only orient the constraint couples), so they are Park's.
+/// `[mechanism.three_upu]`: the 3-UPU's joint circles and the tilts of its upper U-joint axes
+/// from Park's (Wolf & Shoham §4.4). The tilts do not enter the translational model of the
+/// workspace commands (they only orient the constraint couples of eq. 18, which `task` uses).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThreeUpuSpec {
@@ -48,6 +49,38 @@ pub struct ThreeUpuSpec {
     /// Azimuths $\theta_i$ of the three legs' joints (degrees; default Park's −90, 30, 150).
     #[serde(default = "park_azimuths")]
     pub azimuths_deg: [Degrees; 3],
+    /// Tilt $\beta_1$ of joint 1's upper axes about Park's radial axis $u_2$ (degrees).
+    #[serde(default = "zero_deg")]
+    pub beta1_deg: Degrees,
+    /// Tilt $\gamma_1$ of joint 1's upper axes about Park's tangent axis $u_1$ (degrees).
+    #[serde(default = "zero_deg")]
+    pub gamma1_deg: Degrees,
+    /// As `beta1_deg`, joint 2.
+    #[serde(default = "zero_deg")]
+    pub beta2_deg: Degrees,
+    /// As `gamma1_deg`, joint 2.
+    #[serde(default = "zero_deg")]
+    pub gamma2_deg: Degrees,
+    /// As `beta1_deg`, joint 3.
+    #[serde(default = "zero_deg")]
+    pub beta3_deg: Degrees,
+    /// As `gamma1_deg`, joint 3.
+    #[serde(default = "zero_deg")]
+    pub gamma3_deg: Degrees,
+}
+
+impl ThreeUpuSpec {
+    /// The tilts $[\beta_1, \gamma_1, \beta_2, \gamma_2, \beta_3, \gamma_3]$ (degrees).
+    pub fn tilts_deg(&self) -> [f64; 6] {
+        [
+            self.beta1_deg.0,
+            self.gamma1_deg.0,
+            self.beta2_deg.0,
+            self.gamma2_deg.0,
+            self.beta3_deg.0,
+            self.gamma3_deg.0,
+        ]
+    }
 }
 
 /// `[mechanism.stewart_gough]`: the design $x = (x_1, x_2, x_3, x_4)$, the joint layout and
@@ -425,7 +458,8 @@ pub fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
     LinearDelta::new(LinearDeltaDesign { ratios, yr: s.yr.0 }).map_err(design_error)
 }
 
-/// The 3-UPU of a `[mechanism.three_upu]` table (Park's U-joint axes at its azimuths).
+/// The 3-UPU of a `[mechanism.three_upu]` table: Park's U-joint axes at its azimuths, tilted
+/// by its `beta*_deg`, `gamma*_deg` ([`tilted_axes`]).
 ///
 /// # Errors
 /// [`BuildError::Design`] with the library's reason for an invalid design.
@@ -435,9 +469,27 @@ pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
         base_radius: s.base_radius.0,
         platform_radius: s.platform_radius.0,
         azimuths,
-        upper: azimuths.map(UJointAxes::park),
+        upper: tilted_axes(azimuths, &s.tilts_deg()),
     })
     .map_err(design_error)
+}
+
+/// Park's axes $(u_1, u_2)$ of the joints at `azimuths` (radians), joint $i$ tilted by
+/// $\beta_i$ about the radial $u_2$, then by $\gamma_i$ about the tangent $u_1$
+/// (`tilts_deg = [β1, γ1, β2, γ2, β3, γ3]`, degrees), as in Wolf & Shoham §4.4:
+/// $u_j' = R_{u_2}(\beta_i)\,R_{u_1}(\gamma_i)\,u_j$.
+pub fn tilted_axes(azimuths: [f64; 3], tilts_deg: &[f64; 6]) -> [UJointAxes; 3] {
+    std::array::from_fn(|i| {
+        let UJointAxes { u1, u2 } = UJointAxes::park(azimuths[i]);
+        let beta = tilts_deg[2 * i].to_radians();
+        let gamma = tilts_deg[2 * i + 1].to_radians();
+        let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), beta)
+            * Rotation3::from_axis_angle(&Unit::new_normalize(u1), gamma);
+        UJointAxes {
+            u1: tilt * u1,
+            u2: tilt * u2,
+        }
+    })
 }
 
 /// The constant-orientation view of a `[mechanism.stewart_gough]` table.

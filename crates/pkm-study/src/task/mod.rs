@@ -17,16 +17,15 @@ mod problem;
 mod report;
 mod schema;
 
-pub use problem::{STEWART_VARIABLES, UPU_VARIABLES, UpuProblem, stewart_problem, tilted_axes};
+pub use problem::{STEWART_VARIABLES, UPU_VARIABLES, UpuProblem, stewart_problem};
 pub use report::{
     Optimality, PoseReport, TaskResult, TwistValue, WrenchMatrix, most_reciprocal_twist,
 };
-pub use schema::{
-    Goal, PoseSpec, TaskMechanismSpec, TaskSection, TaskStudy, TwistSpec, TwistSpecError, UpuSpec,
-};
+pub use schema::{Goal, PoseSpec, TaskSection, TaskStudy, TwistSpec, TwistSpecError};
 
 use crate::outcome::Outcome;
-use crate::schema::mechanism::StewartSpec;
+use crate::registry::StudyMechanism;
+use crate::schema::mechanism::{MechanismSpec, StewartSpec, ThreeUpuSpec};
 use crate::{KeyPath, StudyError, scene};
 use nalgebra::{Isometry3, Matrix6};
 use pkm_draw::Scene;
@@ -48,8 +47,18 @@ use report::{starts_artifacts, summarise, wrench_matrix};
 pub fn task(study: &TaskStudy, progress: &dyn Progress) -> Result<Outcome<TaskResult>, StudyError> {
     let twists = weighted_twists(&study.task)?;
     let found = match &study.mechanism {
-        TaskMechanismSpec::StewartGough(spec) => stewart(study, spec, &twists, progress)?,
-        TaskMechanismSpec::ThreeUpu(spec) => upu(study, spec, &twists, progress)?,
+        MechanismSpec::StewartGough(spec) => stewart(study, spec, &twists, progress)?,
+        MechanismSpec::ThreeUpu(spec) => upu(study, spec, &twists, progress)?,
+        other => {
+            return Err(StudyError::invalid(
+                "mechanism",
+                format!(
+                    "{} has no wrench system for a task study: expected [mechanism.stewart_gough] \
+                     or [mechanism.three_upu]",
+                    other.kind()
+                ),
+            ));
+        }
     };
     let mut outcome = Outcome::new(found.result);
     summarise(&mut outcome);
@@ -199,6 +208,13 @@ fn stewart(
     progress: &dyn Progress,
 ) -> Result<Found, StudyError> {
     let task = &study.task;
+    if spec.rotation_deg.iter().any(|w| w.0.abs() > 0.0) {
+        return Err(StudyError::invalid(
+            "mechanism.stewart_gough.rotation_deg",
+            "a task study takes the platform's orientation from [task.pose] rotation_deg and \
+             max_angle_deg: expected no rotation here",
+        ));
+    }
     if task.goal.is_singularity() {
         return Err(StudyError::invalid(
             "task.goal",
@@ -295,7 +311,7 @@ fn leg_lengths(mechanism: &StewartGough, pose: &Isometry3<f64>) -> [f64; 6] {
 
 fn upu(
     study: &TaskStudy,
-    spec: &UpuSpec,
+    spec: &ThreeUpuSpec,
     twists: &[(f64, Twist)],
     progress: &dyn Progress,
 ) -> Result<Found, StudyError> {

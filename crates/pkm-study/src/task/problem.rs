@@ -3,14 +3,14 @@
 //! 3-UPU over any subset of its 14 variables (radii, U-joint tilts, pose) with the residuals
 //! $\sqrt{w_k}\,(L_i \wedge \chi_k)$ (eq. 14), $\sigma_{min}$ or $\det$ of the eq. 18 matrix.
 
-use super::schema::{Goal, PoseSpec, UpuSpec};
-use crate::schema::mechanism::{StewartSpec, stewart_layout};
+use super::schema::{Goal, PoseSpec};
+use crate::schema::mechanism::{StewartSpec, ThreeUpuSpec, stewart_layout, tilted_axes};
 use crate::schema::units::Degrees;
 use crate::{KeyPath, StudyError};
-use nalgebra::{Isometry3, Matrix6, Rotation3, Unit, Vector3};
+use nalgebra::{Isometry3, Matrix6, Vector3};
 use pkm_mechanisms::{
-    StewartDesign, StewartDesignVariable, StewartTaskProblem, ThreeUpu, ThreeUpuDesign, UJointAxes,
-    WrenchSystem, pose_from_task, presets,
+    StewartDesign, StewartDesignVariable, StewartTaskProblem, ThreeUpu, ThreeUpuDesign,
+    WrenchSystem, pose_from_task,
 };
 use pkm_screw_theory::{Twist, task_residuals};
 use pkm_traits::{Bounds, DesignError, Objective, ObjectiveError, Residuals, Task};
@@ -52,21 +52,6 @@ pub const UPU_VARIABLES: [&str; 14] = [
     "ry_deg",
     "rz_deg",
 ];
-
-/// Park's axes of joint $i$ tilted by $\beta_i$ about the radial $u_2$ and $\gamma_i$ about the
-/// tangent $u_1$ (degrees, `tilts = [β1, γ1, β2, γ2, β3, γ3]`), as in Wolf & Shoham §4.4.
-pub fn tilted_axes(tilts: &[f64; 6]) -> [UJointAxes; 3] {
-    let park = presets::PARK_AZIMUTHS_DEG.map(|t| UJointAxes::park(t.to_radians()));
-    std::array::from_fn(|i| {
-        let UJointAxes { u1, u2 } = park[i];
-        let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), tilts[2 * i].to_radians())
-            * Rotation3::from_axis_angle(&Unit::new_normalize(u1), tilts[2 * i + 1].to_radians());
-        UJointAxes {
-            u1: tilt * u1,
-            u2: tilt * u2,
-        }
-    })
-}
 
 /// The library problem of one twist: the nominal design and pose of the study with the
 /// variables `free` (indices into [`STEWART_VARIABLES`]) and, with `max_angle` (radians), the
@@ -129,6 +114,8 @@ enum UpuResiduals {
 /// The 3-UPU over any subset of [`UPU_VARIABLES`].
 #[derive(Debug, Clone)]
 pub struct UpuProblem {
+    /// The joints' azimuths (radians).
+    azimuths: [f64; 3],
     values: [f64; 14],
     free: Vec<usize>,
     bounds: Vec<Bounds>,
@@ -139,7 +126,7 @@ impl UpuProblem {
     /// The 3-UPU problem of the study for `goal` and the weighted twists, with the variables
     /// `free` (indices into [`UPU_VARIABLES`]).
     pub fn new(
-        spec: &UpuSpec,
+        spec: &ThreeUpuSpec,
         pose: &PoseSpec,
         free: &[(usize, Bounds)],
         goal: Goal,
@@ -172,6 +159,7 @@ impl UpuProblem {
             Goal::SingularityDet => UpuResiduals::Det,
         };
         Self {
+            azimuths: spec.azimuths_deg.map(Degrees::radians),
             values,
             free: free.iter().map(|(k, _)| *k).collect(),
             bounds: free.iter().map(|(_, b)| *b).collect(),
@@ -199,8 +187,8 @@ impl UpuProblem {
         let upu = ThreeUpu::new(ThreeUpuDesign {
             base_radius: all[0],
             platform_radius: all[1],
-            azimuths: presets::PARK_AZIMUTHS_DEG.map(f64::to_radians),
-            upper: tilted_axes(&tilts),
+            azimuths: self.azimuths,
+            upper: tilted_axes(self.azimuths, &tilts),
         })?;
         let [x, y, z, rx, ry, rz] = [all[8], all[9], all[10], all[11], all[12], all[13]];
         let (rx, ry, rz) = (rx.to_radians(), ry.to_radians(), rz.to_radians());

@@ -1,7 +1,7 @@
 //! The schema of a task study: the mechanism, the `[task]` section, its pose and its twists.
 
-use crate::schema::mechanism::StewartSpec;
-use crate::schema::units::{Degrees, Metres, PositiveMetres, Real};
+use crate::schema::mechanism::MechanismSpec;
+use crate::schema::units::{Degrees, Metres, Real};
 use nalgebra::{Vector3, Vector6};
 use pkm_optimizers::{LmSettings, Multistart, Sense};
 use pkm_screw_theory::{ScrewError, Twist};
@@ -14,66 +14,11 @@ use std::collections::BTreeMap;
 pub struct TaskStudy {
     /// Free text.
     pub title: Option<String>,
-    /// The nominal design (its values hold for the variables that are not optimised).
-    pub mechanism: TaskMechanismSpec,
+    /// The nominal design (its values hold for the variables that are not optimised): the
+    /// same `[mechanism.<kind>]` table as every other study.
+    pub mechanism: MechanismSpec,
     /// What is sought and how.
     pub task: TaskSection,
-}
-
-/// The `[mechanism.<kind>]` table of a task study: exactly one kind.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum TaskMechanismSpec {
-    /// Semi-regular Stewart–Gough platform (Wolf & Shoham §4.1–4.3).
-    StewartGough(StewartSpec),
-    /// The 3-UPU of §4.4 (joints at Park's azimuths −90°, 30°, 150°).
-    ThreeUpu(UpuSpec),
-}
-
-/// `[mechanism.three_upu]`: radii and the tilts of the upper U-joint axes from Park's.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct UpuSpec {
-    /// Base joint radius $a$ (m).
-    pub base_radius: PositiveMetres,
-    /// Platform joint radius $b$ (m).
-    pub platform_radius: PositiveMetres,
-    /// Tilt $\beta_1$ of joint 1's axes about Park's radial axis $u_2$ (degrees).
-    #[serde(default = "zero_deg")]
-    pub beta1_deg: Degrees,
-    /// Tilt $\gamma_1$ of joint 1's axes about Park's tangent axis $u_1$ (degrees).
-    #[serde(default = "zero_deg")]
-    pub gamma1_deg: Degrees,
-    /// As `beta1_deg`, joint 2.
-    #[serde(default = "zero_deg")]
-    pub beta2_deg: Degrees,
-    /// As `gamma1_deg`, joint 2.
-    #[serde(default = "zero_deg")]
-    pub gamma2_deg: Degrees,
-    /// As `beta1_deg`, joint 3.
-    #[serde(default = "zero_deg")]
-    pub beta3_deg: Degrees,
-    /// As `gamma1_deg`, joint 3.
-    #[serde(default = "zero_deg")]
-    pub gamma3_deg: Degrees,
-}
-
-impl UpuSpec {
-    /// The tilts $[\beta_1, \gamma_1, \beta_2, \gamma_2, \beta_3, \gamma_3]$ (degrees).
-    pub fn tilts_deg(&self) -> [f64; 6] {
-        [
-            self.beta1_deg.0,
-            self.gamma1_deg.0,
-            self.beta2_deg.0,
-            self.gamma2_deg.0,
-            self.beta3_deg.0,
-            self.gamma3_deg.0,
-        ]
-    }
-}
-
-fn zero_deg() -> Degrees {
-    Degrees(0.0)
 }
 
 /// The `[task]` section.
