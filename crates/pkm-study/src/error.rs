@@ -2,6 +2,7 @@
 //! so that every front end can point at it: the `pkm` command maps it to a file, line and
 //! column, the Python package raises it with the path.
 
+use crate::schema::index::IndexName;
 use pkm_dynamics_hamilton::DynamicsError;
 use pkm_optimizers::OptimizeError;
 use pkm_screw_theory::ScrewError;
@@ -115,6 +116,52 @@ impl fmt::Display for KeyPath {
     }
 }
 
+/// Why shard results do not make up one run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MergeError {
+    /// Nothing to merge.
+    #[error("no shard results to merge")]
+    NoShards,
+    /// Parts of runs split differently (shard counts or grid sizes differ).
+    #[error("different shard counts or grids; merge only the shards of one run")]
+    Mixed,
+    /// Not every part exactly once.
+    #[error("expected shards 1..={count} once each, got {got:?}")]
+    Incomplete {
+        /// N.
+        count: usize,
+        /// The parts given, in order.
+        got: Vec<usize>,
+    },
+    /// A part that does not hold its nodes.
+    #[error("shard {index}/{count} should hold nodes {expected:?}")]
+    WrongNodes {
+        /// I.
+        index: usize,
+        /// N.
+        count: usize,
+        /// Its nodes.
+        expected: Range<usize>,
+    },
+    /// The parts evaluated other indices than the study asks for.
+    #[error("the shards evaluated {got:?}, the study asks for {expected:?}")]
+    OtherIndices {
+        /// What the parts hold.
+        got: Vec<IndexName>,
+        /// What the study asks for.
+        expected: Vec<IndexName>,
+    },
+    /// The parts cover another grid than the study's.
+    #[error("the shards cover {got} nodes, the study's grid has {expected}")]
+    OtherGrid {
+        /// Nodes of the parts.
+        got: usize,
+        /// Nodes of the study's grid.
+        expected: usize,
+    },
+}
+
 /// Why a study cannot run or stopped.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -155,7 +202,7 @@ pub enum StudyError {
     },
     /// Shard results that are not the parts of one run of the study.
     #[error("{0}")]
-    Merge(#[from] crate::merge::MergeError),
+    Merge(#[from] MergeError),
     /// The dynamics refused a sample (out of reach, singular, non-finite) with its time.
     #[error("{0}")]
     Dynamics(DynamicsError),

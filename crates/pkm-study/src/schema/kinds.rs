@@ -2,11 +2,11 @@
 //! actuation, workspace, reach region and drawing, stated once.
 
 use super::mechanism::{
-    BuildError, LinearDeltaSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec,
-    WorkspaceVisitor, linear_delta, rotary_delta, stewart_orientation, three_upu, tsai, visit,
+    LinearDeltaSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec, linear_delta,
+    rotary_delta, stewart_orientation, three_upu, tsai,
 };
 use crate::design_variables;
-use crate::registry::{Actuation, StudyMechanism};
+use crate::registry::{Actuation, BuildError, StudyMechanism, WorkspaceVisitor, visit};
 use crate::scene::first_drawable;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use pkm_mechanisms::{LegBranch, LinearDeltaMode, Skeleton};
