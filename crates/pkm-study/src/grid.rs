@@ -383,10 +383,6 @@ pub fn landscape(
     table
 }
 
-/// The drawing of the study's design `values` (in the order of its variables), under the
-/// study's constraints, in its sampling region if it gives one.
-///
-/// # Errors
 /// The error of a grid study without a feasible node, with the first node's reason.
 pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
     let reason = outcomes.iter().find_map(|o| o.as_ref().err());
@@ -396,6 +392,10 @@ pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
     }
 }
 
+/// The drawing of the study's design `values` (in the order of its variables), under the
+/// study's constraints, in its sampling region if it gives one.
+///
+/// # Errors
 /// As [`crate::scene::design_scene`].
 pub fn design_scene(
     study: &GridStudy,
