@@ -6,7 +6,6 @@ pub mod commands;
 pub use pkm_study::scene as drawing;
 mod error;
 pub mod output;
-pub mod plot;
 pub mod progress;
 pub mod study;
 

@@ -14,7 +14,6 @@ use pkm_frontend::{OutputDir, OutputError};
 use pkm_study::Artifact;
 use pkm_study::scene::{ROBOT_CSV, ROBOT_SVG};
 use serde::{Deserialize, Serialize};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The schema of `results.json`; bumped on any incompatible change.
@@ -73,56 +72,12 @@ impl Output {
         })
     }
 
-    /// The directory.
-    pub fn dir(&self) -> &Path {
-        self.dir.dir()
-    }
-
-    /// The path of `name` in the directory.
-    pub fn path(&self, name: &str) -> PathBuf {
-        self.dir.path(name)
-    }
-
     /// Writes `bytes` to `name` atomically and records it.
     ///
     /// # Errors
     /// [`CliError::Io`]; [`CliError::Invalid`] for a name that is not a plain file name.
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<PathBuf, CliError> {
         self.dir.write(name, bytes).map_err(|e| error(name, e))
-    }
-
-    /// Writes a CSV table: `header`, then `rows` (each already formatted).
-    ///
-    /// # Errors
-    /// [`CliError::Io`].
-    pub fn write_csv(
-        &mut self,
-        name: &str,
-        header: &[impl AsRef<str>],
-        rows: impl IntoIterator<Item = Vec<String>>,
-    ) -> Result<PathBuf, CliError> {
-        let mut text = header
-            .iter()
-            .map(AsRef::as_ref)
-            .collect::<Vec<_>>()
-            .join(",");
-        text.push('\n');
-        for row in rows {
-            let _ = writeln!(text, "{}", row.join(","));
-        }
-        self.write(name, text.as_bytes())
-    }
-
-    /// Renders an SVG with `draw` into `name` (through a temporary file) and records it.
-    ///
-    /// # Errors
-    /// [`CliError::Io`], or [`CliError::Invalid`] with the renderer's message.
-    pub fn write_svg(
-        &mut self,
-        name: &str,
-        draw: impl FnOnce(&Path) -> Result<(), String>,
-    ) -> Result<PathBuf, CliError> {
-        self.dir.write_with(name, draw).map_err(|e| error(name, e))
     }
 
     /// Writes a study's artifacts in order: tables as CSV, charts as SVG, the robot as
@@ -202,11 +157,6 @@ impl Output {
         json.push('\n');
         self.write("results.json", json.as_bytes())
     }
-}
-
-/// Formats a value for a CSV cell: shortest round-trip decimal, empty for none.
-pub fn cell(v: Option<f64>) -> String {
-    v.map_or_else(String::new, |v| format!("{v}"))
 }
 
 pub use pkm_study::short;

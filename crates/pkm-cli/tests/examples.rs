@@ -5,9 +5,10 @@
 mod common;
 
 use common::example;
-use pkm_cli::commands::task::TaskStudy;
 use pkm_cli::study;
-use pkm_study::{DynamicsStudy, GridStudy, OptimizeStudy, Shard, StudyError, WorkspaceStudy};
+use pkm_study::{
+    DynamicsStudy, GridStudy, OptimizeStudy, Shard, StudyError, TaskStudy, WorkspaceStudy,
+};
 
 /// A progress reporter that has already been asked to stop: a study that gets past its checks
 /// stops at its first computation.
@@ -46,7 +47,9 @@ fn the_example_studies_are_valid() {
     let _: (String, OptimizeStudy) =
         study::load_study(&example("tsai_volume_optimize.toml")).unwrap();
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
-        let _: study::StudyFile<TaskStudy> = study::load(&example(name)).unwrap();
+        let (_, task): (String, TaskStudy) = study::load_study(&example(name)).unwrap();
+        let run = pkm_study::task(&task, &Stop);
+        assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
     }
     let (_, dynamics): (String, DynamicsStudy) =
         study::load_study(&example("nuwar_dynamics_csv.toml")).unwrap();

@@ -42,6 +42,12 @@ pub(crate) fn spec(name: &str) -> Option<MechanismSpec> {
                 base_radius: PositiveMetres(d.base_radius),
                 platform_radius: PositiveMetres(d.platform_radius),
                 azimuths_deg: library::PARK_AZIMUTHS_DEG.map(Degrees),
+                beta1_deg: Degrees(0.0),
+                gamma1_deg: Degrees(0.0),
+                beta2_deg: Degrees(0.0),
+                gamma2_deg: Degrees(0.0),
+                beta3_deg: Degrees(0.0),
+                gamma3_deg: Degrees(0.0),
             })
         }
         "stewart_gough" => stewart(library::wolf_shoham_stewart_s4_1()),

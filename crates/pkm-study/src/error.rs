@@ -2,9 +2,11 @@
 //! so that every front end can point at it: the `pkm` command maps it to a file, line and
 //! column, the Python package raises it with the path.
 
+use crate::schema::index::IndexName;
 use pkm_dynamics_hamilton::DynamicsError;
 use pkm_optimizers::OptimizeError;
-use pkm_traits::IntegrationError;
+use pkm_screw_theory::ScrewError;
+use pkm_traits::{IntegrationError, ObjectiveError};
 use pkm_workspace_indices::IndexError;
 use std::fmt;
 use std::ops::Range;
@@ -114,6 +116,52 @@ impl fmt::Display for KeyPath {
     }
 }
 
+/// Why shard results do not make up one run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MergeError {
+    /// Nothing to merge.
+    #[error("no shard results to merge")]
+    NoShards,
+    /// Parts of runs split differently (shard counts or grid sizes differ).
+    #[error("different shard counts or grids; merge only the shards of one run")]
+    Mixed,
+    /// Not every part exactly once.
+    #[error("expected shards 1..={count} once each, got {got:?}")]
+    Incomplete {
+        /// N.
+        count: usize,
+        /// The parts given, in order.
+        got: Vec<usize>,
+    },
+    /// A part that does not hold its nodes.
+    #[error("shard {index}/{count} should hold nodes {expected:?}")]
+    WrongNodes {
+        /// I.
+        index: usize,
+        /// N.
+        count: usize,
+        /// Its nodes.
+        expected: Range<usize>,
+    },
+    /// The parts evaluated other indices than the study asks for.
+    #[error("the shards evaluated {got:?}, the study asks for {expected:?}")]
+    OtherIndices {
+        /// What the parts hold.
+        got: Vec<IndexName>,
+        /// What the study asks for.
+        expected: Vec<IndexName>,
+    },
+    /// The parts cover another grid than the study's.
+    #[error("the shards cover {got} nodes, the study's grid has {expected}")]
+    OtherGrid {
+        /// Nodes of the parts.
+        got: usize,
+        /// Nodes of the study's grid.
+        expected: usize,
+    },
+}
+
 /// Why a study cannot run or stopped.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -154,13 +202,19 @@ pub enum StudyError {
     },
     /// Shard results that are not the parts of one run of the study.
     #[error("{0}")]
-    Merge(#[from] crate::merge::MergeError),
+    Merge(#[from] MergeError),
     /// The dynamics refused a sample (out of reach, singular, non-finite) with its time.
     #[error("{0}")]
     Dynamics(DynamicsError),
     /// The forward integration failed (tolerance not met, step budget spent, ...).
     #[error("forward integration: {0}")]
     Integration(IntegrationError),
+    /// An objective could not be evaluated at a design a search returned.
+    #[error("{0}")]
+    Objective(ObjectiveError),
+    /// A screw computation (a line set's rank, a twist) refused its input.
+    #[error("{0}")]
+    Screw(ScrewError),
     /// The caller's progress reporter asked to stop.
     #[error("cancelled")]
     Cancelled,
@@ -215,6 +269,15 @@ impl From<DynamicsError> for StudyError {
         match e {
             DynamicsError::Integration(e) => e.into(),
             e => Self::Dynamics(e),
+        }
+    }
+}
+
+impl From<ObjectiveError> for StudyError {
+    fn from(e: ObjectiveError) -> Self {
+        match e {
+            ObjectiveError::Cancelled => Self::Cancelled,
+            e => Self::Objective(e),
         }
     }
 }

@@ -383,6 +383,15 @@ pub fn landscape(
     table
 }
 
+/// The error of a grid study without a feasible node, with the first node's reason.
+pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
+    let reason = outcomes.iter().find_map(|o| o.as_ref().err());
+    StudyError::NoFeasibleDesign {
+        nodes: outcomes.len(),
+        reason: reason.cloned().unwrap_or_default(),
+    }
+}
+
 /// The drawing of the study's design `values` (in the order of its variables), under the
 /// study's constraints, in its sampling region if it gives one.
 ///

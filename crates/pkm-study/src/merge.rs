@@ -3,6 +3,7 @@
 //! concatenated in node order and the study is finished by the same code as a single run.
 
 use crate::StudyError;
+pub use crate::error::MergeError;
 use crate::grid::{self, NodeOutcome, ShardResult};
 use crate::outcome::Outcome;
 use crate::pareto::{self, ParetoResult};
@@ -10,7 +11,6 @@ use crate::schema::grid::{GridStudy, IndexName};
 use crate::sweep::{self, SweepResult};
 use pkm_traits::Progress;
 use serde::{Deserialize, Serialize};
-use std::ops::Range;
 
 /// The grid study kinds that can be split.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -31,52 +31,6 @@ pub enum Merged {
     Sweep(SweepResult),
     /// A Pareto study's.
     Pareto(ParetoResult),
-}
-
-/// Why shard results do not make up one run.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum MergeError {
-    /// Nothing to merge.
-    #[error("no shard results to merge")]
-    NoShards,
-    /// Parts of runs split differently (shard counts or grid sizes differ).
-    #[error("different shard counts or grids; merge only the shards of one run")]
-    Mixed,
-    /// Not every part exactly once.
-    #[error("expected shards 1..={count} once each, got {got:?}")]
-    Incomplete {
-        /// N.
-        count: usize,
-        /// The parts given, in order.
-        got: Vec<usize>,
-    },
-    /// A part that does not hold its nodes.
-    #[error("shard {index}/{count} should hold nodes {expected:?}")]
-    WrongNodes {
-        /// I.
-        index: usize,
-        /// N.
-        count: usize,
-        /// Its nodes.
-        expected: Range<usize>,
-    },
-    /// The parts evaluated other indices than the study asks for.
-    #[error("the shards evaluated {got:?}, the study asks for {expected:?}")]
-    OtherIndices {
-        /// What the parts hold.
-        got: Vec<IndexName>,
-        /// What the study asks for.
-        expected: Vec<IndexName>,
-    },
-    /// The parts cover another grid than the study's.
-    #[error("the shards cover {got} nodes, the study's grid has {expected}")]
-    OtherGrid {
-        /// Nodes of the parts.
-        got: usize,
-        /// Nodes of the study's grid.
-        expected: usize,
-    },
 }
 
 /// Checks that `parts` are the N parts of one run (in any order) and returns every node's

@@ -164,7 +164,7 @@ pub(crate) fn finish(
         .filter_map(|(k, o)| o.as_ref().ok().map(|v| (k, v.as_slice())))
         .collect();
     if feasible.is_empty() {
-        return Err(crate::sweep::no_feasible_design(outcomes));
+        return Err(grid::no_feasible_design(outcomes));
     }
     progress.phase("non-dominated set");
     let values: Vec<&[f64]> = feasible.iter().map(|(_, v)| *v).collect();

@@ -6,11 +6,13 @@
 //! (plain serde), a [`design_variables!`] line and an `impl StudyMechanism`, then one line in a
 //! [`mechanisms!`] list (see `docs/adding-a-mechanism.md`).
 
-use crate::schema::mechanism::{BuildError, ConstraintsSpec, WorkspaceVisitor};
+use crate::StudyError;
+pub use crate::schema::constraints::Actuation;
+use crate::schema::constraints::ConstraintsSpec;
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
-use pkm_traits::WorkspaceConstraint;
-use pkm_workspace_indices::Region;
+use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
+use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::fmt::Debug;
@@ -34,16 +36,6 @@ pub struct Variable {
     pub name: &'static str,
     /// Its unit in the study.
     pub unit: Unit,
-}
-
-/// How the actuated joints move: it decides the unit of joint ranges in `[constraints]`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Actuation {
-    /// Revolute motors: ranges in degrees (`joint_range_deg`).
-    Revolute,
-    /// Prismatic actuators (carriages, legs): ranges in metres (`joint_range`).
-    Prismatic,
 }
 
 /// A mechanism as a study sees it: its table (serde), its design variables, its actuation, its
@@ -142,6 +134,57 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     }
 }
 
+/// Receives a built workspace, whatever the mechanism type (closures cannot be generic).
+pub trait WorkspaceVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Works on `workspace` (`NQ` actuated joints: 3, or a Stewart–Gough platform's 6).
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+        self,
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>;
+}
+
+/// Why a design has no workspace: an invalid design (recorded as infeasible in sweeps) or a
+/// constraint the mechanism cannot evaluate (an error of the study).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BuildError {
+    /// The design parameters are invalid (the library's reason).
+    Design(String),
+    /// A constraint does not apply to this mechanism.
+    Constraint(String),
+}
+
+impl std::fmt::Display for BuildError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Design(m) | Self::Constraint(m) => f.write_str(m),
+        }
+    }
+}
+
+pub(crate) fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(
+    mechanism: &M,
+    modes: &[M::WorkingMode],
+    constraints: &[WorkspaceConstraint],
+    visitor: V,
+) -> Result<V::Output, BuildError>
+where
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
+    let workspace = Workspace::new(mechanism, modes, constraints)
+        .map_err(|e| BuildError::Constraint(e.to_string()))?;
+    Ok(visitor.visit(&workspace))
+}
+
+impl From<BuildError> for StudyError {
+    fn from(e: BuildError) -> Self {
+        Self::invalid("mechanism", e.to_string())
+    }
+}
+
 /// Declares a table type's design variables: `design_variables!(Spec { "key" Unit => field
 /// path, ... })` implements `variables`, `get` and `slot` of [`StudyMechanism`] inside an
 /// `impl StudyMechanism for Spec` block.
@@ -225,16 +268,16 @@ macro_rules! mechanisms {
             fn actuation(&self) -> $crate::registry::Actuation {
                 match self { $(Self::$variant(m) => m.actuation(),)* }
             }
-            fn with_workspace<V: $crate::schema::mechanism::WorkspaceVisitor>(
+            fn with_workspace<V: $crate::registry::WorkspaceVisitor>(
                 &self,
                 constraints: &[$crate::__private::pkm_traits::WorkspaceConstraint],
                 visitor: V,
-            ) -> Result<V::Output, $crate::schema::mechanism::BuildError> {
+            ) -> Result<V::Output, $crate::registry::BuildError> {
                 match self { $(Self::$variant(m) => m.with_workspace(constraints, visitor),)* }
             }
             fn reach_region(
                 &self,
-            ) -> Result<Option<$crate::__private::pkm_workspace_indices::Region>, $crate::schema::mechanism::BuildError>
+            ) -> Result<Option<$crate::__private::pkm_workspace_indices::Region>, $crate::registry::BuildError>
             {
                 match self { $(Self::$variant(m) => m.reach_region(),)* }
             }

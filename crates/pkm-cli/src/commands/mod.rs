@@ -4,7 +4,7 @@
 use crate::CliError;
 use crate::output::{Output, StudyEcho};
 use crate::progress::Spinner;
-use crate::study::{self, StudyFile};
+use crate::study;
 use pkm_study::{Outcome, StudyError};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -92,27 +92,6 @@ subcommands! {
     /// Inverse dynamics (Hamilton and Lagrange) of a rotary Delta along a trajectory, and the
     /// forward retrace with its constraint drift.
     Dynamics => dynamics,
-}
-
-/// Loads the study at `path`, runs `compute` on it and writes its `results.json` as `command`
-/// (the study file echoed): the body of every single-run command.
-///
-/// # Errors
-/// The study file's errors at their line, `compute`'s errors, I/O errors.
-pub fn run_study<S: DeserializeOwned, R: Serialize>(
-    command: &str,
-    path: &Path,
-    context: &Context,
-    compute: impl FnOnce(&StudyFile<S>, &Context) -> Result<(R, Report, Output), CliError>,
-) -> Result<Report, CliError> {
-    let file: StudyFile<S> = study::load(path)?;
-    let (result, report, out) = compute(&file, context)?;
-    let echo = StudyEcho {
-        file: path.display().to_string(),
-        text: file.text.clone(),
-    };
-    out.finish(command, echo, result)?;
-    Ok(report)
 }
 
 /// Runs a study of the study layer: reads the file at `path` with its schema (errors at their

@@ -11,49 +11,8 @@ use crate::CliError;
 use pkm_study::{Key, KeyPath, StudyError};
 use serde::de::DeserializeOwned;
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use toml::de::{DeTable, DeValue};
-
-/// A study file as read: its path, its text (echoed in `results.json`) and its contents.
-#[derive(Debug, Clone)]
-pub struct StudyFile<T> {
-    /// Where it was read from.
-    pub path: PathBuf,
-    /// The text of the file.
-    pub text: String,
-    /// The parsed study.
-    pub study: T,
-}
-
-/// Reads and parses the study file at `path`.
-///
-/// # Errors
-/// [`CliError::Io`] when it cannot be read, [`CliError::Study`] (file, line, column and what was
-/// expected) when it is not a valid study of this shape.
-pub fn load<T: DeserializeOwned>(path: &Path) -> Result<StudyFile<T>, CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
-    parse(path, text)
-}
-
-/// Parses `text` as the study file `path`.
-///
-/// # Errors
-/// [`CliError::Study`] when it is not a valid study of this shape.
-pub fn parse<T: DeserializeOwned>(path: &Path, text: String) -> Result<StudyFile<T>, CliError> {
-    match toml::from_str::<T>(&text) {
-        Ok(study) => Ok(StudyFile {
-            path: path.to_path_buf(),
-            text,
-            study,
-        }),
-        Err(e) => Err(error_at(
-            path,
-            &text,
-            e.span().unwrap_or(0..0),
-            e.message().trim_end(),
-        )),
-    }
-}
 
 /// Reads the study at `path` with the study layer's schema.
 ///
@@ -110,13 +69,6 @@ pub fn locate(text: &str, key: &KeyPath) -> Range<usize> {
         };
     }
     span
-}
-
-impl<T> StudyFile<T> {
-    /// An error about the text at `span` of this file.
-    pub fn error_at(&self, span: Range<usize>, message: impl Into<String>) -> CliError {
-        error_at(&self.path, &self.text, span, &message.into())
-    }
 }
 
 /// [`CliError::Study`] at the line and column of byte `span.start` of `text`.

@@ -2,11 +2,11 @@
 //! actuation, workspace, reach region and drawing, stated once.
 
 use super::mechanism::{
-    BuildError, LinearDeltaSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec,
-    WorkspaceVisitor, linear_delta, rotary_delta, stewart_orientation, three_upu, tsai, visit,
+    LinearDeltaSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec, linear_delta,
+    rotary_delta, stewart_orientation, three_upu, tsai,
 };
 use crate::design_variables;
-use crate::registry::{Actuation, StudyMechanism};
+use crate::registry::{Actuation, BuildError, StudyMechanism, WorkspaceVisitor, visit};
 use crate::scene::first_drawable;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use pkm_mechanisms::{LegBranch, LinearDeltaMode, Skeleton};
@@ -184,6 +184,12 @@ impl StudyMechanism for ThreeUpuSpec {
     design_variables! {
         "base_radius" Length => |s| s.base_radius.0,
         "platform_radius" Length => |s| s.platform_radius.0,
+        "beta1_deg" Angle => |s| s.beta1_deg.0,
+        "gamma1_deg" Angle => |s| s.gamma1_deg.0,
+        "beta2_deg" Angle => |s| s.beta2_deg.0,
+        "gamma2_deg" Angle => |s| s.gamma2_deg.0,
+        "beta3_deg" Angle => |s| s.beta3_deg.0,
+        "gamma3_deg" Angle => |s| s.gamma3_deg.0,
     }
 
     fn kind(&self) -> &'static str {

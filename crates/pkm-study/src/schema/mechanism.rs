@@ -5,19 +5,15 @@
 //! Lengths are metres, angles in keys ending in `_deg` degrees (converted to radians here),
 //! ratios dimensionless.
 
-use super::units::{
-    ConeDegrees, DegreeRange, Degrees, MetreRange, Metres, NonNegativeMetres, PositiveMetres, Real,
-};
-use crate::StudyError;
-use crate::registry::Actuation;
-use nalgebra::Vector3;
+pub use super::constraints::{ConstraintsSpec, HalfSpaceSpec, JointRangeDegSpec, JointRangeSpec};
+use super::units::{Degrees, Metres, NonNegativeMetres, PositiveMetres, Real};
+pub use crate::registry::{BuildError, WorkspaceVisitor};
+use nalgebra::{Rotation3, Unit, Vector3};
 use pkm_mechanisms::{
     AngleMode, ConstantOrientation, Elbow, ElbowMode, JointLayout, LinearDelta, LinearDeltaDesign,
     LinearDeltaMode, LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign,
     StewartDesign, StewartGough, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes,
 };
-use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
-use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
 use serde::{Deserialize, Serialize};
 
 crate::mechanisms! {
@@ -36,8 +32,9 @@ crate::mechanisms! {
     }
 }
 
-/// `[mechanism.three_upu]`: the 3-UPU's joint circles. The upper U-joint axes do not enter the
-/// translational model (they only orient the constraint couples), so they are Park's.
+/// `[mechanism.three_upu]`: the 3-UPU's joint circles and the tilts of its upper U-joint axes
+/// from Park's (Wolf & Shoham §4.4). The tilts do not enter the translational model of the
+/// workspace commands (they only orient the constraint couples of eq. 18, which `task` uses).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThreeUpuSpec {
@@ -48,6 +45,38 @@ pub struct ThreeUpuSpec {
     /// Azimuths $\theta_i$ of the three legs' joints (degrees; default Park's −90, 30, 150).
     #[serde(default = "park_azimuths")]
     pub azimuths_deg: [Degrees; 3],
+    /// Tilt $\beta_1$ of joint 1's upper axes about Park's radial axis $u_2$ (degrees).
+    #[serde(default = "zero_deg")]
+    pub beta1_deg: Degrees,
+    /// Tilt $\gamma_1$ of joint 1's upper axes about Park's tangent axis $u_1$ (degrees).
+    #[serde(default = "zero_deg")]
+    pub gamma1_deg: Degrees,
+    /// As `beta1_deg`, joint 2.
+    #[serde(default = "zero_deg")]
+    pub beta2_deg: Degrees,
+    /// As `gamma1_deg`, joint 2.
+    #[serde(default = "zero_deg")]
+    pub gamma2_deg: Degrees,
+    /// As `beta1_deg`, joint 3.
+    #[serde(default = "zero_deg")]
+    pub beta3_deg: Degrees,
+    /// As `gamma1_deg`, joint 3.
+    #[serde(default = "zero_deg")]
+    pub gamma3_deg: Degrees,
+}
+
+impl ThreeUpuSpec {
+    /// The tilts $[\beta_1, \gamma_1, \beta_2, \gamma_2, \beta_3, \gamma_3]$ (degrees).
+    pub fn tilts_deg(&self) -> [f64; 6] {
+        [
+            self.beta1_deg.0,
+            self.gamma1_deg.0,
+            self.beta2_deg.0,
+            self.gamma2_deg.0,
+            self.beta3_deg.0,
+            self.gamma3_deg.0,
+        ]
+    }
 }
 
 /// `[mechanism.stewart_gough]`: the design $x = (x_1, x_2, x_3, x_4)$, the joint layout and
@@ -190,181 +219,6 @@ fn paper_leans() -> [bool; 3] {
     LinearDeltaMode::PAPER.leans_positive
 }
 
-/// The `[constraints]` table: workspace limits in the units of their keys.
-#[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct ConstraintsSpec {
-    /// Positions at or below this height (m).
-    pub below_z: Option<Metres>,
-    /// Half-spaces n·x ≤ offset.
-    #[serde(default)]
-    pub half_spaces: Vec<HalfSpaceSpec>,
-    /// Every revolute actuated joint within `[lower, upper]` (degrees).
-    pub joint_range_deg: Option<DegreeRange>,
-    /// Every prismatic actuated joint within `[lower, upper]` (m).
-    pub joint_range: Option<MetreRange>,
-    /// One revolute actuated joint's range (degrees).
-    #[serde(default)]
-    pub joint_ranges_deg: Vec<JointRangeDegSpec>,
-    /// One prismatic actuated joint's range (m).
-    #[serde(default)]
-    pub joint_ranges: Vec<JointRangeSpec>,
-    /// Largest bend of the passive ball joints (degrees).
-    pub passive_cone_deg: Option<ConeDegrees>,
-    /// Smallest distance between neighbouring legs' links (m).
-    pub leg_clearance: Option<NonNegativeMetres>,
-}
-
-/// A half-space n·x ≤ offset.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct HalfSpaceSpec {
-    /// Outward normal n (dimensionless, any length).
-    pub normal: [Real; 3],
-    /// Offset (m, for a unit normal).
-    pub offset: Metres,
-}
-
-/// The range of one revolute joint (from 0), degrees.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct JointRangeDegSpec {
-    /// Joint number, from 0.
-    pub joint: usize,
-    /// `[lower, upper]` (degrees).
-    pub range_deg: DegreeRange,
-}
-
-/// The range of one prismatic joint (from 0), metres.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct JointRangeSpec {
-    /// Joint number, from 0.
-    pub joint: usize,
-    /// `[lower, upper]` (m).
-    pub range: MetreRange,
-}
-
-impl ConstraintsSpec {
-    /// The library constraints of this table (SI units, radians) for a mechanism `mechanism`
-    /// whose actuated joints move as `kind`.
-    ///
-    /// # Errors
-    /// A message when a joint range is given in the wrong unit for these joints or the library
-    /// refuses a value.
-    pub fn to_library(
-        &self,
-        mechanism: &str,
-        kind: Actuation,
-    ) -> Result<Vec<WorkspaceConstraint>, String> {
-        let spec = self;
-        let wrong_unit = |key: &str, use_key: &str| {
-            format!(
-                "{key}: the actuated joints of {mechanism} are {}; use {use_key}",
-                match kind {
-                    Actuation::Revolute => "revolute (angles in degrees)",
-                    Actuation::Prismatic =>
-                        "prismatic (carriage positions or leg lengths in metres)",
-                }
-            )
-        };
-        let library = |e: pkm_traits::ConstraintError| e.to_string();
-        let mut out = Vec::new();
-        if let Some(z) = spec.below_z {
-            out.push(WorkspaceConstraint::below(z.0).map_err(library)?);
-        }
-        for h in &spec.half_spaces {
-            let normal = Vector3::new(h.normal[0].0, h.normal[1].0, h.normal[2].0);
-            out.push(WorkspaceConstraint::half_space(normal, h.offset.0).map_err(library)?);
-        }
-        match (kind, spec.joint_range_deg, spec.joint_range) {
-            (Actuation::Prismatic, Some(_), _) => {
-                return Err(wrong_unit("joint_range_deg", "joint_range"));
-            }
-            (Actuation::Revolute, _, Some(_)) => {
-                return Err(wrong_unit("joint_range", "joint_range_deg"));
-            }
-            (_, Some(r), _) => out.push(
-                WorkspaceConstraint::joint_range(r.lower.to_radians(), r.upper.to_radians())
-                    .map_err(library)?,
-            ),
-            (_, None, Some(r)) => {
-                out.push(WorkspaceConstraint::joint_range(r.lower, r.upper).map_err(library)?);
-            }
-            (_, None, None) => {}
-        }
-        if kind == Actuation::Prismatic && !spec.joint_ranges_deg.is_empty() {
-            return Err(wrong_unit("joint_ranges_deg", "joint_ranges"));
-        }
-        if kind == Actuation::Revolute && !spec.joint_ranges.is_empty() {
-            return Err(wrong_unit("joint_ranges", "joint_ranges_deg"));
-        }
-        for j in &spec.joint_ranges_deg {
-            let (lo, hi) = (
-                j.range_deg.lower.to_radians(),
-                j.range_deg.upper.to_radians(),
-            );
-            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
-        }
-        for j in &spec.joint_ranges {
-            let (lo, hi) = (j.range.lower, j.range.upper);
-            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
-        }
-        if let Some(cone) = spec.passive_cone_deg {
-            out.push(WorkspaceConstraint::passive_cone(cone.0.to_radians()).map_err(library)?);
-        }
-        if let Some(d) = spec.leg_clearance {
-            out.push(WorkspaceConstraint::leg_clearance(d.0).map_err(library)?);
-        }
-        Ok(out)
-    }
-}
-
-/// Receives a built workspace, whatever the mechanism type (closures cannot be generic).
-pub trait WorkspaceVisitor {
-    /// What the visit returns.
-    type Output;
-    /// Works on `workspace` (`NQ` actuated joints: 3, or a Stewart–Gough platform's 6).
-    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
-        self,
-        workspace: &Workspace<'_, M, NQ>,
-    ) -> Self::Output
-    where
-        Dim<NQ>: TranslationalCondition<NQ>;
-}
-
-/// Why a design has no workspace: an invalid design (recorded as infeasible in sweeps) or a
-/// constraint the mechanism cannot evaluate (an error of the study).
-#[derive(Debug, Clone, PartialEq)]
-pub enum BuildError {
-    /// The design parameters are invalid (the library's reason).
-    Design(String),
-    /// A constraint does not apply to this mechanism.
-    Constraint(String),
-}
-
-impl std::fmt::Display for BuildError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Design(m) | Self::Constraint(m) => f.write_str(m),
-        }
-    }
-}
-
-pub(crate) fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(
-    mechanism: &M,
-    modes: &[M::WorkingMode],
-    constraints: &[WorkspaceConstraint],
-    visitor: V,
-) -> Result<V::Output, BuildError>
-where
-    Dim<NQ>: TranslationalCondition<NQ>,
-{
-    let workspace = Workspace::new(mechanism, modes, constraints)
-        .map_err(|e| BuildError::Constraint(e.to_string()))?;
-    Ok(visitor.visit(&workspace))
-}
-
 fn design_error(e: pkm_traits::DesignError) -> BuildError {
     BuildError::Design(e.to_string())
 }
@@ -425,7 +279,8 @@ pub fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
     LinearDelta::new(LinearDeltaDesign { ratios, yr: s.yr.0 }).map_err(design_error)
 }
 
-/// The 3-UPU of a `[mechanism.three_upu]` table (Park's U-joint axes at its azimuths).
+/// The 3-UPU of a `[mechanism.three_upu]` table: Park's U-joint axes at its azimuths, tilted
+/// by its `beta*_deg`, `gamma*_deg` ([`tilted_axes`]).
 ///
 /// # Errors
 /// [`BuildError::Design`] with the library's reason for an invalid design.
@@ -435,9 +290,27 @@ pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
         base_radius: s.base_radius.0,
         platform_radius: s.platform_radius.0,
         azimuths,
-        upper: azimuths.map(UJointAxes::park),
+        upper: tilted_axes(azimuths, &s.tilts_deg()),
     })
     .map_err(design_error)
+}
+
+/// Park's axes $(u_1, u_2)$ of the joints at `azimuths` (radians), joint $i$ tilted by
+/// $\beta_i$ about the radial $u_2$, then by $\gamma_i$ about the tangent $u_1$
+/// (`tilts_deg = [β1, γ1, β2, γ2, β3, γ3]`, degrees), as in Wolf & Shoham §4.4:
+/// $u_j' = R_{u_2}(\beta_i)\,R_{u_1}(\gamma_i)\,u_j$.
+pub fn tilted_axes(azimuths: [f64; 3], tilts_deg: &[f64; 6]) -> [UJointAxes; 3] {
+    std::array::from_fn(|i| {
+        let UJointAxes { u1, u2 } = UJointAxes::park(azimuths[i]);
+        let beta = tilts_deg[2 * i].to_radians();
+        let gamma = tilts_deg[2 * i + 1].to_radians();
+        let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), beta)
+            * Rotation3::from_axis_angle(&Unit::new_normalize(u1), gamma);
+        UJointAxes {
+            u1: tilt * u1,
+            u2: tilt * u2,
+        }
+    })
 }
 
 /// The constant-orientation view of a `[mechanism.stewart_gough]` table.
@@ -458,12 +331,6 @@ pub fn stewart_orientation(s: &StewartSpec) -> Result<ConstantOrientation, Build
     .map_err(design_error)?;
     let w = Vector3::from(s.rotation_deg.map(Degrees::radians));
     ConstantOrientation::new(platform, w).map_err(design_error)
-}
-
-impl From<BuildError> for StudyError {
-    fn from(e: BuildError) -> Self {
-        Self::invalid("mechanism", e.to_string())
-    }
 }
 
 /// The library's joint layout of a `[mechanism.stewart_gough]` table.

@@ -1,8 +1,10 @@
-//! The sections that studies share: the `[mechanism.<kind>]` table and `[constraints]`
-//! ([`mechanism`]), `[sampling]` ([`sampling`]) and the checked quantities with units that they
-//! are made of ([`units`]).
+//! The sections that studies share: the `[mechanism.<kind>]` table ([`mechanism`]),
+//! `[constraints]` ([`constraints`]), `[sampling]` ([`sampling`]) and the checked quantities with
+//! units that they are made of ([`units`]).
 
+pub mod constraints;
 pub mod grid;
+pub mod index;
 mod kinds;
 pub mod mechanism;
 pub mod sampling;

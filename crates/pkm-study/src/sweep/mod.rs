@@ -203,7 +203,7 @@ pub(crate) fn finish(
     // The first node of smallest −U, the rule of `pkm_optimizers::grid_search`.
     let negated = utilities.iter().map(|u| u.map(|u| -u));
     let Some((best_node, best_value)) = Sense::Minimise.best(negated) else {
-        return Err(no_feasible_design(&outcomes));
+        return Err(grid::no_feasible_design(&outcomes));
     };
     let best_design = grid.design(best_node);
     let best_values = outcomes[best_node].clone().unwrap_or_default();
@@ -281,15 +281,6 @@ pub(crate) fn finish(
     let caption = format!("{}: the sweep's optimum", r.mechanism);
     outcome.robot(caption, scene);
     Ok(outcome)
-}
-
-/// The error of a grid study without a feasible node, with the first node's reason.
-pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
-    let reason = outcomes.iter().find_map(|o| o.as_ref().err());
-    StudyError::NoFeasibleDesign {
-        nodes: outcomes.len(),
-        reason: reason.cloned().unwrap_or_default(),
-    }
 }
 
 fn point(

@@ -1,0 +1,379 @@
+//! The task study: task-based synthesis after Wolf & Shoham (2006): the pose and/or geometry of
+//! a Stewart–Gough platform or a 3-UPU that maximises or minimises
+//! $F = \sum_k w_k \sum_i (L_i \wedge \chi_k)^2$ (eq. 14, 18) for a weighted set of task twists
+//! $\chi_k$, by multistart bounded Levenberg–Marquardt with its first- and second-order report;
+//! and, for the 3-UPU, the singularity search: the pose or geometry that minimises the smallest
+//! singular value (or the determinant) of the $6 \times 6$ matrix of eq. 18 (three leg lines,
+//! three constraint couples).
+//!
+//! Weighted twists enter as the stacked residuals $\sqrt{w_k}\,(L_i \wedge \chi_k)$
+//! ([`pkm_optimizers::WeightedSum`]), so the sum of squares is $F$, and one twist of weight 1
+//! is exactly the library's problem.
+//!
+//! Every setting (twists, variables and their ranges, the orientation bound, the solver, the
+//! starts) is checked at its key path before the first start runs.
+
+mod problem;
+mod report;
+mod schema;
+
+pub use problem::{STEWART_VARIABLES, UPU_VARIABLES, UpuProblem, stewart_problem};
+pub use report::{
+    Optimality, PoseReport, TaskResult, TwistValue, WrenchMatrix, most_reciprocal_twist,
+};
+pub use schema::{Goal, PoseSpec, TaskSection, TaskStudy, TwistSpec, TwistSpecError};
+
+use crate::outcome::Outcome;
+use crate::registry::StudyMechanism;
+use crate::schema::mechanism::{MechanismSpec, StewartSpec, ThreeUpuSpec};
+use crate::{KeyPath, StudyError, scene};
+use nalgebra::{Isometry3, Matrix6};
+use pkm_draw::Scene;
+use pkm_mechanisms::{Skeleton, StewartDesign, StewartGough, WrenchSystem};
+use pkm_optimizers::{
+    LocalOptimum, MultistartRun, OptimizeError, Sense, WeightedSum, levenberg_marquardt, multistart,
+};
+use pkm_screw_theory::Twist;
+use pkm_traits::{Bounds, Objective, Progress, Residuals};
+use report::{starts_artifacts, summarise, wrench_matrix};
+
+/// Runs a task study: the multistart, the report at the best start, the starts as a table and
+/// a chart, and the drawing of the robot at the optimal pose with the task twists' axes.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at its key path for a setting that cannot be used (every one checked
+/// before the first start); [`StudyError::Optimize`] when no start succeeds;
+/// [`StudyError::Cancelled`] when `progress` asks to stop.
+pub fn task(study: &TaskStudy, progress: &dyn Progress) -> Result<Outcome<TaskResult>, StudyError> {
+    let twists = weighted_twists(&study.task)?;
+    let found = match &study.mechanism {
+        MechanismSpec::StewartGough(spec) => stewart(study, spec, &twists, progress)?,
+        MechanismSpec::ThreeUpu(spec) => upu(study, spec, &twists, progress)?,
+        other => {
+            return Err(StudyError::invalid(
+                "mechanism",
+                format!(
+                    "{} has no wrench system for a task study: expected [mechanism.stewart_gough] \
+                     or [mechanism.three_upu]",
+                    other.kind()
+                ),
+            ));
+        }
+    };
+    let mut outcome = Outcome::new(found.result);
+    summarise(&mut outcome);
+    let artifacts = starts_artifacts(&found.names, &outcome.result, &found.run);
+    outcome.artifacts.extend(artifacts);
+    let caption = format!("{}: the optimal pose", outcome.result.mechanism);
+    outcome.robot(caption, found.scene);
+    Ok(outcome)
+}
+
+/// What one mechanism's run found, before the common report.
+struct Found {
+    names: Vec<String>,
+    run: MultistartRun<LocalOptimum>,
+    result: TaskResult,
+    /// The robot at the optimal pose with the task twists' axes.
+    scene: Result<Scene, String>,
+}
+
+/// The study's weighted twists, each checked at its `task.twists[k]` entry, and their presence
+/// checked against the goal.
+fn weighted_twists(task: &TaskSection) -> Result<Vec<(f64, Twist)>, StudyError> {
+    let twists = task
+        .twists
+        .iter()
+        .enumerate()
+        .map(|(k, spec)| {
+            let path = KeyPath::parse("task.twists").index(k);
+            if !(spec.weight.0 >= 0.0) {
+                return Err(StudyError::invalid(
+                    path.field("weight"),
+                    "expected a number >= 0",
+                ));
+            }
+            let twist = spec
+                .twist()
+                .map_err(|e| StudyError::invalid(path, e.to_string()))?;
+            Ok((spec.weight.0, twist))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if task.goal.is_singularity() != twists.is_empty() {
+        let message = if twists.is_empty() {
+            "goal = maximise/minimise needs at least one [[task.twists]]"
+        } else {
+            "a singularity goal takes no [[task.twists]]"
+        };
+        return Err(StudyError::invalid("task.goal", message));
+    }
+    Ok(twists)
+}
+
+/// The optimised variables of a study among `names`, each with its range, in `names` order;
+/// each error at its `task.variables.<name>` key.
+fn chosen_variables(
+    task: &TaskSection,
+    names: &[&str],
+) -> Result<Vec<(usize, Bounds)>, StudyError> {
+    let mut chosen = Vec::new();
+    for (name, [lo, hi]) in &task.variables {
+        let path = KeyPath::parse("task.variables").field(name.as_str());
+        let k = names.iter().position(|n| n == name).ok_or_else(|| {
+            let message = format!(
+                "unknown variable `{name}` for this mechanism: expected one of {} (lengths in m, \
+                 *_deg in degrees)",
+                names.join(", ")
+            );
+            StudyError::invalid(path.clone(), message)
+        })?;
+        let bounds = Bounds::new(*lo, *hi).map_err(|e| {
+            let m = format!("{name} = [{lo}, {hi}]: expected [lower, upper] with lower <= upper");
+            StudyError::invalid(path, format!("{m} ({e})"))
+        })?;
+        chosen.push((k, bounds));
+    }
+    chosen.sort_by_key(|(k, _)| *k);
+    Ok(chosen)
+}
+
+/// An optimiser's refusal of the setting at `section` as an error at its key path (the
+/// setting's own name appended).
+fn refused(section: &str, e: OptimizeError) -> StudyError {
+    match e {
+        OptimizeError::Invalid(invalid) => {
+            let path = KeyPath::parse(section).field(invalid.name);
+            StudyError::invalid(path, invalid.to_string())
+        }
+        e => StudyError::invalid(section, e.to_string()),
+    }
+}
+
+/// The solver settings and the start points, checked (before any start runs).
+fn checked_starts(task: &TaskSection, bounds: &[Bounds]) -> Result<Vec<Vec<f64>>, StudyError> {
+    if bounds.is_empty() {
+        return Err(StudyError::invalid(
+            "task.variables",
+            "no variable to optimise",
+        ));
+    }
+    task.solver
+        .validate()
+        .map_err(|e| refused("task.solver", e))?;
+    task.starts
+        .start_points(bounds)
+        .map_err(|e| refused("task.starts", e))
+}
+
+/// Levenberg–Marquardt from every start, every outcome kept; the best start.
+///
+/// # Errors
+/// No successful start, [`StudyError::Cancelled`].
+fn run_starts<P: Residuals>(
+    problem: &P,
+    sense: Sense,
+    task: &TaskSection,
+    starts: Vec<Vec<f64>>,
+    progress: &dyn Progress,
+) -> Result<(MultistartRun<LocalOptimum>, usize, LocalOptimum), StudyError> {
+    let settings = task.solver;
+    let run = multistart(starts, progress, |s, cancel| {
+        levenberg_marquardt(problem, sense, s, &settings, cancel)
+    })?;
+    let (best_start, best) = run.best(sense)?;
+    let best = best.clone();
+    Ok((run, best_start, best))
+}
+
+/// Each twist's $F$ at the optimum by `f`.
+fn twist_values(
+    twists: &[(f64, Twist)],
+    f: impl Fn(&Twist) -> Result<f64, StudyError>,
+) -> Result<Vec<TwistValue>, StudyError> {
+    twists
+        .iter()
+        .map(|(w, t)| {
+            Ok(TwistValue {
+                weight: *w,
+                f: f(t)?,
+            })
+        })
+        .collect()
+}
+
+fn stewart(
+    study: &TaskStudy,
+    spec: &StewartSpec,
+    twists: &[(f64, Twist)],
+    progress: &dyn Progress,
+) -> Result<Found, StudyError> {
+    let task = &study.task;
+    if spec.rotation_deg.iter().any(|w| w.0.abs() > 0.0) {
+        return Err(StudyError::invalid(
+            "mechanism.stewart_gough.rotation_deg",
+            "a task study takes the platform's orientation from [task.pose] rotation_deg and \
+             max_angle_deg: expected no rotation here",
+        ));
+    }
+    if task.goal.is_singularity() {
+        return Err(StudyError::invalid(
+            "task.goal",
+            "the singularity goals are for [mechanism.three_upu]",
+        ));
+    }
+    let free = chosen_variables(task, &STEWART_VARIABLES)?;
+    let max_angle = task.max_angle_deg.map(|a| a.radians());
+    let parts = twists
+        .iter()
+        .map(|(w, t)| Ok((*w, stewart_problem(spec, &task.pose, &free, max_angle, *t)?)))
+        .collect::<Result<Vec<_>, StudyError>>()?;
+    let problem = WeightedSum::new(parts).map_err(|e| refused("task.twists", e))?;
+    let starts = checked_starts(task, problem.bounds())?;
+    let sense = task.goal.sense();
+    let (run, best_start, best) = run_starts(&problem, sense, task, starts, progress)?;
+    let (mechanism, pose) = match problem.parts().next() {
+        Some((_, first)) => first.evaluate(&best.design)?,
+        None => return Err(StudyError::invalid("task.twists", "no twist")),
+    };
+    let mut names: Vec<String> = free
+        .iter()
+        .map(|(k, _)| STEWART_VARIABLES[*k].to_owned())
+        .collect();
+    if max_angle.is_some() {
+        names.extend(["u_x", "u_y", "u_z"].map(str::to_owned));
+    }
+    let f = |t: &Twist| {
+        Ok(mechanism
+            .task_objective(&pose, t)
+            .map_err(pkm_traits::ObjectiveError::from)?)
+    };
+    let result = TaskResult {
+        title: study.title.clone(),
+        mechanism: "stewart_gough".into(),
+        goal: task.goal,
+        objective: best.value,
+        best_start,
+        optimum: names
+            .iter()
+            .cloned()
+            .zip(best.design.iter().copied())
+            .collect(),
+        design: STEWART_VARIABLES[..4]
+            .iter()
+            .map(|n| (*n).to_owned())
+            .zip(stewart_design_values(&mechanism.design()))
+            .collect(),
+        pose: PoseReport::from(&pose),
+        twists: twist_values(twists, f)?,
+        leg_lengths: Some(leg_lengths(&mechanism, &pose)),
+        wrench_matrix: wrench_matrix(&objective_rows(&mechanism, &pose)?, f)?,
+        optimality: Optimality::from(&best),
+        starts: run.starts.len(),
+    };
+    let scene = scene::task_scene(
+        Skeleton::stewart_gough(&mechanism, &pose),
+        &pose,
+        twists,
+        None,
+    );
+    Ok(Found {
+        names,
+        run,
+        result,
+        scene,
+    })
+}
+
+/// The wrench rows of `mechanism` at `pose`.
+fn objective_rows(
+    mechanism: &impl WrenchSystem,
+    pose: &Isometry3<f64>,
+) -> Result<Matrix6<f64>, StudyError> {
+    Ok(mechanism
+        .wrench_rows(pose)
+        .map_err(pkm_traits::ObjectiveError::from)?)
+}
+
+/// The design in the study's units: radii, then the separations in degrees.
+fn stewart_design_values(d: &StewartDesign) -> [f64; 4] {
+    [
+        d.base_radius,
+        d.platform_radius,
+        d.base_separation.to_degrees(),
+        d.platform_separation.to_degrees(),
+    ]
+}
+
+fn leg_lengths(mechanism: &StewartGough, pose: &Isometry3<f64>) -> [f64; 6] {
+    let l = mechanism.leg_lengths(pose);
+    [l[0], l[1], l[2], l[3], l[4], l[5]]
+}
+
+fn upu(
+    study: &TaskStudy,
+    spec: &ThreeUpuSpec,
+    twists: &[(f64, Twist)],
+    progress: &dyn Progress,
+) -> Result<Found, StudyError> {
+    let task = &study.task;
+    if task.max_angle_deg.is_some() {
+        return Err(StudyError::invalid(
+            "task.max_angle_deg",
+            "max_angle_deg is for [mechanism.stewart_gough]; free the 3-UPU's orientation with \
+             rx_deg, ry_deg, rz_deg in [task.variables]",
+        ));
+    }
+    let free = chosen_variables(task, &UPU_VARIABLES)?;
+    let problem = UpuProblem::new(spec, &task.pose, &free, task.goal, twists);
+    let starts = checked_starts(task, problem.bounds())?;
+    let sense = task.goal.sense();
+    let (run, best_start, best) = run_starts(&problem, sense, task, starts, progress)?;
+    let (mechanism, pose) = problem.evaluate(&best.design)?;
+    let rows = objective_rows(&mechanism, &pose)?;
+    let names: Vec<String> = free
+        .iter()
+        .map(|(k, _)| UPU_VARIABLES[*k].to_owned())
+        .collect();
+    let f = |t: &Twist| {
+        Ok(mechanism
+            .task_objective(&pose, t)
+            .map_err(pkm_traits::ObjectiveError::from)?)
+    };
+    let all = problem.full(&best.design);
+    let result = TaskResult {
+        title: study.title.clone(),
+        mechanism: "three_upu".into(),
+        goal: task.goal,
+        objective: best.value,
+        best_start,
+        optimum: names
+            .iter()
+            .cloned()
+            .zip(best.design.iter().copied())
+            .collect(),
+        design: UPU_VARIABLES[..8]
+            .iter()
+            .map(|n| (*n).to_owned())
+            .zip(all)
+            .collect(),
+        pose: PoseReport::from(&pose),
+        twists: twist_values(twists, f)?,
+        leg_lengths: None,
+        wrench_matrix: wrench_matrix(&rows, f)?,
+        optimality: Optimality::from(&best),
+        starts: run.starts.len(),
+    };
+    let reciprocal = most_reciprocal_twist(&rows);
+    let scene = scene::task_scene(
+        Skeleton::three_upu(&mechanism, &pose),
+        &pose,
+        twists,
+        reciprocal,
+    );
+    Ok(Found {
+        names,
+        run,
+        result,
+        scene,
+    })
+}

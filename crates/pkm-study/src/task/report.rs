@@ -1,0 +1,309 @@
+//! What a task study reports: the result types of `results.json`, the wrench rows at the
+//! optimum, the summary lines, and the starts as a table and a chart.
+
+use super::problem::smallest_singular_value;
+use super::schema::Goal;
+use crate::StudyError;
+use crate::outcome::{Artifact, Cell, Outcome, Table};
+use nalgebra::{Isometry3, Matrix6, Vector3, Vector6};
+use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
+use pkm_optimizers::{ActiveBound, LocalOptimum, MultistartRun, OptimizeError};
+use pkm_screw_theory::{ScrewError, Twist, line_set_rank};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The Levenberg–Marquardt report at the optimum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Optimality {
+    /// Why the iteration stopped.
+    pub termination: String,
+    /// Iterations spent.
+    pub iterations: usize,
+    /// Largest |∂f/∂x_j| over the variables off their bounds (0 at a KKT point).
+    pub free_gradient_max: f64,
+    /// Variables held on a bound.
+    pub active_bounds: usize,
+    /// Eigenvalues (ascending) of the Hessian on the free variables: ≤ 0 at a maximum, ≥ 0 at
+    /// a minimum.
+    pub reduced_hessian_eigenvalues: Vec<f64>,
+}
+
+impl From<&LocalOptimum> for Optimality {
+    fn from(o: &LocalOptimum) -> Self {
+        Self {
+            termination: o.termination.to_string(),
+            iterations: o.iterations,
+            free_gradient_max: o.free_gradient_norm(),
+            active_bounds: o.active.iter().filter(|a| **a != ActiveBound::Free).count(),
+            reduced_hessian_eigenvalues: o.reduced_hessian_eigenvalues.clone(),
+        }
+    }
+}
+
+/// A pose in the report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PoseReport {
+    /// Position (m).
+    pub position: [f64; 3],
+    /// Rotation vector $\alpha n$ (degrees).
+    pub rotation_deg: [f64; 3],
+    /// Unit rotation axis $n$ (z when there is no rotation).
+    pub axis: [f64; 3],
+    /// Rotation angle $\alpha \ge 0$ (degrees).
+    pub angle_deg: f64,
+}
+
+impl From<&Isometry3<f64>> for PoseReport {
+    fn from(pose: &Isometry3<f64>) -> Self {
+        let w = pose.rotation.scaled_axis();
+        let angle = w.norm();
+        let axis = if angle > 0.0 { w / angle } else { Vector3::z() };
+        let array = |v: Vector3<f64>| [v.x, v.y, v.z];
+        Self {
+            position: array(pose.translation.vector),
+            rotation_deg: array(w.map(f64::to_degrees)),
+            axis: array(axis),
+            angle_deg: angle.to_degrees(),
+        }
+    }
+}
+
+/// The 6×6 matrix of wrench rows at the optimum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WrenchMatrix {
+    /// Rank of the rows (relative tolerance 1e-9).
+    pub rank: usize,
+    /// Smallest singular value.
+    pub sigma_min: f64,
+    /// Determinant.
+    pub det: f64,
+    /// The unit twist most nearly reciprocal to every row ($[\omega; v]$, rad/s and m/s):
+    /// the swapped right singular vector of $\sigma_{min}$.
+    pub most_reciprocal_twist: [f64; 6],
+    /// Its $F = \sigma_{min}^2$ by the library's task objective.
+    pub most_reciprocal_f: f64,
+}
+
+/// One twist's $F$ at the optimum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TwistValue {
+    /// $w_k$.
+    pub weight: f64,
+    /// $F_k = \sum_i (L_i \wedge \chi_k)^2$ (m²/s²).
+    pub f: f64,
+}
+
+/// The result of a task study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskResult {
+    /// The study's title.
+    pub title: Option<String>,
+    /// `stewart_gough` or `three_upu`.
+    pub mechanism: String,
+    /// The goal.
+    pub goal: Goal,
+    /// The optimised objective at the optimum: $F = \sum_k w_k F_k$ (m²/s²), $\sigma_{min}^2$
+    /// or $\det^2$.
+    pub objective: f64,
+    /// The start it came from (from 0).
+    pub best_start: usize,
+    /// The optimised variables at the optimum (units of their keys; `u_x`, `u_y`, `u_z`: the
+    /// cube coordinates of a free Stewart–Gough orientation).
+    pub optimum: BTreeMap<String, f64>,
+    /// The design at the optimum (units of its keys).
+    pub design: BTreeMap<String, f64>,
+    /// The platform pose at the optimum.
+    pub pose: PoseReport,
+    /// Each twist's $F$ there.
+    pub twists: Vec<TwistValue>,
+    /// Stewart–Gough: leg lengths (m).
+    pub leg_lengths: Option<[f64; 6]>,
+    /// The wrench rows there.
+    pub wrench_matrix: WrenchMatrix,
+    /// The first- and second-order report.
+    pub optimality: Optimality,
+    /// Starts run.
+    pub starts: usize,
+}
+
+/// The wrench matrix report of `rows`, with $F$ of the most reciprocal twist by `objective`.
+///
+/// # Errors
+/// [`StudyError::Screw`] when the rank cannot be computed or the SVD does not converge;
+/// `objective`'s error.
+pub(super) fn wrench_matrix(
+    rows: &Matrix6<f64>,
+    objective: impl Fn(&Twist) -> Result<f64, StudyError>,
+) -> Result<WrenchMatrix, StudyError> {
+    let lines: Vec<Vector6<f64>> = rows.row_iter().map(|r| r.transpose()).collect();
+    let rank = line_set_rank(&lines, 1e-9).map_err(StudyError::Screw)?;
+    let twist = most_reciprocal_twist(rows)
+        .ok_or(StudyError::Screw(ScrewError::SvdNotConverged { rows: 6 }))?;
+    let v = twist.as_vector();
+    Ok(WrenchMatrix {
+        rank,
+        sigma_min: smallest_singular_value(rows),
+        det: rows.determinant(),
+        most_reciprocal_twist: [v[0], v[1], v[2], v[3], v[4], v[5]],
+        most_reciprocal_f: objective(&twist)?,
+    })
+}
+
+/// The unit twist most nearly reciprocal to every row: the rows act on the swapped twist
+/// ($r = W\,\Delta\chi$), so $\chi$ is the swapped right singular vector of $\sigma_{min}$.
+pub fn most_reciprocal_twist(rows: &Matrix6<f64>) -> Option<Twist> {
+    let svd = rows.svd(false, true);
+    let v_t = svd.v_t?;
+    let k = (0..6).min_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]))?;
+    let y = v_t.row(k).transpose();
+    Some(Twist::from_vector(Vector6::new(
+        y[3], y[4], y[5], y[0], y[1], y[2],
+    )))
+}
+
+/// The four summary lines: the optimum, the variables, the pose with the rows' rank, and the
+/// first- and second-order report.
+pub(super) fn summarise(outcome: &mut Outcome<TaskResult>) {
+    let r = &outcome.result;
+    let lines = [
+        format!(
+            "{} {}: objective {:.6e} from start {} of {} ({})",
+            r.mechanism,
+            r.goal.name(),
+            r.objective,
+            r.best_start,
+            r.starts,
+            r.optimality.termination
+        ),
+        format!(
+            "optimum: {}",
+            r.optimum
+                .iter()
+                .map(|(n, v)| format!("{n} = {v:.6}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        format!(
+            "pose: p = [{:.6}, {:.6}, {:.6}] m, rotation {:.4}° about [{:.4}, {:.4}, {:.4}]; \
+             wrench rows rank {}, sigma_min {:.3e}",
+            r.pose.position[0],
+            r.pose.position[1],
+            r.pose.position[2],
+            r.pose.angle_deg,
+            r.pose.axis[0],
+            r.pose.axis[1],
+            r.pose.axis[2],
+            r.wrench_matrix.rank,
+            r.wrench_matrix.sigma_min
+        ),
+        format!(
+            "free gradient {:.2e}, {} active bounds, reduced Hessian eigenvalues [{}]",
+            r.optimality.free_gradient_max,
+            r.optimality.active_bounds,
+            r.optimality
+                .reduced_hessian_eigenvalues
+                .iter()
+                .map(|v| format!("{v:.3e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    ];
+    outcome.summary.extend(lines);
+}
+
+/// `starts.csv` (each start and where it ended) and `starts.svg` (the objective reached,
+/// best first).
+pub(super) fn starts_artifacts(
+    names: &[String],
+    result: &TaskResult,
+    run: &MultistartRun<LocalOptimum>,
+) -> [Artifact; 2] {
+    let mut header: Vec<String> = vec!["start".into()];
+    header.extend(names.iter().map(|n| format!("start_{n}")));
+    header.extend(names.iter().cloned());
+    header.extend(["objective".into(), "termination".into()]);
+    let mut table = Table::new(header);
+    table.rows = run
+        .starts
+        .iter()
+        .zip(&run.outcomes)
+        .enumerate()
+        .map(|(k, (start, o))| start_row(k, start, o, names.len()))
+        .collect();
+    [
+        Artifact::Table {
+            name: "starts.csv".into(),
+            table,
+        },
+        Artifact::Chart {
+            name: "starts.svg".into(),
+            chart: Box::new(starts_chart(result, run)),
+        },
+    ]
+}
+
+/// Start `k`'s row: the start, then the design reached, its value and termination, or empty
+/// cells and the reason it failed.
+fn start_row(
+    k: usize,
+    start: &[f64],
+    outcome: &Result<LocalOptimum, OptimizeError>,
+    n: usize,
+) -> Vec<Cell> {
+    let mut row = vec![Cell::Text(k.to_string())];
+    row.extend(start.iter().map(|v| Cell::Number(*v)));
+    match outcome {
+        Ok(r) => {
+            row.extend(r.design.iter().map(|v| Cell::Number(*v)));
+            row.push(Cell::Number(r.value));
+            row.push(Cell::Text(format!("\"{}\"", r.termination)));
+        }
+        Err(e) => {
+            row.extend(std::iter::repeat_n(Cell::Missing, n + 1));
+            row.push(Cell::Text(format!(
+                "\"{}\"",
+                e.to_string().replace('"', "'")
+            )));
+        }
+    }
+    row
+}
+
+/// The objective reached from each start, best first (rank from 1), the best labelled with
+/// its start.
+fn starts_chart(result: &TaskResult, run: &MultistartRun<LocalOptimum>) -> Chart {
+    let maximise = result.goal == Goal::Maximise;
+    let mut reached: Vec<f64> = run
+        .outcomes
+        .iter()
+        .filter_map(|o| o.as_ref().ok().map(|r| r.value))
+        .collect();
+    reached.sort_by(|a, b| {
+        if maximise {
+            b.total_cmp(a)
+        } else {
+            a.total_cmp(b)
+        }
+    });
+    let ranked: Vec<(f64, f64)> = reached
+        .iter()
+        .enumerate()
+        .map(|(rank, v)| (rank as f64 + 1.0, *v))
+        .collect();
+    let marker = ranked
+        .first()
+        .map(|&(x, y)| Marker::new(format!("start {}", result.best_start), x, y));
+    let series = vec![
+        Series::points("designs", ranked).with_colour(Colour::Rgb([170, 170, 170])),
+        Series::styled("non-dominated", SeriesStyle::LineAndPoints, Vec::new())
+            .with_colour(Colour::Rgb([0, 0, 255])),
+    ];
+    Chart::series(
+        "objective reached from each start",
+        "rank",
+        "objective",
+        series,
+    )
+    .with_markers(marker)
+    .with_legend(LegendPosition::LowerLeft)
+}
