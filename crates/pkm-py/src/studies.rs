@@ -115,13 +115,17 @@ fn kind_name(kind: GridKind) -> &'static str {
     }
 }
 
+/// A grid study function of the study layer (`pkm_study::sweep`, `pkm_study::pareto`).
+type GridStudyFn<R> =
+    fn(&GridStudy, Shard, &dyn Progress) -> Result<Outcome<GridRun<R>>, StudyError>;
+
 /// A grid study of kind `kind` on `shard`; a part carries its kind and study.
 fn grid_study<R: Serialize + Send>(
     kind: GridKind,
     study: &Bound<'_, PyAny>,
     shard: Option<&Bound<'_, PyAny>>,
     progress: Option<&Bound<'_, PyAny>>,
-    compute: fn(&GridStudy, Shard, &dyn Progress) -> Result<Outcome<GridRun<R>>, StudyError>,
+    compute: GridStudyFn<R>,
 ) -> PyResult<Py<PyAny>> {
     let py = study.py();
     let shard = shard.map(shard_of).transpose()?.unwrap_or(Shard::WHOLE);
