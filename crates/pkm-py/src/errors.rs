@@ -54,6 +54,7 @@ pub(crate) enum Kind {
     Other,
     Invalid,
     Infeasible,
+    NotConverged,
     Cancelled,
 }
 
@@ -68,6 +69,7 @@ pub(crate) fn raise(
         Kind::Other => Error::new_err(message),
         Kind::Invalid => InvalidInput::new_err(message),
         Kind::Infeasible => Infeasible::new_err(message),
+        Kind::NotConverged => NotConverged::new_err(message),
         Kind::Cancelled => Cancelled::new_err(message),
     };
     // Setting an attribute on a fresh exception instance cannot fail in practice; if it did,
@@ -84,9 +86,12 @@ pub(crate) fn invalid(py: Python<'_>, message: impl Into<String>) -> PyErr {
 /// The exception of a study error, with its key path.
 pub(crate) fn study_error(py: Python<'_>, e: &StudyError) -> PyErr {
     let kind = match e {
-        StudyError::Schema { .. } | StudyError::Invalid { .. } | StudyError::Index(_) => {
-            Kind::Invalid
-        }
+        StudyError::Schema { .. }
+        | StudyError::Invalid { .. }
+        | StudyError::Index(_)
+        | StudyError::Merge(_) => Kind::Invalid,
+        StudyError::NoFeasibleDesign { .. } => Kind::Infeasible,
+        StudyError::Integration(_) => Kind::NotConverged,
         StudyError::Optimize(o) => optimize_kind(o),
         StudyError::Cancelled => Kind::Cancelled,
         _ => Kind::Other,

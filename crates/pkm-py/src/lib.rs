@@ -7,8 +7,9 @@
 //!
 //! - [`mechanism`]: `pkm.Mechanism`, kinematics vectorised over N × 3 arrays on rayon threads
 //!   with the GIL released ([`points`] reads and checks the arrays);
-//! - [`studies`]: one function per study kind, run off the main thread so that Ctrl-C cancels
-//!   it ([`bridge`]), results as plain Python objects ([`convert`]).
+//! - [`studies`]: one function per study kind, the study read as given ([`source`]), run off
+//!   the main thread so that Ctrl-C cancels it ([`bridge`]), results as plain Python objects
+//!   ([`convert`]); a dynamics trajectory from an array or a CSV file ([`trajectory`]).
 #![warn(missing_docs)]
 
 mod bridge;
@@ -18,7 +19,9 @@ mod kernels;
 mod mechanism;
 mod points;
 mod presets;
+mod source;
 mod studies;
+mod trajectory;
 
 use pyo3::prelude::*;
 

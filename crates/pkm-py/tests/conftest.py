@@ -46,6 +46,55 @@ def nuwar_study():
     return copy.deepcopy(NUWAR_STUDY)
 
 
+# A Linear Delta grid of 5 × 5 designs with both a sweep (one refinement level) and a Pareto
+# section, η1 on a coarse rule (examples/studies/linear_delta_*.toml, smaller): a second.
+GRID_STUDY = {
+    "title": "Linear Delta, small grid",
+    "mechanism": {
+        "linear_delta": {"l1_over_yr": 2.0, "ya_over_yr": 0.0, "zr_over_yr": 0.0, "l2_over_l1": 0.63}
+    },
+    "indices": {"eta1_points": 4},
+    "variables": [
+        {"name": "l1_over_yr", "from": 1.6, "to": 2.4, "step": 0.2},
+        {"name": "l2_over_l1", "from": 0.6, "to": 1.0, "step": 0.1},
+    ],
+    "sweep": {"objective": {"eta1": 1.0, "eta2": 1.0}, "refine": [{"step": 0.05, "half_width": 1}]},
+    "pareto": {"objectives": ["eta1", "eta2"], "weights": [[1.0, 1.0], [1.0, 0.0]]},
+}
+
+
+@pytest.fixture
+def grid_study():
+    return copy.deepcopy(GRID_STUDY)
+
+
+# The Tsai platform's largest volume under a + b + d + e <= 1 m
+# (examples/studies/tsai_volume_optimize.toml with a coarse quadrature and two short starts).
+OPTIMIZE_STUDY = {
+    "title": "Tsai platform, small optimisation",
+    "mechanism": {
+        "tsai": {"a": 0.4, "b": 0.6, "d_plus_e": 0.0, "c_minus_r": 0.0, "phi2_deg": 120.0, "phi3_deg": 240.0}
+    },
+    "optimize": {
+        "objective": "volume",
+        "columns": 24,
+        "check_step": 1e-2,
+        "variables": {"a": [0.02, 1.0], "b": [0.02, 1.0]},
+        "constraints": [{"name": "reach", "coefficients": {"a": 1.0, "b": 1.0}, "at_most": 1.0}],
+        "starts": {"count": 2, "seed": 2024},
+        "solver": {"fd_step": 1e-4, "tolerance": 1e-6, "feasibility": 1e-6, "max_outer": 6, "max_inner": 40},
+    },
+}
+
+
+@pytest.fixture
+def optimize_study():
+    return copy.deepcopy(OPTIMIZE_STUDY)
+
+
+EXAMPLES = ROOT / "examples" / "studies"
+
+
 def toml_value(v):
     if isinstance(v, bool):
         return "true" if v else "false"

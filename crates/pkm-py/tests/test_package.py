@@ -60,3 +60,14 @@ def test_docstrings_read_in_help():
     assert "preset" in pkm.Mechanism.__doc__
     assert "N × 3" in pkm.Mechanism.inverse_kinematics.__doc__
     assert "results.json" in pkm.workspace.__doc__
+
+
+def test_the_quickstart_runs_end_to_end(tmp_path):
+    import subprocess
+    import sys
+
+    script = pathlib.Path(__file__).resolve().parents[3] / "examples" / "python" / "quickstart.py"
+    run = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    for expected in ["W = ", "IK → FK round trip", "on the front", "samples every"]:
+        assert expected in run.stdout, run.stdout

@@ -237,7 +237,7 @@ pub fn workspace<M: StudyMechanism>(
     let slices = slice_settings(&study.workspace)?;
     let domain = study.sampling.domain(study.mechanism.reach_region()?)?;
     progress.phase("sampling points");
-    let points = study.sampling.point_set(domain)?;
+    let points = study.sampling.point_set_cancellable(domain, progress)?;
     let compute = Compute {
         points: &points,
         slices: &slices,

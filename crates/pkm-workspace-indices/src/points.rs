@@ -8,7 +8,7 @@
 
 use crate::{Domain, IndexError, Sampler};
 use nalgebra::Vector3;
-use pkm_traits::InvalidInput;
+use pkm_traits::{Cancelled, InvalidInput, Progress, Silent};
 use rayon::prelude::*;
 
 /// Largest number of points a set may hold (2.4 GB of coordinates, within
@@ -18,6 +18,9 @@ pub const MAX_POINTS: u64 = 100_000_000;
 
 /// Largest number of replicates.
 pub const MAX_REPLICATES: u32 = 64;
+
+/// Points generated between two cancellation checks (one rayon task each).
+const BLOCK: usize = 4096;
 
 /// Sample points in a [`Domain`], in replicates.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +45,23 @@ impl PointSet {
         sampler: Sampler,
         per_replicate: u64,
         replicates: u32,
+    ) -> Result<Self, IndexError> {
+        Self::new_cancellable(domain, sampler, per_replicate, replicates, &Silent)
+    }
+
+    /// [`new`](Self::new), checking `progress` for cancellation before each block of 4096
+    /// points, so that generating even [`MAX_POINTS`] points stops within moments of a
+    /// Ctrl-C. Point $k$ is a function of $k$ alone, so the set has the same bits as `new`'s
+    /// whatever the blocks and threads.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new); [`IndexError::Cancelled`] when `progress` asks to stop.
+    pub fn new_cancellable(
+        domain: Domain,
+        sampler: Sampler,
+        per_replicate: u64,
+        replicates: u32,
+        progress: &dyn Progress,
     ) -> Result<Self, IndexError> {
         if per_replicate == 0 || replicates == 0 {
             return Err(IndexError::EmptySample {
@@ -75,13 +95,7 @@ impl PointSet {
                 .into());
             }
         }
-        let points = (0..total)
-            .into_par_iter()
-            .map(|k| {
-                let (r, i) = (k / per_replicate, k % per_replicate);
-                domain.map(sampler.reseeded(r).unit_cube(i))
-            })
-            .collect();
+        let points = generate(&domain, sampler, per_replicate, total, progress)?;
         Ok(Self {
             domain,
             points,
@@ -110,6 +124,32 @@ impl PointSet {
     }
 }
 
+/// Points `0..total` (point $k$: point $k \bmod m$ of replicate $\lfloor k/m \rfloor$, $m$ =
+/// `per_replicate`), in parallel blocks of [`BLOCK`], each block after a cancellation check.
+/// `total` ≤ [`MAX_POINTS`] was checked by the caller.
+fn generate(
+    domain: &Domain,
+    sampler: Sampler,
+    per_replicate: u64,
+    total: u64,
+    progress: &dyn Progress,
+) -> Result<Vec<Vector3<f64>>, Cancelled> {
+    let mut points = vec![Vector3::zeros(); total as usize];
+    points
+        .par_chunks_mut(BLOCK)
+        .enumerate()
+        .try_for_each(|(b, block)| {
+            progress.check()?;
+            for (j, point) in block.iter_mut().enumerate() {
+                let k = (b * BLOCK + j) as u64;
+                let (r, i) = (k / per_replicate, k % per_replicate);
+                *point = domain.map(sampler.reseeded(r).unit_cube(i));
+            }
+            Ok(())
+        })?;
+    Ok(points)
+}
+
 impl Sampler {
     /// The sampler of replicate `r`: seed `seed + r` (a grid has no seed).
     pub fn reseeded(&self, r: u64) -> Self {
@@ -121,6 +161,53 @@ impl Sampler {
                 seed: seed.wrapping_add(r),
             },
             grid @ Self::Grid { .. } => grid,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Region;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// Cancels after `left` checks.
+    struct CancelAfter {
+        left: AtomicUsize,
+    }
+
+    impl Progress for CancelAfter {
+        fn is_cancelled(&self) -> bool {
+            self.left
+                .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
+                .is_err()
+        }
+    }
+
+    fn domain() -> Domain {
+        Domain::new(Region::axial_cylinder(0.7, -0.6, 0.0)).unwrap()
+    }
+
+    #[test]
+    fn cancellable_generation_has_the_same_bits_and_stops_when_asked() {
+        let sobol = Sampler::Sobol { seed: 42 };
+        // Two replicates of a size that is not a multiple of the block: the last block is short.
+        let m = 3 * BLOCK as u64 + 17;
+        let reference: Vec<Vector3<f64>> = (0..2 * m)
+            .map(|k| domain().map(sobol.reseeded(k / m).unit_cube(k % m)))
+            .collect();
+        let never = CancelAfter {
+            left: AtomicUsize::new(usize::MAX),
+        };
+        let set = PointSet::new_cancellable(domain(), sobol, m, 2, &never).unwrap();
+        assert_eq!(set.points(), reference.as_slice());
+        assert_eq!(PointSet::new(domain(), sobol, m, 2).unwrap(), set);
+        for checks in [0, 1, 5] {
+            let cancel = CancelAfter {
+                left: AtomicUsize::new(checks),
+            };
+            let stopped = PointSet::new_cancellable(domain(), sobol, m, 2, &cancel);
+            assert_eq!(stopped, Err(IndexError::Cancelled), "after {checks} checks");
         }
     }
 }

@@ -1,7 +1,9 @@
 """pkm: optimal design and dynamic modelling of parallel kinematic machines.
 
 Mechanisms vectorised over NumPy arrays (:class:`Mechanism`) and the design studies of the
-``pkm`` command as functions taking a dict or a TOML path (:func:`workspace`, ...). Every
+``pkm`` command as functions taking a dict or a TOML path (:func:`workspace`, :func:`sweep`,
+:func:`pareto`, :func:`optimize`, :func:`dynamics`; :func:`merge` joins the shards of a split
+sweep or Pareto study). Every
 error is a :class:`pkm.Error`; study errors carry ``.key_path``.
 """
 
@@ -28,17 +30,23 @@ __all__ = [
     "Mechanism",
     "NotConverged",
     "__version__",
+    "dynamics",
+    "merge",
+    "optimize",
+    "pareto",
     "presets",
+    "sweep",
     "workspace",
 ]
 
 
-def _study(run, study, progress):
-    """Runs a native study with a tqdm bar when ``progress`` is true and tqdm is installed."""
+def _study(run, progress):
+    """Calls ``run(report)`` with a tqdm callback when ``progress`` is true and tqdm is
+    installed, else ``run(None)``."""
     if not progress:
-        return run(study)
+        return run(None)
     with _progress_bar() as report:
-        return run(study, report)
+        return run(report)
 
 
 def workspace(study, *, progress=True):
@@ -49,4 +57,68 @@ def workspace(study, *, progress=True):
     Shows a tqdm bar when tqdm is installed and ``progress`` is true; Ctrl-C cancels the study
     within a fraction of a second and raises ``KeyboardInterrupt``.
     """
-    return _study(_native.workspace, study, progress)
+    return _study(lambda report: _native.workspace(study, report), progress)
+
+
+def sweep(study, shard=None, *, progress=True):
+    """The sweep study (``pkm sweep``) of ``study``, a dict or a TOML path: an exhaustive grid
+    over design variables, a weighted utility Σ wᵢ ηᵢ, refinement around the grid optimum.
+
+    Returns the outcome dict of :func:`workspace` (``result`` as in ``results.json``; the table
+    ``"landscape.csv"`` has one array per column, the heat maps their tables).
+
+    ``shard=(i, n)`` with 1 ≤ i ≤ n evaluates only the i-th of n nearly equal blocks of grid
+    nodes (``pkm sweep --shard i/n``); for n > 1 it returns the part: ``result`` holds the nodes'
+    values, ``kind`` is ``"sweep"`` and ``study`` the study as a plain dict, so that
+    :func:`merge` of the n parts (on any machines, in any order) returns exactly what
+    ``sweep(study)`` returns. Raises :class:`pkm.Error` subclasses with ``.key_path``;
+    Ctrl-C cancels within a second.
+    """
+    return _study(lambda report: _native.sweep(study, shard, report), progress)
+
+
+def pareto(study, shard=None, *, progress=True):
+    """The Pareto study (``pkm pareto``) of ``study``, a dict or a TOML path: the
+    non-dominated designs of two or more indices and, for two, the weights that select each.
+
+    Returns the outcome dict of :func:`workspace`; ``result["front"]`` lists the front, and the
+    table ``"front.csv"`` holds it as arrays. ``shard=(i, n)`` splits the grid as in
+    :func:`sweep`; :func:`merge` joins the parts.
+    """
+    return _study(lambda report: _native.pareto(study, shard, report), progress)
+
+
+def merge(parts, *, progress=True):
+    """Joins the parts of a split study: the return values of ``sweep(study, shard=(i, n))``
+    (or :func:`pareto`) for i = 1…n, in any order. Returns exactly what the study returns run
+    whole, bit for bit. Raises :class:`pkm.InvalidInput` for parts that are not the n parts of
+    one run of one study.
+    """
+    return _study(lambda report: _native.merge(parts, report), progress)
+
+
+def optimize(study, *, progress=True):
+    """The optimisation study (``pkm optimize``) of ``study``, a dict or a TOML path:
+    multistart constrained optimisation of a design with the first- and second-order checks at
+    the optimum. Returns the outcome dict of :func:`workspace` (the starts as the table
+    ``"starts.csv"``).
+    """
+    return _study(lambda report: _native.optimize(study, report), progress)
+
+
+def dynamics(study, trajectory=None, *, progress=True):
+    """The dynamics study (``pkm dynamics``) of ``study``, a dict or a TOML path: the motor
+    torques of a rotary Delta by Hamilton and by Lagrange along a trajectory, and the forward
+    retrace when ``[dynamics.forward]`` asks for it.
+
+    ``trajectory``, when given, is the plate's motion: an N × 4 array of ``t, x, y, z`` rows
+    (s, m; equally spaced times) or the path of a CSV file of such rows after a header line
+    (relative to the working directory); it replaces the study's ``trajectory.csv`` or
+    ``trajectory.positions``, and the study may then leave out its ``trajectory`` table. A
+    study's own ``trajectory.csv`` is read relative to the study file (for a dict: the working
+    directory), as the ``pkm`` command reads it.
+
+    Returns the outcome dict of :func:`workspace`; the table ``"torques.csv"`` holds the torque
+    histories (``t``, ``tau_hamilton_1`` … ``tau_lagrange_3``) as arrays.
+    """
+    return _study(lambda report: _native.dynamics(study, trajectory, report), progress)

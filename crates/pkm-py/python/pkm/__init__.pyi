@@ -1,7 +1,7 @@
 """Type stubs of pkm (the extension module pkm._native and its Python wrappers)."""
 
 import os
-from typing import Any, Callable, Dict, List, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Iterable, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -69,3 +69,28 @@ Outcome = Dict[str, Any]
 
 def workspace(study: Study, *, progress: bool = True) -> Outcome:
     """The workspace study (``pkm workspace``)."""
+
+Shard = Tuple[int, int]
+"""``(i, n)``: the i-th (from 1) of n nearly equal blocks of grid nodes."""
+
+def sweep(study: Study, shard: Optional[Shard] = None, *, progress: bool = True) -> Outcome:
+    """The sweep study (``pkm sweep``); for ``shard=(i, n)``, n > 1, the part for :func:`merge`
+    (the outcome dict plus ``"kind"`` and ``"study"``)."""
+
+def pareto(study: Study, shard: Optional[Shard] = None, *, progress: bool = True) -> Outcome:
+    """The Pareto study (``pkm pareto``); shards as :func:`sweep`."""
+
+def merge(parts: Iterable[Outcome], *, progress: bool = True) -> Outcome:
+    """The parts of a split sweep or Pareto study joined: what the whole run returns."""
+
+def optimize(study: Study, *, progress: bool = True) -> Outcome:
+    """The optimisation study (``pkm optimize``)."""
+
+def dynamics(
+    study: Study,
+    trajectory: Union[None, npt.ArrayLike, str, "os.PathLike[str]"] = None,
+    *,
+    progress: bool = True,
+) -> Outcome:
+    """The dynamics study (``pkm dynamics``); ``trajectory`` is an N × 4 array of t, x, y, z
+    rows or a CSV path, replacing the study's ``trajectory.csv`` / ``positions``."""

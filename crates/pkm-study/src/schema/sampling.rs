@@ -4,6 +4,7 @@
 use super::units::{Degrees, Metres, PositiveMetres};
 use crate::StudyError;
 use nalgebra::Vector3;
+use pkm_traits::{Progress, Silent};
 use pkm_workspace_indices::{Domain, PointSet, Region, Sampler};
 use serde::{Deserialize, Serialize};
 
@@ -199,28 +200,43 @@ impl SamplingSpec {
     /// # Errors
     /// [`StudyError::Index`] for zero or too many points.
     pub fn point_set(&self, domain: Domain) -> Result<PointSet, StudyError> {
+        self.point_set_cancellable(domain, &Silent)
+    }
+
+    /// [`point_set`](Self::point_set), generated in blocks that each check `progress` first.
+    ///
+    /// # Errors
+    /// As [`point_set`](Self::point_set); [`StudyError::Cancelled`] when `progress` asks to stop.
+    pub fn point_set_cancellable(
+        &self,
+        domain: Domain,
+        progress: &dyn Progress,
+    ) -> Result<PointSet, StudyError> {
         let points = match self.sampler {
-            SamplerKind::Sobol => PointSet::new(
+            SamplerKind::Sobol => PointSet::new_cancellable(
                 domain,
                 Sampler::Sobol { seed: self.seed },
                 self.points,
                 self.replicates,
+                progress,
             ),
-            SamplerKind::MonteCarlo => PointSet::new(
+            SamplerKind::MonteCarlo => PointSet::new_cancellable(
                 domain,
                 Sampler::MonteCarlo { seed: self.seed },
                 self.points,
                 self.replicates,
+                progress,
             ),
             SamplerKind::Grid => {
                 let n = u64::from(self.per_axis);
-                PointSet::new(
+                PointSet::new_cancellable(
                     domain,
                     Sampler::Grid {
                         per_axis: self.per_axis,
                     },
                     n.saturating_mul(n).saturating_mul(n),
                     1,
+                    progress,
                 )
             }
         }?;
