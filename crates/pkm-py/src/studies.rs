@@ -26,6 +26,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pareto, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add_function(wrap_pyfunction!(optimize, m)?)?;
+    m.add_function(wrap_pyfunction!(task, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics, m)?)?;
     Ok(())
 }
@@ -86,6 +87,13 @@ fn optimize(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> Py
 }
 
 /// The sweep study (`pkm sweep`) of the whole grid, or of the shard `(i, n)` (1 ≤ i ≤ n).
+/// `pkm.task`: [`pkm_study::task`] on a study dict or TOML path.
+#[pyfunction]
+#[pyo3(signature = (study, progress = None))]
+fn task(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Py<PyAny>> {
+    run(study, progress, pkm_study::task)
+}
+
 #[pyfunction]
 #[pyo3(signature = (study, shard = None, progress = None))]
 fn sweep(

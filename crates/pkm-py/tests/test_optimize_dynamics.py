@@ -132,3 +132,30 @@ def test_bad_trajectories_are_refused_with_their_key(tmp_path):
     with pytest.raises(pkm.InvalidInput) as caught:
         pkm.dynamics(DYNAMICS_STUDY, progress=False)
     assert caught.value.key_path in ("(study)", "trajectory")
+
+
+TASK_TOML = EXAMPLES / "three_upu_singularity.toml"
+
+
+def test_task_result_is_the_commands_to_the_last_bit(pkm_command, tmp_path):
+    import subprocess
+
+    out = tmp_path / "out"
+    subprocess.run(
+        [str(pkm_command), "task", str(TASK_TOML), "--out", str(out), "--quiet"],
+        check=True,
+        capture_output=True,
+    )
+    command = json.loads((out / "results.json").read_text())["result"]
+    outcome = pkm.task(TASK_TOML, progress=False)
+    assert serialised(outcome["result"]) == serialised(command["result"])
+    assert len(outcome["tables"]["starts.csv"]["objective"]) == 16
+
+
+def test_task_refuses_a_bad_setting_at_its_key_path(tmp_path):
+    text = TASK_TOML.read_text().replace("count = 16", "count = 0")
+    study = tmp_path / "bad.toml"
+    study.write_text(text)
+    with pytest.raises(pkm.InvalidInput) as caught:
+        pkm.task(study, progress=False)
+    assert caught.value.key_path == "task.starts.count"

@@ -2,7 +2,7 @@
 
 Mechanisms vectorised over NumPy arrays (:class:`Mechanism`) and the design studies of the
 ``pkm`` command as functions taking a dict or a TOML path (:func:`workspace`, :func:`sweep`,
-:func:`pareto`, :func:`optimize`, :func:`dynamics`; :func:`merge` joins the shards of a split
+:func:`pareto`, :func:`optimize`, :func:`task`, :func:`dynamics`; :func:`merge` joins the shards of a split
 sweep or Pareto study). Every
 error is a :class:`pkm.Error`; study errors carry ``.key_path``.
 """
@@ -36,6 +36,7 @@ __all__ = [
     "pareto",
     "presets",
     "sweep",
+    "task",
     "workspace",
 ]
 
@@ -104,6 +105,16 @@ def optimize(study, *, progress=True):
     ``"starts.csv"``).
     """
     return _study(lambda report: _native.optimize(study, report), progress)
+
+
+def task(study, *, progress=True):
+    """The task study (``pkm task``) of ``study``, a dict or a TOML path: Wolf & Shoham's
+    task-based objective for a Stewart–Gough platform or a 3-UPU (``[mechanism.<kind>]``), the
+    multistart over the chosen pose and design variables with the first- and second-order checks
+    at the best start. Returns the outcome dict of :func:`workspace` (the starts as the table
+    ``"starts.csv"``).
+    """
+    return _study(lambda report: _native.task(study, report), progress)
 
 
 def dynamics(study, trajectory=None, *, progress=True):

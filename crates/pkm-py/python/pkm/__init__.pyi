@@ -86,6 +86,9 @@ def merge(parts: Iterable[Outcome], *, progress: bool = True) -> Outcome:
 def optimize(study: Study, *, progress: bool = True) -> Outcome:
     """The optimisation study (``pkm optimize``)."""
 
+def task(study: Study, *, progress: bool = True) -> Outcome:
+    """The task study (``pkm task``): Wolf & Shoham's task-based objective, multistart."""
+
 def dynamics(
     study: Study,
     trajectory: Union[None, npt.ArrayLike, str, "os.PathLike[str]"] = None,
