@@ -301,8 +301,8 @@ fn augmented_lagrangian_without_scaling_misses_the_optima() {
     let missed = |runs: Vec<Result<ConstrainedResult, _>>, optimum: &[f64], tolerance: f64| {
         runs.iter()
             .filter(|r| {
-                r.as_ref()
-                    .map_or(true, |r| !(relative_error(&r.design, optimum) < tolerance))
+                !r.as_ref()
+                    .is_ok_and(|r| relative_error(&r.design, optimum) < tolerance)
             })
             .count()
     };
