@@ -266,8 +266,9 @@ const SCREENING_FEASIBILITY: f64 = 1e-2;
 /// [`TsaiProblem::screening`] objective reach the best values (ties: the earlier start),
 /// each returned as it was given, so that its full run is the one an unscreened multistart
 /// would make. A full run costs as much as about a hundred screening runs, and the starts end
-/// in separate local optima whose order the screening already shows: the leg angles move
-/// little from a start, and the lengths settle within a few outer iterations.
+/// in separate local optima whose order the screening already shows: the lengths settle within
+/// a few outer iterations, and the solver's scaling by the box widths (issue 20) moves the leg
+/// angles within them as well.
 fn screened_starts(
     problem: &TsaiProblem<'_>,
     starts: Vec<Vec<f64>>,
