@@ -125,6 +125,7 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
     let widen = if quick { 4.0 } else { 1.0 };
     let fixed = box_bounds.map(|b| b.upper() <= b.lower());
     let improvement = Improvement::of(study.criterion, &ours, &paper);
+    let compared = nearest_equivalent_layout(&best.design, &study.paper);
     let mut rows: Vec<Comparison> = (0..6)
         .map(|k| {
             if fixed[k] {
@@ -136,9 +137,18 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
                 NAMES[k],
                 UNITS[k],
                 study.paper[k],
-                best.design[k],
+                compared[k],
                 widen * study.tolerance[k],
             );
+            let row = if compared[k] == best.design[k] {
+                row
+            } else {
+                row.with_note(format!(
+                    "the optimum's legs 0/{:.2}/{:.2} turned about Z to put another leg at 0 \
+                     (the same robot, W and eta unchanged)",
+                    best.design[4], best.design[5]
+                ))
+            };
             match &study.erratum {
                 Some(e) if e.quantities.contains(&NAMES[k]) && improvement.is_significant() => {
                     row.erratum(e.anchor).with_note(improvement.note())
@@ -360,6 +370,32 @@ impl Improvement {
             self.in_standard_errors()
         )
     }
+}
+
+/// The design `x` with its leg layout $\{0, \phi_2, \phi_3\}$ turned about Z so that another
+/// leg sits at 0°, whichever of the three turns (the identity included) lies nearest the
+/// paper's $(\phi_2, \phi_3)$: the legs are identical, so turning the whole robot and
+/// renumbering its legs changes neither $W$ nor $\eta$ (e.g. 0/350/355 is 0/5/355 turned by
+/// 5°).
+fn nearest_equivalent_layout(x: &[f64], paper: &[f64; 6]) -> Vec<f64> {
+    let legs = [0.0, x[4], x[5]];
+    let turned = legs.map(|zero| {
+        let mut l = legs.map(|phi| (phi - zero).rem_euclid(360.0));
+        l.sort_by(f64::total_cmp);
+        [l[1], l[2]]
+    });
+    let distance = |l: &[f64; 2]| (l[0] - paper[4]).abs() + (l[1] - paper[5]).abs();
+    let nearest = turned.iter().fold(turned[0], |best, l| {
+        if distance(l) < distance(&best) {
+            *l
+        } else {
+            best
+        }
+    });
+    let mut y = x.to_vec();
+    y[4] = nearest[0];
+    y[5] = nearest[1];
+    y
 }
 
 /// The first- and second-order checks at pkm's optimum on the common points
