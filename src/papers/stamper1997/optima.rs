@@ -140,7 +140,7 @@ pub(super) fn run(study: &Study, ctx: &Context<'_>) -> Result<Outcome, Experimen
                 compared[k],
                 widen * study.tolerance[k],
             );
-            let row = if compared[k] == best.design[k] {
+            let row = if compared[k].to_bits() == best.design[k].to_bits() {
                 row
             } else {
                 row.with_note(format!(
