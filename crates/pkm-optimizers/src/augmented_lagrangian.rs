@@ -2,8 +2,9 @@
 //! and inequality constraints $g(p) \le 0$ ([`pkm_traits::Constraints`]):
 //! $$ \mathcal{L}_\rho(p, \mu) = f(p) + \frac{1}{2\rho}\sum_i
 //!    \big(\max(0, \mu_i + \rho g_i(p))^2 - \mu_i^2\big), $$
-//! minimised over the box by a spectral projected gradient with central-difference gradients,
-//! then $\mu_i \leftarrow \max(0, \mu_i + \rho g_i)$; $\rho$ (from [`INITIAL_PENALTY`]) grows
+//! minimised over the box by a spectral projected gradient with central-difference gradients
+//! in the scaled variables $z_j = x_j / s_j$ of [`crate::scaling`] (by default $s_j$ = the
+//! width of the box side, so lengths in metres and angles in degrees move alike), then $\mu_i \leftarrow \max(0, \mu_i + \rho g_i)$; $\rho$ (from [`INITIAL_PENALTY`]) grows
 //! by [`PENALTY_GROWTH`] up to [`MAX_PENALTY`] when the violation does not shrink by
 //! [`REQUIRED_VIOLATION_DECREASE`]. A maximisation ([`Sense::Maximise`]) minimises $-f$. (argmin offers no constrained SQP; the `cobyla` crate is
 //! derivative-free and slower on these smooth 6-D problems, so neither was taken.)
@@ -11,6 +12,7 @@
 use crate::OptimizeError;
 use crate::finite_differences::RELATIVE_STEP;
 use crate::multistart::LocalResult;
+use crate::scaling::{CharacteristicScale, variable_scales};
 use crate::sense::Sense;
 use crate::spg::{InnerSettings, minimise_in_box, project};
 use crate::termination::Termination;
@@ -41,7 +43,8 @@ pub struct AugmentedLagrangianSettings {
     /// [`crate::finite_differences::RELATIVE_STEP`]; use ~1e-3 for Monte Carlo objectives on
     /// common random numbers.
     pub fd_step: f64,
-    /// Inner stopping tolerance on the projected step, in box widths. Default 1e-9.
+    /// Inner stopping tolerance on the projected step $\lVert S^{-1} d \rVert_\infty$, in scaled
+    /// units (box widths under the default scaling). Default 1e-9.
     pub tolerance: f64,
     /// Largest admissible constraint violation of the returned design. Default 1e-6.
     pub feasibility: f64,
@@ -49,6 +52,11 @@ pub struct AugmentedLagrangianSettings {
     pub max_outer: usize,
     /// Inner iterations per outer one. Default 200.
     pub max_inner: usize,
+    /// Characteristic scale of each variable, in its unit (e.g. `scale = [1e-3, 1e3]`); one
+    /// value per variable, finite and $> 0$. Default: none, each variable scaled by the width
+    /// of its box side ([`crate::scaling`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale: Option<CharacteristicScale>,
 }
 
 impl Default for AugmentedLagrangianSettings {
@@ -59,6 +67,7 @@ impl Default for AugmentedLagrangianSettings {
             feasibility: 1e-6,
             max_outer: 30,
             max_inner: 200,
+            scale: None,
         }
     }
 }
@@ -106,8 +115,8 @@ impl LocalResult for ConstrainedResult {
 /// once per outer iteration, and is asked for cancellation before every inner iteration.
 ///
 /// # Errors
-/// [`OptimizeError::Invalid`] for a start of the wrong length or settings that fail
-/// [`AugmentedLagrangianSettings::validate`];
+/// [`OptimizeError::Invalid`] for a start of the wrong length, settings that fail
+/// [`AugmentedLagrangianSettings::validate`] or a `scale` without one value per variable;
 /// [`OptimizeError::NoFeasibleDesign`] when the final design still violates a constraint by
 /// more than `settings.feasibility` (an infeasible constraint set: no design is returned);
 /// [`OptimizeError::Objective`] for an objective failure other than infeasibility, and for a
@@ -148,8 +157,9 @@ pub fn augmented_lagrangian<P: Constraints>(
 ) -> Result<ConstrainedResult, OptimizeError> {
     check_start(problem, start)?;
     settings.validate()?;
+    let scale = variable_scales(problem.bounds(), settings.scale.as_ref())?;
     progress.start("augmented Lagrangian", settings.max_outer as u64);
-    let result = solve(problem, sense, start, settings, progress);
+    let result = solve(problem, sense, start, settings, scale, progress);
     progress.finish();
     result
 }
@@ -159,6 +169,7 @@ fn solve<P: Constraints>(
     sense: Sense,
     start: &[f64],
     settings: &AugmentedLagrangianSettings,
+    scale: Vec<f64>,
     progress: &dyn Progress,
 ) -> Result<ConstrainedResult, OptimizeError> {
     let bounds = problem.bounds();
@@ -179,6 +190,7 @@ fn solve<P: Constraints>(
         fd_step: settings.fd_step,
         tolerance: settings.tolerance,
         max_iterations: settings.max_inner,
+        scale,
     };
     let (mut outer_iterations, mut inner_iterations) = (0, 0);
     while outer_iterations < settings.max_outer {

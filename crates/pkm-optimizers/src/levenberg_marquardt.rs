@@ -2,8 +2,13 @@
 //! $f(p) = \sum_i r_i(p)^2 = \lVert r(p) \rVert^2$ over a box, with a KKT report at the optimum
 //! (Wolf & Shoham §3: "Gauss–Newton").
 //!
-//! Each iteration solves the damped normal equations on the free variables,
-//! $$ (A^\top A + \mu I)\,\delta = \sigma A^\top r, \qquad A = \partial r / \partial p, $$
+//! Each iteration solves the damped normal equations on the free variables in the scaled
+//! variables $z = S^{-1} p$ of [`crate::scaling`] ($S = \mathrm{diag}(s)$, by default the box
+//! widths),
+//! $$ (A_z^\top A_z + \mu I)\,\delta_z = \sigma A_z^\top r, \qquad A_z = A S, \quad
+//!    A = \partial r / \partial p, \quad \delta = S \delta_z, $$
+//! that is Marquardt's $(A^\top A + \mu S^{-2})\,\delta = \sigma A^\top r$, so the damping
+//! treats a variable in degrees over 345 and one in metres over 0.3 alike,
 //! ($A$ from [`Residuals::residual_jacobian`] when the problem provides it, else central
 //! differences of the residuals with step [`LmSettings::fd_step`]),
 //! with $\sigma = -1$ to minimise and $\sigma = +1$ to maximise (for a maximisation the
@@ -20,6 +25,7 @@
 use crate::error::OptimizeError;
 use crate::finite_differences::{self, HESSIAN_RELATIVE_STEP, RELATIVE_STEP};
 use crate::multistart::{LocalResult, Multistart, multistart};
+use crate::scaling::{CharacteristicScale, variable_scales};
 use crate::sense::Sense;
 use crate::termination::Termination;
 use faer::Mat;
@@ -30,8 +36,8 @@ use serde::{Deserialize, Serialize};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Initial damping relative to the largest diagonal entry of $A^\top A$:
-/// $\mu_0 = 10^{-3} \max_k (A^\top A)_{kk}$ (Marquardt's usual scale).
+/// Initial damping relative to the largest diagonal entry of $A_z^\top A_z$ (scaled variables):
+/// $\mu_0 = 10^{-3} \max_k (A_z^\top A_z)_{kk}$ (Marquardt's usual scale).
 pub const INITIAL_DAMPING_SCALE: f64 = 1e-3;
 /// Floor of $\max_k (A^\top A)_{kk}$ in $\mu_0$, so a vanishing Jacobian still starts with
 /// $\mu_0 > 0$.
@@ -61,19 +67,34 @@ pub enum ActiveBound {
 
 /// Settings of [`levenberg_marquardt`]. In a study file (e.g. `[task.solver]`) every key is
 /// optional, with the defaults below: `max_iterations = 200`, `tolerance = 1e-12`,
-/// `fd_step = 1e-6`.
+/// `gradient_tolerance = 1e-6`, `fd_step = 1e-6`, no `scale` (the box widths).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields, default)]
 pub struct LmSettings {
     /// Largest number of iterations (at least 1).
     pub max_iterations: usize,
-    /// Stop when the projected gradient's largest entry, scaled by the interval width, is below
-    /// this, or when a step changes $f$ by less than this relative amount (finite and $> 0$).
+    /// Stop when a step changes $f$ by less than this relative amount, $|\Delta f| \le
+    /// \tau (1 + |f|)$, and the projected gradient at the new point does not already meet
+    /// [`LmSettings::gradient_tolerance`] (finite and $> 0$).
     pub tolerance: f64,
+    /// Stop when the projected gradient in scaled variables is small,
+    /// $\max_{j\ \text{free}} |s_j\, \partial f / \partial p_j| \le \tau_g (1 + |f|)$
+    /// (finite and $> 0$). Default $10^{-6} = \sqrt{10^{-12}}$: near an optimum
+    /// $|f - f^*| \approx \tfrac12 g_z^\top H_z^{-1} g_z$, so this gradient matches the change
+    /// in $f$ of the default [`LmSettings::tolerance`] for a Hessian of order 1 in scaled
+    /// variables, and it lies well above the rounding noise of a central difference with the
+    /// default step ($\approx \varepsilon_{\mathrm{mach}} / 10^{-6} \approx 2 \times 10^{-10}$
+    /// relative to $f$), so the test fires with finite-difference Jacobians too.
+    pub gradient_tolerance: f64,
     /// Finite-difference step, relative to each interval width (for problems without
     /// [`Residuals::residual_jacobian`]); in $(0, 0.1)$. Default
     /// [`finite_differences::RELATIVE_STEP`].
     pub fd_step: f64,
+    /// Characteristic scale $s_j$ of each variable, in its unit (e.g. `scale = [1e-3, 1e3]`);
+    /// one value per variable, finite and $> 0$. Default: none, each variable scaled by the
+    /// width of its box side ([`crate::scaling`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale: Option<CharacteristicScale>,
 }
 
 impl Default for LmSettings {
@@ -81,7 +102,9 @@ impl Default for LmSettings {
         Self {
             max_iterations: 200,
             tolerance: 1e-12,
+            gradient_tolerance: 1e-6,
             fd_step: RELATIVE_STEP,
+            scale: None,
         }
     }
 }
@@ -91,7 +114,8 @@ impl LmSettings {
     ///
     /// # Errors
     /// [`OptimizeError::Invalid`] for no iteration, a tolerance that is not finite and
-    /// positive, or a step outside $(0, 0.1)$.
+    /// positive, or a step outside $(0, 0.1)$. (A `scale` is checked against the problem's
+    /// dimension when a solver starts.)
     ///
     /// # Example
     /// ```
@@ -103,6 +127,7 @@ impl LmSettings {
     pub fn validate(&self) -> Result<(), OptimizeError> {
         InvalidInput::require_nonzero_count("max_iterations", self.max_iterations)?;
         InvalidInput::require_positive("tolerance", self.tolerance)?;
+        InvalidInput::require_positive("gradient_tolerance", self.gradient_tolerance)?;
         if !((finite_differences::MIN_RELATIVE_STEP..0.1).contains(&self.fd_step)) {
             return Err(InvalidInput::new(
                 "fd_step",
@@ -174,8 +199,8 @@ impl LocalResult for LocalOptimum {
 /// iteration, and is asked for cancellation before every evaluation of a trial step.
 ///
 /// # Errors
-/// [`OptimizeError::Invalid`] for settings that fail [`LmSettings::validate`] or a start that
-/// is not finite; [`OptimizeError::Objective`] for a start of the wrong length; [`OptimizeError::Objective`] when the residuals fail;
+/// [`OptimizeError::Invalid`] for settings that fail [`LmSettings::validate`], a `scale`
+/// without one value per variable, or a start that is not finite; [`OptimizeError::Objective`] for a start of the wrong length; [`OptimizeError::Objective`] when the residuals fail;
 /// [`OptimizeError::Numerical`] when the damped normal matrix is not positive definite or the
 /// eigenvalues of the reduced Hessian do not converge; [`OptimizeError::Cancelled`] once
 /// `progress` is cancelled (a cancelled run returns no design, as every solver of this crate).
@@ -261,14 +286,19 @@ fn run<P: Residuals + ?Sized>(
     progress: &dyn Progress,
 ) -> Result<LocalOptimum, OptimizeError> {
     validate_start(problem.problem, start)?;
-    progress.check()?;
     let bounds = problem.problem.bounds();
+    let scale = variable_scales(bounds, settings.scale.as_ref())?;
+    progress.check()?;
     let sign = sense.sign();
     let mut p: Vec<f64> = start.iter().zip(bounds).map(|(x, b)| b.clamp(*x)).collect();
     let mut f = sum_of_squares(problem, &p)?;
     let mut mu = 0.0;
     let mut iterations = 0;
-    let mut termination = Termination::MaxIterations;
+    // Why to stop once the projected gradient at `p` is known not to be small: a small change
+    // in f is declared only after the gradient test at the new point had its chance (in the
+    // next iteration, when one is left).
+    let mut pending: Option<Termination> = None;
+    let mut termination = None;
     while iterations < settings.max_iterations {
         progress.check()?;
         iterations += 1;
@@ -276,57 +306,74 @@ fn run<P: Residuals + ?Sized>(
         let (r, a) = residuals_and_jacobian(problem, &p, settings.fd_step)?;
         let grad = gradient_from(&r, &a);
         let free = free_set(&p, &grad, bounds, sign);
+        // max over the free variables of |∂f/∂z_j| = |s_j ∂f/∂p_j|.
         let projected = free
             .iter()
-            .map(|&j| (grad[j] * bounds[j].width()).abs())
+            .map(|&j| (grad[j] * scale[j]).abs())
             .fold(0.0, f64::max);
-        if free.is_empty() {
-            termination = Termination::Converged {
+        termination = if free.is_empty() {
+            Some(Termination::Converged {
                 criterion: "every variable held on a bound",
-            };
-            break;
-        }
-        if projected <= settings.tolerance * (1.0 + f.abs()) {
-            termination = Termination::Converged {
+            })
+        } else if projected <= settings.gradient_tolerance * (1.0 + f.abs()) {
+            Some(Termination::Converged {
                 criterion: "projected gradient",
-            };
+            })
+        } else {
+            pending
+        };
+        if termination.is_some() {
             break;
         }
-        let (ata, atr) = normal_equations(&r, &a, &free);
+        let system = NormalSystem::new(&r, &a, free, &scale, sign);
         if mu == 0.0 {
-            mu = INITIAL_DAMPING_SCALE
-                * (0..free.len()).fold(MIN_NORMAL_DIAGONAL, |m, i| f64::max(m, ata[(i, i)]));
+            mu = INITIAL_DAMPING_SCALE * system.largest_diagonal();
         }
-        // Why to stop after this iteration, if at all: stalled unless an improving step is found.
-        let mut stop = Some(Termination::Stalled);
-        while mu < MAX_DAMPING {
-            progress.check()?;
-            let delta = solve_damped(&ata, &atr, mu, sign)?;
-            let mut trial = p.clone();
-            for (k, &j) in free.iter().enumerate() {
-                trial[j] = bounds[j].clamp(p[j] + delta[k]);
-            }
-            let f_trial = sum_of_squares(problem, &trial)?;
-            if sign * (f_trial - f) > 0.0 {
-                let gain = (f_trial - f).abs();
-                p = trial;
-                f = f_trial;
-                mu /= DAMPING_DECREASE;
-                stop = (gain <= settings.tolerance * (1.0 + f.abs())).then_some(
-                    Termination::Converged {
-                        criterion: "relative change in f",
-                    },
-                );
-                break;
-            }
-            mu *= DAMPING_INCREASE;
-        }
-        if let Some(reason) = stop {
-            termination = reason;
+        let Some(gain) = damped_step(problem, &system, (&mut p, &mut f), &mut mu, progress)? else {
+            termination = Some(Termination::Stalled);
             break;
-        }
+        };
+        pending =
+            (gain <= settings.tolerance * (1.0 + f.abs())).then_some(Termination::Converged {
+                criterion: "relative change in f",
+            });
     }
+    let termination = termination
+        .or(pending)
+        .unwrap_or(Termination::MaxIterations);
     report(problem, p, f, iterations, termination, settings)
+}
+
+/// One Levenberg–Marquardt step: raises $\mu$ until a damped step in scaled variables improves
+/// $f$ in the direction of the system's sign, then moves `p` there and lowers $\mu$. Returns the
+/// gain $|\Delta f|$, or `None` when $\mu$ reached [`MAX_DAMPING`] without an improving step.
+fn damped_step<P: Residuals + ?Sized>(
+    problem: &Counted<'_, P>,
+    system: &NormalSystem<'_>,
+    (p, f): (&mut Vec<f64>, &mut f64),
+    mu: &mut f64,
+    progress: &dyn Progress,
+) -> Result<Option<f64>, OptimizeError> {
+    let bounds = problem.problem.bounds();
+    while *mu < MAX_DAMPING {
+        progress.check()?;
+        let delta = solve_damped(&system.ata, &system.atr, *mu, system.sign)?;
+        let mut trial = p.clone();
+        for (k, &j) in system.free.iter().enumerate() {
+            // δp_j = s_j δz_j.
+            trial[j] = bounds[j].clamp(p[j] + system.scale[j] * delta[k]);
+        }
+        let f_trial = sum_of_squares(problem, &trial)?;
+        if system.sign * (f_trial - *f) > 0.0 {
+            let gain = (f_trial - *f).abs();
+            *p = trial;
+            *f = f_trial;
+            *mu /= DAMPING_DECREASE;
+            return Ok(Some(gain));
+        }
+        *mu *= DAMPING_INCREASE;
+    }
+    Ok(None)
 }
 
 /// The best of the local optima of a multistart, with the counts of the whole run.
@@ -461,17 +508,38 @@ fn free_set(p: &[f64], grad: &[f64], bounds: &[Bounds], sign: f64) -> Vec<usize>
         .collect()
 }
 
-fn normal_equations(r: &[f64], a: &Mat<f64>, free: &[usize]) -> (Mat<f64>, Mat<f64>) {
-    let n = free.len();
-    let ata = Mat::from_fn(n, n, |k, l| {
-        (0..r.len())
-            .map(|i| a[(i, free[k])] * a[(i, free[l])])
-            .sum()
-    });
-    let atr = Mat::from_fn(n, 1, |k, _| {
-        (0..r.len()).map(|i| a[(i, free[k])] * r[i]).sum()
-    });
-    (ata, atr)
+/// The normal equations of one iteration in scaled variables: $A_z^\top A_z$ and
+/// $A_z^\top r$ over the free columns of $A_z = A S$.
+struct NormalSystem<'s> {
+    ata: Mat<f64>,
+    atr: Mat<f64>,
+    free: Vec<usize>,
+    scale: &'s [f64],
+    /// $\sigma$: $-1$ to minimise, $+1$ to maximise.
+    sign: f64,
+}
+
+impl<'s> NormalSystem<'s> {
+    fn new(r: &[f64], a: &Mat<f64>, free: Vec<usize>, scale: &'s [f64], sign: f64) -> Self {
+        let n = free.len();
+        let az = Mat::from_fn(r.len(), n, |i, k| a[(i, free[k])] * scale[free[k]]);
+        let ata = Mat::from_fn(n, n, |k, l| {
+            (0..r.len()).map(|i| az[(i, k)] * az[(i, l)]).sum()
+        });
+        let atr = Mat::from_fn(n, 1, |k, _| (0..r.len()).map(|i| az[(i, k)] * r[i]).sum());
+        Self {
+            ata,
+            atr,
+            free,
+            scale,
+            sign,
+        }
+    }
+
+    /// $\max_k (A_z^\top A_z)_{kk}$, at least [`MIN_NORMAL_DIAGONAL`].
+    fn largest_diagonal(&self) -> f64 {
+        (0..self.free.len()).fold(MIN_NORMAL_DIAGONAL, |m, i| f64::max(m, self.ata[(i, i)]))
+    }
 }
 
 fn solve_damped(

@@ -22,6 +22,12 @@
 //!   nodes of a grid) picks its best by [`Sense::best`]: NaN never best, a tie to the first, so
 //!   no result depends on the thread count.
 //! - *Derivatives.* Every finite difference goes through [`finite_differences`].
+//! - *Scaling.* The local solvers (Levenberg–Marquardt, the augmented Lagrangian and its
+//!   spectral projected gradient) iterate in the scaled variables $z_j = x_j / s_j$ of
+//!   [`scaling`], $s_j$ the width of variable $j$'s box side or a user-given
+//!   [`CharacteristicScale`] (the settings' `scale`); their stopping tolerances are in scaled
+//!   units and their results in the user's variables. Variables that differ by $10^6$ in scale
+//!   then converge alike (tests `tests/scaling.rs`).
 //!
 //! The solvers and tools:
 //! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel
@@ -54,6 +60,7 @@ mod lattice_refinement;
 mod levenberg_marquardt;
 mod multistart;
 mod pareto;
+pub mod scaling;
 mod sense;
 mod spg;
 mod termination;
@@ -82,6 +89,7 @@ pub use multistart::{
     LocalResult, MAX_STARTS, Multistart, MultistartRun, multistart, uniform_start_points,
 };
 pub use pareto::{ParetoFront, pareto_front};
+pub use scaling::{CharacteristicScale, MAX_SCALED_VARIABLES, variable_scales};
 pub use sense::Sense;
 pub use termination::Termination;
 pub use weighted_combination::weighted_combination;

@@ -1,9 +1,16 @@
 //! Spectral projected gradient (Birgin, Martínez & Raydan 2000) with central-difference
 //! gradients ([`crate::finite_differences::gradient`]): the bound-constrained inner solver of
 //! [`crate::augmented_lagrangian`].
+//!
+//! It iterates in the scaled variables $z = S^{-1} x$ of [`crate::scaling`]: with
+//! $g = \nabla_x f$, the trial direction is
+//! $$ d = P(x - \lambda S^2 g) - x \qquad (z - \lambda \nabla_z f \text{ mapped back}), $$
+//! $\lambda_0 = 1 / \lVert S g \rVert_\infty$, the spectral step
+//! $\lambda = \lVert S^{-1} \Delta x \rVert^2 / (\Delta x^\top \Delta g)$, and the stop
+//! $\lVert S^{-1} d \rVert_\infty <$ tolerance.
 
 use crate::OptimizeError;
-use crate::finite_differences::{self, MIN_WIDTH};
+use crate::finite_differences;
 use pkm_traits::{Bounds, ObjectiveError, Progress};
 
 /// Armijo constant of the (monotone) backtracking line search: accept $t$ when
@@ -30,14 +37,16 @@ pub(crate) fn project(bounds: &[Bounds], x: &mut [f64]) {
 pub(crate) struct InnerSettings {
     /// Relative finite-difference step.
     pub fd_step: f64,
-    /// Stop when the projected-gradient step is below this, in box widths.
+    /// Stop when the projected-gradient step is below this, in scaled units.
     pub tolerance: f64,
+    /// The characteristic scale $s_j$ of each variable ([`crate::scaling`]).
+    pub scale: Vec<f64>,
     /// Iteration limit.
     pub max_iterations: usize,
 }
 
 /// Minimises `f` over the box from `x` (projected), stopping when the projected-gradient step
-/// is below the tolerance (in units of the box widths) or after the iteration limit. Returns
+/// is below the tolerance (in scaled units) or after the iteration limit. Returns
 /// $f(x)$ and the iterations spent.
 ///
 /// # Errors
@@ -57,19 +66,29 @@ where
     project(bounds, x);
     let h = settings.fd_step;
     let mut fx = f(x)?;
+    let scale = &settings.scale;
     let mut g = finite_differences::gradient(f, bounds, x, fx, h)?;
-    let mut lambda = 1.0 / g.iter().map(|v| v.abs()).fold(MIN_FIRST_GRADIENT, f64::max);
+    let mut lambda = 1.0
+        / g.iter()
+            .zip(scale)
+            .map(|(v, s)| (s * v).abs())
+            .fold(MIN_FIRST_GRADIENT, f64::max);
     let mut iterations = 0;
     while iterations < settings.max_iterations {
         progress.check()?;
         iterations += 1;
-        let mut d: Vec<f64> = x.iter().zip(&g).map(|(xi, gi)| xi - lambda * gi).collect();
+        let mut d: Vec<f64> = x
+            .iter()
+            .zip(&g)
+            .zip(scale)
+            .map(|((xi, gi), si)| xi - lambda * (si * si * gi))
+            .collect();
         project(bounds, &mut d);
         d.iter_mut().zip(x.iter()).for_each(|(di, xi)| *di -= xi);
         let size = d
             .iter()
-            .zip(bounds)
-            .map(|(di, b)| (di / b.width().max(MIN_WIDTH)).abs())
+            .zip(scale)
+            .map(|(di, si)| (di / si).abs())
             .fold(0.0, f64::max);
         if size < settings.tolerance {
             break;
@@ -93,7 +112,7 @@ where
         let s: Vec<f64> = trial.iter().zip(x.iter()).map(|(a, b)| a - b).collect();
         let y: Vec<f64> = g_new.iter().zip(&g).map(|(a, b)| a - b).collect();
         let sy: f64 = s.iter().zip(&y).map(|(a, b)| a * b).sum();
-        let ss: f64 = s.iter().map(|v| v * v).sum();
+        let ss: f64 = s.iter().zip(scale).map(|(v, si)| (v / si).powi(2)).sum();
         lambda = if sy > 0.0 {
             (ss / sy).clamp(MIN_SPECTRAL_STEP, MAX_SPECTRAL_STEP)
         } else {

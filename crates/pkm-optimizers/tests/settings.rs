@@ -4,8 +4,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, GridAxis, GridSearch, LatticeLevel, LmSettings, Multistart,
-    RefinementSettings, Sense, kkt::KktSettings,
+    AugmentedLagrangianSettings, CharacteristicScale, GridAxis, GridSearch, LatticeLevel,
+    LmSettings, Multistart, RefinementSettings, Sense, kkt::KktSettings,
 };
 use serde::de::DeserializeOwned;
 use std::path::Path;
@@ -38,6 +38,7 @@ fn the_example_studies_read_into_the_library_settings() {
             feasibility: 1e-6,
             max_outer: 15,
             max_inner: 100,
+            scale: None,
         }
     );
     let starts: Multistart = table("tsai_volume_optimize.toml", &["optimize", "starts"]);
@@ -142,4 +143,29 @@ fn settings_round_trip_through_json() {
     let starts = Multistart::new(3, 9).with_extra_starts(vec![vec![0.25, -1.0]]);
     let json = serde_json::to_string(&starts).unwrap();
     assert_eq!(serde_json::from_str::<Multistart>(&json).unwrap(), starts);
+}
+
+#[test]
+fn a_characteristic_scale_is_a_list_checked_when_read() {
+    let lm: LmSettings = toml::from_str("scale = [1e-3, 1e3]").unwrap();
+    assert_eq!(lm.scale.unwrap().values(), &[1e-3, 1e3]);
+    let al: AugmentedLagrangianSettings = toml::from_str("scale = [0.5]").unwrap();
+    assert_eq!(al.scale, Some(CharacteristicScale::new(&[0.5]).unwrap()));
+    for bad in [
+        "scale = []",
+        "scale = [1.0, 0.0]",
+        "scale = [-1.0]",
+        "scale = [nan]",
+        "scale = [inf]",
+    ] {
+        let e = toml::from_str::<LmSettings>(bad).unwrap_err().to_string();
+        assert!(e.contains("scale"), "{bad}: {e}");
+    }
+    let too_many = format!("scale = [{}]", vec!["1.0"; 33].join(", "));
+    assert!(toml::from_str::<AugmentedLagrangianSettings>(&too_many).is_err());
+    // Round trip, and no key at all when there is no scale (settings echoed as before).
+    let json = serde_json::to_string(&lm).unwrap();
+    assert_eq!(serde_json::from_str::<LmSettings>(&json).unwrap(), lm);
+    let plain = serde_json::to_string(&AugmentedLagrangianSettings::default()).unwrap();
+    assert!(!plain.contains("scale"), "{plain}");
 }

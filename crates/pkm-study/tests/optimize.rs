@@ -63,6 +63,7 @@ fn tsai_volume_optimisation_matches_the_library_run() {
         feasibility: 1e-6,
         max_outer: 15,
         max_inner: 100,
+        scale: None,
     };
     let starts = uniform_start_points(problem.bounds(), 4, 2024).unwrap();
     let mut best: Option<ConstrainedResult> = None;

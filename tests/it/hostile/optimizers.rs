@@ -161,7 +161,7 @@ proptest! {
         max_iterations in 0..50usize, maximise in prop::bool::ANY, n_starts in hostile_count(), seed in any::<u64>(),
     ) {
         let bowl = Bowl::new(3);
-        let settings = LmSettings { max_iterations, tolerance, fd_step };
+        let settings = LmSettings { max_iterations, tolerance, fd_step, ..LmSettings::default() };
         let sense = sense(maximise);
         let checked = |o: &pkm_optimizers::LocalOptimum| {
             o.value.is_finite() && design_inside(bowl.bounds(), &o.design) && all_finite(o.gradient.iter())
@@ -202,7 +202,7 @@ proptest! {
         feasibility in hostile_f64(), max_outer in 0..6usize, max_inner in 0..40usize, maximise in prop::bool::ANY,
     ) {
         let bowl = Bowl::new(2);
-        let settings = AugmentedLagrangianSettings { fd_step, tolerance, feasibility, max_outer, max_inner };
+        let settings = AugmentedLagrangianSettings { fd_step, tolerance, feasibility, max_outer, max_inner, scale: None };
         judge("AugmentedLagrangianSettings::validate", || settings.validate(), |_| {
             [fd_step, tolerance, feasibility].iter().all(|v| v.is_finite() && *v > 0.0) && fd_step < 0.1
                 && max_outer >= 1 && max_inner >= 1
