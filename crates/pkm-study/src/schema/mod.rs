@@ -5,5 +5,6 @@
 pub mod grid;
 mod kinds;
 pub mod mechanism;
+pub mod robot_file;
 pub mod sampling;
 pub mod units;
