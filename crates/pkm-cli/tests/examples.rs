@@ -36,6 +36,7 @@ fn the_example_studies_are_valid() {
         "nuwar_workspace.toml",
         "three_upu_workspace.toml",
         "stewart_gough_workspace.toml",
+        "robot_file_workspace.toml",
     ] {
         let _: (String, WorkspaceStudy) = study::load_study(&example(name)).unwrap();
     }
@@ -62,7 +63,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        10,
+        11,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -7,6 +7,9 @@
 
 pub use pkm_study::schema::{mechanism, sampling, units};
 
+mod robot_file;
+pub use robot_file::{StudySource, load_study, load_study_source};
+
 use crate::CliError;
 use pkm_study::{Key, KeyPath, StudyError};
 use serde::de::DeserializeOwned;
@@ -53,16 +56,6 @@ pub fn parse<T: DeserializeOwned>(path: &Path, text: String) -> Result<StudyFile
             e.message().trim_end(),
         )),
     }
-}
-
-/// Reads the study at `path` with the study layer's schema.
-///
-/// # Errors
-/// [`CliError::Io`] when it cannot be read, [`CliError::Study`] at the offending key's line.
-pub fn load_study<T: DeserializeOwned>(path: &Path) -> Result<(String, T), CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
-    let study = pkm_study::from_toml_str(&text).map_err(|e| study_error(path, &text, e))?;
-    Ok((text, study))
 }
 
 /// The command's error for a study layer's error about the file `path` with contents `text`:
