@@ -73,25 +73,54 @@ fn a_bad_robot_file_is_reported_at_its_line_and_column() {
 
     // A zero axis on line 9: the model's check, at its key in the robot file.
     let zero_axis = tsai.replacen("axis = [0.0, -1.0, 0.0]", "axis = [0.0, 0.0, 0.0]", 1);
-    let line = zero_axis.lines().position(|l| l.contains("[0.0, 0.0, 0.0]")).unwrap() + 1;
-    let column = zero_axis.lines().nth(line - 1).unwrap().find("[0.0, 0.0, 0.0]").unwrap() + 1;
+    let line = zero_axis
+        .lines()
+        .position(|l| l.contains("[0.0, 0.0, 0.0]"))
+        .unwrap()
+        + 1;
+    let column = zero_axis
+        .lines()
+        .nth(line - 1)
+        .unwrap()
+        .find("[0.0, 0.0, 0.0]")
+        .unwrap()
+        + 1;
     let stderr = rejected(dir.path(), Some(&zero_axis));
     let position = format!("robot.toml:{line}:{column}:");
-    assert!(stderr.contains(&position), "expected {position} in {stderr}");
-    assert!(stderr.contains("mechanism.robot_file.legs[0].joints[0].axis"), "{stderr}");
+    assert!(
+        stderr.contains(&position),
+        "expected {position} in {stderr}"
+    );
+    assert!(
+        stderr.contains("mechanism.robot_file.legs[0].joints[0].axis"),
+        "{stderr}"
+    );
 
     // A name that is not a parameter: at the number it stands for.
     let unknown = tsai.replacen("offset = 0.0", "offset = \"home_angle\"", 1);
-    let line = unknown.lines().position(|l| l.contains("home_angle")).unwrap() + 1;
-    let column = unknown.lines().nth(line - 1).unwrap().find("\"home_angle\"").unwrap() + 1;
+    let line = unknown
+        .lines()
+        .position(|l| l.contains("home_angle"))
+        .unwrap()
+        + 1;
+    let column = unknown
+        .lines()
+        .nth(line - 1)
+        .unwrap()
+        .find("\"home_angle\"")
+        .unwrap()
+        + 1;
     let stderr = rejected(dir.path(), Some(&unknown));
     let position = format!("robot.toml:{line}:{column}:");
-    assert!(stderr.contains(&position), "expected {position} in {stderr}");
+    assert!(
+        stderr.contains(&position),
+        "expected {position} in {stderr}"
+    );
     assert!(stderr.contains("home_angle"), "{stderr}");
 
     // Not TOML at all: the parser's position in the robot file.
     let stderr = rejected(dir.path(), Some("name = \"3-RUU\"\ntask = [\"x\",\n"));
-    assert!(stderr.contains("robot.toml:3:"), "{stderr}");
+    assert!(stderr.contains("robot.toml:2:13:"), "{stderr}");
 
     // No such file: at `file` in the study.
     std::fs::remove_file(dir.path().join("robots/robot.toml")).unwrap();

@@ -176,8 +176,10 @@ impl RobotFile {
         let parameters: ParametersOnly =
             serde_path_to_error::deserialize(deserializer.clone()).map_err(schema)?;
         let parameters = checked(parameters.parameters)?;
-        with_parameters(&parameters, || serde_path_to_error::deserialize(deserializer))
-            .map_err(schema)
+        with_parameters(&parameters, || {
+            serde_path_to_error::deserialize(deserializer)
+        })
+        .map_err(schema)
     }
 }
 

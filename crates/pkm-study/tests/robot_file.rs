@@ -3,15 +3,20 @@
 //! hand-written tables point by point; a sweep over a robot file's `[parameters]` variable
 //! agrees with the hand-written sweep at the same nodes; a Pareto study runs on a robot file;
 //! errors name their key path.
-#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
 
 use pkm_study::outcome::{Artifact, Cell, Table};
 use pkm_study::schema::mechanism::{MechanismSpec, WorkspaceVisitor};
 use pkm_study::schema::robot_file::RobotFileSpec;
 use pkm_study::workspace::constraints_of;
 use pkm_study::{
-    GridRun, GridStudy, StudyError, StudyMechanism, WorkspaceStudy, from_json_str, from_toml_str, pareto,
-    sweep, workspace,
+    GridRun, GridStudy, StudyError, StudyMechanism, WorkspaceStudy, from_json_str, from_toml_str,
+    pareto, sweep, workspace,
 };
 use pkm_traits::{ConstrainedWorkspace, Silent};
 use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
@@ -24,7 +29,10 @@ fn close(a: f64, b: f64) -> bool {
 }
 
 fn robot_table(file: &str) -> toml::Table {
-    let path = format!("{}/../../examples/robots/{file}", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../../examples/robots/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
     toml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
@@ -69,15 +77,19 @@ fn workspace_agrees(hand: &str, robot: toml::Table) -> usize {
             .unwrap()
     };
     let (a, b) = (values(&hand), values(&file));
-    let mut members = 0;
+    let (mut members, mut worst) = (0, 0.0_f64);
     for (k, (a, b)) in a.iter().zip(&b).enumerate() {
         match (a, b) {
             (Some(a), Some(b)) => {
                 assert!(close(*a, *b), "point {k}: 1/κ {a} vs {b}");
+                worst = worst.max((a - b).abs() / a.abs().max(b.abs()));
                 members += 1;
             }
             (None, None) => {}
-            _ => panic!("point {k} at {}: membership {a:?} vs {b:?}", points.points()[k]),
+            _ => panic!(
+                "point {k} at {}: membership {a:?} vs {b:?}",
+                points.points()[k]
+            ),
         }
     }
     assert!(members >= 100, "vacuous: {members} members");
@@ -90,6 +102,13 @@ fn workspace_agrees(hand: &str, robot: toml::Table) -> usize {
     assert!(close(a.eta, b.eta), "η {} vs {}", a.eta, b.eta);
     let (ga, gb) = (a.gci.unwrap(), b.gci.unwrap());
     assert!(close(ga, gb), "GCI {ga} vs {gb}");
+    println!(
+        "{members} members of {}; largest relative 1/κ difference {worst:.1e}; \
+         GCI {:.1e}, W {:.1e}",
+        points.points().len(),
+        (ga - gb).abs() / ga,
+        (a.volume - b.volume).abs() / a.volume
+    );
     members
 }
 
@@ -249,7 +268,10 @@ fn a_sweep_over_a_robot_file_parameter_matches_the_linear_delta_sweep() {
 #[test]
 fn a_pareto_study_runs_on_a_robot_file() {
     let (hand, file) = linear_delta_grids();
-    let run = |study| match pareto(study, pkm_study::Shard::WHOLE, &Silent).unwrap().result {
+    let run = |study| match pareto(study, pkm_study::Shard::WHOLE, &Silent)
+        .unwrap()
+        .result
+    {
         GridRun::Complete(r) => r,
         GridRun::Part(_) => panic!("a whole grid"),
     };
@@ -283,12 +305,16 @@ fn parameters_are_the_design_variables() {
     spec.set("centre_arm", 0.25).unwrap();
     assert_eq!(spec.get("centre_arm"), Some(0.25));
     let unknown = spec.set("b", 0.5).unwrap_err();
-    assert!(unknown.contains("expected one of centre_arm, tilt_deg"), "{unknown}");
+    assert!(
+        unknown.contains("expected one of centre_arm, tilt_deg"),
+        "{unknown}"
+    );
 }
 
 #[test]
 fn a_workspace_study_reads_an_inline_robot_from_json() {
-    let robot = serde_json::to_value(toml::from_str::<toml::Table>(LINEAR_DELTA_BY_PARAMETERS).unwrap());
+    let robot =
+        serde_json::to_value(toml::from_str::<toml::Table>(LINEAR_DELTA_BY_PARAMETERS).unwrap());
     let study = serde_json::json!({
         "mechanism": { "robot_file": robot.unwrap() },
         "sampling": {
@@ -364,5 +390,3 @@ region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
     spec.resolve_file(std::path::Path::new(&studies)).unwrap();
     assert!(workspace(&study, &Silent).unwrap().result.estimate.n_inside > 0);
 }
-
-

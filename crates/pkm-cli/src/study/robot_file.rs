@@ -29,7 +29,12 @@ impl StudySource {
         match (&self.robot, inner) {
             (Some((path, text)), Some(inner)) => {
                 let key = error.path().map(ToString::to_string).unwrap_or_default();
-                error_at(path, text, locate(text, &inner), &format!("{key}: {}", error.message()))
+                error_at(
+                    path,
+                    text,
+                    locate(text, &inner),
+                    &format!("{key}: {}", error.message()),
+                )
             }
             _ => study_error(&self.path, &self.text, error),
         }
@@ -63,9 +68,7 @@ pub fn load_study<T: DeserializeOwned>(path: &Path) -> Result<(String, T), CliEr
 /// # Errors
 /// [`CliError::Io`] when the study cannot be read; [`CliError::Study`] at the offending line
 /// of the study or of the robot file.
-pub fn load_study_source<T: DeserializeOwned>(
-    path: &Path,
-) -> Result<(StudySource, T), CliError> {
+pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySource, T), CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
     let mut source = StudySource {
         path: path.to_path_buf(),
@@ -91,7 +94,8 @@ pub fn load_study_source<T: DeserializeOwned>(
         mechanism.insert("robot_file".into(), Value::Table(robot));
     }
     source.robot = Some((robot_path, robot_text));
-    let study = pkm_study::from_deserializer(Value::Table(document)).map_err(|e| source.error(e))?;
+    let study =
+        pkm_study::from_deserializer(Value::Table(document)).map_err(|e| source.error(e))?;
     Ok((source, study))
 }
 

@@ -64,7 +64,11 @@ impl RobotFileSpec {
         let table = toml::from_str::<Table>(&text).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
-            at(format!("{}:{line}: {}", path.display(), e.message().trim_end()))
+            at(format!(
+                "{}:{line}: {}",
+                path.display(),
+                e.message().trim_end()
+            ))
         })?;
         self.table = table;
         Ok(())
@@ -250,9 +254,11 @@ impl StudyMechanism for RobotFileSpec {
             || !spec.joint_ranges.is_empty()
             || !spec.joint_ranges_deg.is_empty();
         if mixed && ranges {
-            return Err("the actuators of this robot file are revolute and prismatic: give \
+            return Err(
+                "the actuators of this robot file are revolute and prismatic: give \
                         their ranges as `limits` in the robot file"
-                .into());
+                    .into(),
+            );
         }
         spec.to_library(self.kind(), self.actuation())
     }
