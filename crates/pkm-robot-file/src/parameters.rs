@@ -163,7 +163,15 @@ mod tests {
         }
         let read = |text: &str| toml::from_str::<Doc>(text).map(|d| d.v.map(|n| n.0));
         let values = with_parameters(&parameters, || read(r#"v = ["r", 1, "tilt_deg"]"#));
-        assert_eq!(values.unwrap(), [0.3, 1.0, std::f64::consts::FRAC_PI_2]);
+        let expected = [0.3, 1.0, std::f64::consts::FRAC_PI_2];
+        let values = values.unwrap();
+        assert!(
+            values
+                .iter()
+                .zip(expected)
+                .all(|(v, e)| (v - e).abs() < 1e-15),
+            "{values:?}"
+        );
         let unknown = with_parameters(&parameters, || read(r#"v = ["s", 0, 0]"#));
         let unknown = unknown.unwrap_err().to_string();
         assert!(unknown.contains("expected one of r, tilt_deg"), "{unknown}");
