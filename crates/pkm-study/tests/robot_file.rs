@@ -386,7 +386,14 @@ region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
     let MechanismSpec::RobotFile(spec) = &mut study.mechanism else {
         panic!("a robot file")
     };
-    let studies = format!("{}/../../examples/studies", env!("CARGO_MANIFEST_DIR"));
-    spec.resolve_file(std::path::Path::new(&studies)).unwrap();
+    let studies = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies");
+    let missing = spec.clone().resolve_file(std::fs::read_to_string);
+    let message = missing.unwrap_err().to_string();
+    assert!(
+        message.contains("cannot read ../robots/tsai.toml"),
+        "{message}"
+    );
+    spec.resolve_file(|file| std::fs::read_to_string(studies.join(file)))
+        .unwrap();
     assert!(workspace(&study, &Silent).unwrap().result.estimate.n_inside > 0);
 }

@@ -2,9 +2,9 @@
 //! mechanism, with no Rust at all.
 //!
 //! The table holds the robot file's keys inline (so a JSON string or a Python dict is a robot
-//! too), or `file = "path"`, which the caller reads before the study runs: the library never
-//! guesses a working directory. The `pkm` command reads it relative to the study file;
-//! [`RobotFileSpec::resolve_file`] does the same for a library caller with a base directory.
+//! too), or `file = "path"`, which the caller reads before the study runs: the library reads no
+//! file and never guesses a working directory. The `pkm` command reads it relative to the study
+//! file; [`RobotFileSpec::resolve_file`] puts the text a library caller read in its place.
 //!
 //! Its design variables are the names of the robot file's `[parameters]` table (metres, or
 //! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in the
@@ -21,7 +21,6 @@ use pkm_robot_file::{Robot, RobotFile, RobotFileError, RobotModel};
 use pkm_traits::WorkspaceConstraint;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
-use std::path::Path;
 use toml::{Table, Value};
 
 /// The key path of the table in a study.
@@ -46,29 +45,28 @@ impl RobotFileSpec {
         self.table.get("file").and_then(Value::as_str)
     }
 
-    /// Replaces `file = "path"` by the robot file it names, read relative to `base_dir` (the
-    /// directory of the study file); does nothing for an inline robot.
+    /// Replaces `file = "path"` by the robot file it names, its text given by `read` from the
+    /// path as written (the caller's: `pkm` reads it relative to the study file, e.g.
+    /// `|file| std::fs::read_to_string(study_dir.join(file))`); does nothing for an inline
+    /// robot. The study layer itself reads no file.
     ///
     /// # Errors
-    /// [`StudyError::Invalid`] at `mechanism.robot_file.file` when the file cannot be read or
-    /// is not TOML (with its line and column), or when `file` comes with other keys.
-    pub fn resolve_file(&mut self, base_dir: &Path) -> Result<(), StudyError> {
-        let Some(file) = self.file() else {
+    /// [`StudyError::Invalid`] at `mechanism.robot_file.file` when `read` fails or the text is
+    /// not TOML (with its line), or when `file` comes with other keys.
+    pub fn resolve_file(
+        &mut self,
+        read: impl FnOnce(&str) -> std::io::Result<String>,
+    ) -> Result<(), StudyError> {
+        let Some(file) = self.file().map(str::to_owned) else {
             return Ok(());
         };
         self.only_file()?;
-        let path = base_dir.join(file);
         let at = |m: String| StudyError::invalid(format!("{KEY_PATH}.file").as_str(), m);
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| at(format!("cannot read {}: {e}", path.display())))?;
+        let text = read(&file).map_err(|e| at(format!("cannot read {file}: {e}")))?;
         let table = toml::from_str::<Table>(&text).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
-            at(format!(
-                "{}:{line}: {}",
-                path.display(),
-                e.message().trim_end()
-            ))
+            at(format!("{file}:{line}: {}", e.message().trim_end()))
         })?;
         self.table = table;
         Ok(())
