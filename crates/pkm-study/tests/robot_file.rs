@@ -387,7 +387,9 @@ region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
         panic!("a robot file")
     };
     let studies = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies");
-    let missing = spec.clone().resolve_file(std::fs::read_to_string);
+    let missing = spec
+        .clone()
+        .resolve_file(|file: &str| std::fs::read_to_string(file));
     let message = missing.unwrap_err().to_string();
     assert!(
         message.contains("cannot read ../robots/tsai.toml"),
