@@ -37,6 +37,7 @@ fn the_example_studies_are_valid() {
         "nuwar_workspace.toml",
         "three_upu_workspace.toml",
         "stewart_gough_workspace.toml",
+        "robot_file_workspace.toml",
     ] {
         let _: (String, WorkspaceStudy) = study::load_study(&example(name)).unwrap();
     }
@@ -65,7 +66,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        10,
+        11,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -77,8 +77,12 @@ impl Mechanism {
 
     /// The design variables a sweep may vary.
     #[getter]
-    fn variables(&self) -> Vec<&'static str> {
-        self.spec.variables().iter().map(|v| v.name).collect()
+    fn variables(&self) -> Vec<String> {
+        self.spec
+            .variables()
+            .iter()
+            .map(|v| v.name.to_string())
+            .collect()
     }
 
     /// The `[mechanism]` and `[constraints]` tables of this mechanism, as a dict a study takes.

@@ -17,6 +17,15 @@ pub enum RobotFileError {
         /// What the parser found.
         message: String,
     },
+    /// A robot given as data rather than text (a table of a study, a JSON value) does not
+    /// match the schema.
+    #[error("{key}: {message}")]
+    Schema {
+        /// Key path of the offending value (`legs[0].joints[1].axis`).
+        key: String,
+        /// What the deserializer found.
+        message: String,
+    },
     /// A value that violates its requirement, named by its key path (`legs[1].joints[0].axis`).
     #[error("{key} = {value}: {requirement}")]
     Invalid {

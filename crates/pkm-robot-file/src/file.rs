@@ -2,8 +2,10 @@
 //! line and column. `docs/robots.md` documents every field with its unit.
 
 use crate::error::RobotFileError;
+use crate::parameters::{fields, with_parameters};
 use crate::pose::OrientationKind;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// A robot file as written: one rigid base, one rigid platform, the legs (or one leg template
 /// and a [`SymmetrySpec`]), the task coordinates and the home configuration. Lengths in metres,
@@ -31,7 +33,12 @@ pub struct RobotFile {
     pub idle: Vec<String>,
     /// Length (m) that converts rotations into lengths in the singularity margins; default the
     /// mean distance of the platform joint centres from the platform origin (1 m if zero).
+    #[serde(default, deserialize_with = "fields::optional_scalar")]
     pub characteristic_length: Option<f64>,
+    /// Named scalars that numbers of the file may stand for by name (`docs/robots.md`,
+    /// "Parameters"); `_deg` names in degrees. Every number below is already resolved.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, f64>,
     /// The home configuration: every joint at its `offset`, the platform at this pose.
     pub home: HomeSpec,
     /// Repeat the listed legs `count` times about an axis.
@@ -45,9 +52,10 @@ pub struct RobotFile {
 #[serde(deny_unknown_fields)]
 pub struct HomeSpec {
     /// Position of the platform origin (m).
+    #[serde(deserialize_with = "fields::vector")]
     pub position: [f64; 3],
     /// Orientation coordinates (rad), in the file's `orientation`; default zero.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "fields::vector")]
     pub orientation: [f64; 3],
 }
 
@@ -59,10 +67,10 @@ pub struct SymmetrySpec {
     /// Number of copies (the listed legs are copy 0).
     pub count: usize,
     /// Rotation axis; default $+z$.
-    #[serde(default = "z_axis")]
+    #[serde(default = "z_axis", deserialize_with = "fields::vector")]
     pub axis: [f64; 3],
     /// A point on the rotation axis (m); default the origin.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "fields::vector")]
     pub point: [f64; 3],
 }
 
@@ -101,28 +109,41 @@ pub struct JointSpec {
     #[serde(rename = "type")]
     pub kind: JointType,
     /// Axis direction (R, P, C); normalised on load.
+    #[serde(default, deserialize_with = "fields::optional_vector")]
     pub axis: Option<[f64; 3]>,
     /// The two axes of a U joint, base side first.
+    #[serde(default, deserialize_with = "fields::optional_axes")]
     pub axes: Option<[[f64; 3]; 2]>,
     /// A point on the axis (R, C), the centre (U, S), in metres.
+    #[serde(default, deserialize_with = "fields::optional_vector")]
     pub point: Option<[f64; 3]>,
     /// Whether this joint carries the leg's actuator (exactly one per leg; R or P only).
     #[serde(default)]
     pub actuated: bool,
     /// Joint coordinate at home (rad or m): the actuator reports `offset` plus its motion.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "fields::scalar")]
     pub offset: f64,
     /// Actuator range `[min, max]` (rad or m), checked by the inverse kinematics.
+    #[serde(default, deserialize_with = "fields::optional_pair")]
     pub limits: Option<[f64; 2]>,
 }
 
+/// The `[parameters]` table alone (every other key ignored): read before the rest of the file,
+/// whose numbers may name them.
+#[derive(Deserialize)]
+struct ParametersOnly {
+    #[serde(default)]
+    parameters: BTreeMap<String, f64>,
+}
+
 impl RobotFile {
-    /// Reads a robot file from TOML text.
+    /// Reads a robot file from TOML text, its numbers resolved against its `[parameters]`.
     ///
     /// # Errors
-    /// [`RobotFileError::Parse`] with the line and column of the offending text.
+    /// [`RobotFileError::Parse`] with the line and column of the offending text (an unknown
+    /// parameter name included).
     pub fn from_toml(text: &str) -> Result<Self, RobotFileError> {
-        toml::from_str(text).map_err(|e| {
+        let parse_error = |e: toml::de::Error| {
             let (line, column) = e
                 .span()
                 .map(|span| line_and_column(text, span.start))
@@ -132,7 +153,45 @@ impl RobotFile {
                 column,
                 message: e.message().to_string(),
             }
+        };
+        let parameters = toml::from_str::<ParametersOnly>(text).map_err(parse_error)?;
+        let parameters = checked(parameters.parameters)?;
+        with_parameters(&parameters, || toml::from_str(text)).map_err(parse_error)
+    }
+
+    /// Reads a robot file from any serde data model (a TOML table, a JSON value, a Python
+    /// dict), its numbers resolved against its `parameters`.
+    ///
+    /// # Errors
+    /// [`RobotFileError::Schema`] with the key path of the offending value.
+    pub fn from_deserializer<'de, D>(deserializer: D) -> Result<Self, RobotFileError>
+    where
+        D: serde::Deserializer<'de> + Clone,
+        D::Error: std::fmt::Display,
+    {
+        let schema = |e: serde_path_to_error::Error<D::Error>| RobotFileError::Schema {
+            key: e.path().to_string(),
+            message: e.inner().to_string(),
+        };
+        let parameters: ParametersOnly =
+            serde_path_to_error::deserialize(deserializer.clone()).map_err(schema)?;
+        let parameters = checked(parameters.parameters)?;
+        with_parameters(&parameters, || {
+            serde_path_to_error::deserialize(deserializer)
         })
+        .map_err(schema)
+    }
+}
+
+/// The parameters, each finite.
+fn checked(parameters: BTreeMap<String, f64>) -> Result<BTreeMap<String, f64>, RobotFileError> {
+    match parameters.iter().find(|(_, v)| !v.is_finite()) {
+        Some((name, v)) => Err(RobotFileError::invalid(
+            format!("parameters.{name}"),
+            v,
+            "must be finite",
+        )),
+        None => Ok(parameters),
     }
 }
 

@@ -49,8 +49,10 @@ mod lm;
 mod mobility;
 mod model;
 mod name;
+mod parameters;
 mod pose;
 mod robot;
+mod workspace;
 
 pub use chain::{Joint, LegChain};
 pub use closure::Configuration;

@@ -15,6 +15,7 @@ use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
 use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
+use std::borrow::Cow;
 use std::fmt::Debug;
 
 /// The unit of a design variable in a study (the library receives SI units and radians).
@@ -29,11 +30,12 @@ pub enum Unit {
     Ratio,
 }
 
-/// A design variable as a study names it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+/// A design variable as a study names it: a key of the table (a static name), or a name the
+/// table itself declares (a robot file's `[parameters]`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct Variable {
     /// Its key in the `[mechanism.<kind>]` table (`"alpha_deg"`).
-    pub name: &'static str,
+    pub name: Cow<'static, str>,
     /// Its unit in the study.
     pub unit: Unit,
 }
@@ -44,8 +46,9 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     /// The kind's key: `[mechanism.<kind>]`.
     fn kind(&self) -> &'static str;
 
-    /// The design variables a sweep, a Pareto study or an optimisation may vary.
-    fn variables(&self) -> &'static [Variable];
+    /// The design variables a sweep, a Pareto study or an optimisation may vary: a static
+    /// list for a table with fixed keys, an owned one for a table that declares its own.
+    fn variables(&self) -> Cow<'static, [Variable]>;
 
     /// The value of variable `name` in its study unit, `None` for an unknown name.
     fn get(&self, name: &str) -> Option<f64>;
@@ -55,6 +58,16 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
 
     /// How the actuated joints move.
     fn actuation(&self) -> Actuation;
+
+    /// Checks the table before any computation, beyond what its serde types check (default:
+    /// nothing more to check).
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`](crate::StudyError::Invalid) at the key path of the offending
+    /// value.
+    fn check(&self) -> Result<(), StudyError> {
+        Ok(())
+    }
 
     /// Builds the mechanism and its workspace under `constraints` and hands it to `visitor`.
     ///
@@ -113,7 +126,8 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     /// The list of valid names when `name` is not one of [`StudyMechanism::variables`].
     fn set(&mut self, name: &str, value: f64) -> Result<(), String> {
         let kind = self.kind();
-        let names = self.variables().iter().map(|v| v.name).collect::<Vec<_>>();
+        let variables = self.variables();
+        let names = variables.iter().map(|v| &*v.name).collect::<Vec<_>>();
         let slot = self.slot(name).ok_or_else(|| {
             format!(
                 "`{name}` is not a design variable of {kind}: expected one of {}",
@@ -191,11 +205,11 @@ impl From<BuildError> for StudyError {
 #[macro_export]
 macro_rules! design_variables {
     ($($name:literal $unit:ident => |$s:ident| $place:expr),* $(,)?) => {
-        fn variables(&self) -> &'static [$crate::registry::Variable] {
-            &[$($crate::registry::Variable {
-                name: $name,
+        fn variables(&self) -> ::std::borrow::Cow<'static, [$crate::registry::Variable]> {
+            ::std::borrow::Cow::Borrowed(&[$($crate::registry::Variable {
+                name: ::std::borrow::Cow::Borrowed($name),
                 unit: $crate::registry::Unit::$unit,
-            }),*]
+            }),*])
         }
 
         fn get(&self, name: &str) -> Option<f64> {
@@ -256,7 +270,7 @@ macro_rules! mechanisms {
             fn kind(&self) -> &'static str {
                 match self { $(Self::$variant(m) => m.kind(),)* }
             }
-            fn variables(&self) -> &'static [$crate::registry::Variable] {
+            fn variables(&self) -> ::std::borrow::Cow<'static, [$crate::registry::Variable]> {
                 match self { $(Self::$variant(m) => m.variables(),)* }
             }
             fn get(&self, name: &str) -> Option<f64> {
@@ -267,6 +281,9 @@ macro_rules! mechanisms {
             }
             fn actuation(&self) -> $crate::registry::Actuation {
                 match self { $(Self::$variant(m) => m.actuation(),)* }
+            }
+            fn check(&self) -> Result<(), $crate::StudyError> {
+                match self { $(Self::$variant(m) => m.check(),)* }
             }
             fn with_workspace<V: $crate::registry::WorkspaceVisitor>(
                 &self,

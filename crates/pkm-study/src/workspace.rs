@@ -148,6 +148,7 @@ pub fn constraints_of<M: StudyMechanism>(
     mechanism: &M,
     spec: Option<&ConstraintsSpec>,
 ) -> Result<Vec<WorkspaceConstraint>, StudyError> {
+    mechanism.check()?;
     let Some(spec) = spec else {
         return Ok(Vec::new());
     };

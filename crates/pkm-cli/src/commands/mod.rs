@@ -106,9 +106,8 @@ pub fn run_library_study<S: DeserializeOwned, R: Serialize>(
     context: &Context,
     study: impl FnOnce(&S, &dyn pkm_traits::Progress) -> Result<Outcome<R>, StudyError>,
 ) -> Result<Report, CliError> {
-    let (text, parsed) = study::load_study::<S>(path)?;
-    let outcome =
-        study(&parsed, &context.progress).map_err(|e| study::study_error(path, &text, e))?;
+    let (source, parsed) = study::load_study_source::<S>(path)?;
+    let outcome = study(&parsed, &context.progress).map_err(|e| source.error(e))?;
     let mut report = Report {
         lines: outcome.summary,
     };
@@ -116,7 +115,7 @@ pub fn run_library_study<S: DeserializeOwned, R: Serialize>(
     out.write_artifacts(&outcome.artifacts, &mut report)?;
     let echo = StudyEcho {
         file: path.display().to_string(),
-        text,
+        text: source.text,
     };
     let written = out.finish(command, echo, outcome.result)?;
     report.line(format!("wrote {}", written.display()));

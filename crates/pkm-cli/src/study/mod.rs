@@ -7,22 +7,14 @@
 
 pub use pkm_study::schema::{mechanism, sampling, units};
 
+mod robot_file;
+pub use robot_file::{StudySource, load_study, load_study_source};
+
 use crate::CliError;
 use pkm_study::{Key, KeyPath, StudyError};
-use serde::de::DeserializeOwned;
 use std::ops::Range;
 use std::path::Path;
 use toml::de::{DeTable, DeValue};
-
-/// Reads the study at `path` with the study layer's schema.
-///
-/// # Errors
-/// [`CliError::Io`] when it cannot be read, [`CliError::Study`] at the offending key's line.
-pub fn load_study<T: DeserializeOwned>(path: &Path) -> Result<(String, T), CliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
-    let study = pkm_study::from_toml_str(&text).map_err(|e| study_error(path, &text, e))?;
-    Ok((text, study))
-}
 
 /// The command's error for a study layer's error about the file `path` with contents `text`:
 /// placed at the offending key's line and column when the error names a key.

@@ -29,6 +29,8 @@ crate::mechanisms! {
         ThreeUpu(ThreeUpuSpec),
         /// The Stewart–Gough platform (Wolf & Shoham Fig. 3) at one fixed orientation.
         StewartGough(StewartSpec),
+        /// Any translational robot from a robot file (`docs/robots.md`), inline or by `file`.
+        RobotFile(super::robot_file::RobotFileSpec),
     }
 }
 

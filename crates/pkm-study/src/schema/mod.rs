@@ -7,5 +7,6 @@ pub mod grid;
 pub mod index;
 mod kinds;
 pub mod mechanism;
+pub mod robot_file;
 pub mod sampling;
 pub mod units;

@@ -1,0 +1,109 @@
+//! `[mechanism.robot_file] file = "..."`: the robot file is read relative to the study file
+//! before the study runs (the study layer never guesses a working directory), and every error
+//! about it is placed at its line and column in the robot file.
+
+use super::{error_at, locate, study_error};
+use crate::CliError;
+use pkm_study::{Key, KeyPath, StudyError};
+use serde::de::DeserializeOwned;
+use std::path::{Path, PathBuf};
+use toml::{Table, Value};
+
+/// The texts a study was read from: the study file and, when it names one, its robot file.
+#[derive(Debug, Clone)]
+pub struct StudySource {
+    /// The study file.
+    pub path: PathBuf,
+    /// Its text (echoed in `results.json`).
+    pub text: String,
+    /// The robot file named by `[mechanism.robot_file] file`, and its text.
+    robot: Option<(PathBuf, String)>,
+}
+
+impl StudySource {
+    /// The command's error for a study layer's error: a key under `mechanism.robot_file` of a
+    /// named robot file at its line and column in that file, any other at its place in the
+    /// study file.
+    pub fn error(&self, error: StudyError) -> CliError {
+        let inner = error.path().and_then(inside_robot_file);
+        match (&self.robot, inner) {
+            (Some((path, text)), Some(inner)) => {
+                let key = error.path().map(ToString::to_string).unwrap_or_default();
+                error_at(
+                    path,
+                    text,
+                    locate(text, &inner),
+                    &format!("{key}: {}", error.message()),
+                )
+            }
+            _ => study_error(&self.path, &self.text, error),
+        }
+    }
+}
+
+/// The path inside the robot file of a key under `mechanism.robot_file`.
+fn inside_robot_file(key: &KeyPath) -> Option<KeyPath> {
+    match key.keys() {
+        [Key::Field(m), Key::Field(r), rest @ ..] if m == "mechanism" && r == "robot_file" => {
+            Some(rest.iter().fold(KeyPath::root(), |path, k| match k {
+                Key::Field(name) => path.field(name.clone()),
+                Key::Index(i) => path.index(*i),
+            }))
+        }
+        _ => None,
+    }
+}
+
+/// Reads the study at `path` with the study layer's schema and returns its text.
+///
+/// # Errors
+/// As [`load_study_source`].
+pub fn load_study<T: DeserializeOwned>(path: &Path) -> Result<(String, T), CliError> {
+    load_study_source(path).map(|(source, study)| (source.text, study))
+}
+
+/// Reads the study at `path` with the study layer's schema, with its named robot file (if
+/// any) read relative to it and put in place of `file`.
+///
+/// # Errors
+/// [`CliError::Io`] when the study cannot be read; [`CliError::Study`] at the offending line
+/// of the study or of the robot file.
+pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySource, T), CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+    let mut source = StudySource {
+        path: path.to_path_buf(),
+        text,
+        robot: None,
+    };
+    let Some((mut document, file)) = named_robot_file(&source.text) else {
+        let study = pkm_study::from_toml_str(&source.text)
+            .map_err(|e| study_error(path, &source.text, e))?;
+        return Ok((source, study));
+    };
+    let robot_path = path.parent().unwrap_or(Path::new("")).join(&file);
+    let robot_text = std::fs::read_to_string(&robot_path).map_err(|e| {
+        let key = KeyPath::parse("mechanism.robot_file.file");
+        let message = format!("{key}: cannot read {}: {e}", robot_path.display());
+        error_at(path, &source.text, locate(&source.text, &key), &message)
+    })?;
+    let robot = toml::from_str::<Table>(&robot_text).map_err(|e| {
+        let span = e.span().unwrap_or(0..0);
+        error_at(&robot_path, &robot_text, span, e.message().trim_end())
+    })?;
+    if let Some(mechanism) = document.get_mut("mechanism").and_then(Value::as_table_mut) {
+        mechanism.insert("robot_file".into(), Value::Table(robot));
+    }
+    source.robot = Some((robot_path, robot_text));
+    let study =
+        pkm_study::from_deserializer(Value::Table(document)).map_err(|e| source.error(e))?;
+    Ok((source, study))
+}
+
+/// The study document and the path of its `[mechanism.robot_file] file`, when the table holds
+/// `file` alone (with other keys the study layer reports the mix).
+fn named_robot_file(text: &str) -> Option<(Table, String)> {
+    let document = toml::from_str::<Table>(text).ok()?;
+    let table = document.get("mechanism")?.get("robot_file")?.as_table()?;
+    let file = table.get("file")?.as_str()?.to_owned();
+    (table.len() == 1).then_some((document, file))
+}

@@ -1,0 +1,264 @@
+//! `[mechanism.robot_file]`: any parallel robot from a robot file (`docs/robots.md`) as a study
+//! mechanism, with no Rust at all.
+//!
+//! The table holds the robot file's keys inline (so a JSON string or a Python dict is a robot
+//! too), or `file = "path"`, which the caller reads before the study runs: the library reads no
+//! file and never guesses a working directory. The `pkm` command reads it relative to the study
+//! file; [`RobotFileSpec::resolve_file`] puts the text a library caller read in its place.
+//!
+//! Its design variables are the names of the robot file's `[parameters]` table (metres, or
+//! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in the
+//! reference working mode of the file (the mode of its home configuration), actuator `limits`
+//! of the file and the study's `[constraints]` included; the local index is 1/κ of the velocity
+//! Jacobian, so the task must be the platform position `["x", "y", "z"]`.
+
+use super::constraints::ConstraintsSpec;
+use crate::StudyError;
+use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
+use crate::registry::{BuildError, WorkspaceVisitor, visit};
+use nalgebra::Vector3;
+use pkm_mechanisms::Skeleton;
+use pkm_robot_file::{Robot, RobotFile, RobotFileError, RobotModel};
+use pkm_traits::WorkspaceConstraint;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
+use toml::{Table, Value};
+
+/// The key path of the table in a study.
+pub const KEY_PATH: &str = "mechanism.robot_file";
+
+/// `[mechanism.robot_file]`: a robot file's keys (inline), or `file = "path"` before the caller
+/// resolves it.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(transparent)]
+pub struct RobotFileSpec {
+    table: Table,
+}
+
+impl RobotFileSpec {
+    /// The robot of a robot file's keys (a TOML table read from a robot file, or built by hand).
+    pub fn inline(table: Table) -> Self {
+        Self { table }
+    }
+
+    /// The path of `file = "..."`, when the table names a robot file instead of holding one.
+    pub fn file(&self) -> Option<&str> {
+        self.table.get("file").and_then(Value::as_str)
+    }
+
+    /// Replaces `file = "path"` by the robot file it names, its text given by `read` from the
+    /// path as written (the caller's: `pkm` reads it relative to the study file, e.g.
+    /// `|file| std::fs::read_to_string(study_dir.join(file))`); does nothing for an inline
+    /// robot. The study layer itself reads no file.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] at `mechanism.robot_file.file` when `read` fails or the text is
+    /// not TOML (with its line), or when `file` comes with other keys.
+    pub fn resolve_file(
+        &mut self,
+        read: impl FnOnce(&str) -> std::io::Result<String>,
+    ) -> Result<(), StudyError> {
+        let Some(file) = self.file().map(str::to_owned) else {
+            return Ok(());
+        };
+        self.only_file()?;
+        let at = |m: String| StudyError::invalid(format!("{KEY_PATH}.file").as_str(), m);
+        let text = read(&file).map_err(|e| at(format!("cannot read {file}: {e}")))?;
+        let table = toml::from_str::<Table>(&text).map_err(|e| {
+            let offset = e.span().map_or(0, |s| s.start);
+            let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
+            at(format!("{file}:{line}: {}", e.message().trim_end()))
+        })?;
+        self.table = table;
+        Ok(())
+    }
+
+    /// `file` alone: the robot is either named or given, never both.
+    fn only_file(&self) -> Result<(), StudyError> {
+        match self.table.keys().find(|k| *k != "file") {
+            Some(other) => Err(StudyError::invalid(
+                format!("{KEY_PATH}.{other}").as_str(),
+                "a robot_file table gives either `file` or the robot file's keys, not both",
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The robot file of the table, its numbers resolved against its `[parameters]`.
+    fn robot_file(&self) -> Result<RobotFile, StudyError> {
+        if self.file().is_some() {
+            self.only_file()?;
+            return Err(StudyError::invalid(
+                format!("{KEY_PATH}.file").as_str(),
+                "a robot file named by `file` is read by the caller before the study runs \
+                 (`pkm` reads it relative to the study file; library callers use \
+                 RobotFileSpec::resolve_file)",
+            ));
+        }
+        RobotFile::from_deserializer(Value::Table(self.table.clone())).map_err(located)
+    }
+
+    /// The validated robot model.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] at the key path of the offending value
+    /// (`mechanism.robot_file.legs[0].joints[1].axis`).
+    pub fn model(&self) -> Result<RobotModel, StudyError> {
+        RobotModel::from_file(&self.robot_file()?).map_err(located)
+    }
+
+    /// The robot as a translational 3-DOF model: the task of a workspace study is the platform
+    /// position.
+    ///
+    /// # Errors
+    /// As [`RobotFileSpec::model`]; at `mechanism.robot_file.task` unless the task is
+    /// `["x", "y", "z"]`.
+    pub fn translational_robot(&self) -> Result<Robot<3>, StudyError> {
+        let model = self.model()?;
+        let task = model.task_names();
+        if task != ["x", "y", "z"] {
+            return Err(StudyError::invalid(
+                format!("{KEY_PATH}.task").as_str(),
+                format!(
+                    "workspace, sweep and pareto studies sample platform positions and rate \
+                     them by 1/κ of J: the task must be [\"x\", \"y\", \"z\"], this robot's is \
+                     {task:?}"
+                ),
+            ));
+        }
+        Robot::<3>::new(model).map_err(located)
+    }
+
+    /// The `[parameters]` table.
+    fn parameters(&self) -> Option<&Table> {
+        self.table.get("parameters").and_then(Value::as_table)
+    }
+
+    /// The `type` of every actuated joint in the file's legs (the template legs under
+    /// `[symmetry]`).
+    fn actuated_types(&self) -> Vec<&str> {
+        let legs = self.table.get("legs").and_then(Value::as_array);
+        let joints = legs
+            .into_iter()
+            .flatten()
+            .filter_map(|leg| leg.get("joints").and_then(Value::as_array))
+            .flatten();
+        joints
+            .filter(|j| j.get("actuated").and_then(Value::as_bool) == Some(true))
+            .filter_map(|j| j.get("type").and_then(Value::as_str))
+            .collect()
+    }
+}
+
+/// A robot file error at its key path in the study.
+fn located(e: RobotFileError) -> StudyError {
+    let key = match &e {
+        RobotFileError::Schema { key, .. } | RobotFileError::Invalid { key, .. } => key.as_str(),
+        RobotFileError::NameMismatch { .. } => "name",
+        RobotFileError::Mobility { .. } => "legs",
+        RobotFileError::Dimension { .. } => "task",
+        _ => "",
+    };
+    let path = match key.trim_start_matches('.') {
+        "" => KEY_PATH.to_owned(),
+        key => format!("{KEY_PATH}.{key}"),
+    };
+    let message = match e {
+        RobotFileError::Schema { message, .. } => message,
+        RobotFileError::Invalid {
+            value, requirement, ..
+        } => format!("{value}: {requirement}"),
+        e => e.to_string(),
+    };
+    StudyError::invalid(path.as_str(), message)
+}
+
+impl StudyMechanism for RobotFileSpec {
+    fn kind(&self) -> &'static str {
+        "robot_file"
+    }
+
+    /// The names of `[parameters]`: metres, or degrees for a name ending in `_deg`.
+    fn variables(&self) -> Cow<'static, [Variable]> {
+        let names = self.parameters().into_iter().flat_map(|p| p.keys());
+        let variables = names.map(|name| Variable {
+            unit: if name.ends_with("_deg") {
+                Unit::Angle
+            } else {
+                Unit::Length
+            },
+            name: Cow::Owned(name.clone()),
+        });
+        Cow::Owned(variables.collect())
+    }
+
+    fn get(&self, name: &str) -> Option<f64> {
+        match self.parameters()?.get(name)? {
+            Value::Float(v) => Some(*v),
+            Value::Integer(v) => Some(*v as f64),
+            _ => None,
+        }
+    }
+
+    fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        let parameters = self.table.get_mut("parameters")?.as_table_mut()?;
+        let value = parameters.get_mut(name)?;
+        if let Value::Integer(v) = *value {
+            *value = Value::Float(v as f64);
+        }
+        match value {
+            Value::Float(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// Revolute when every actuator is an R joint, prismatic otherwise.
+    fn actuation(&self) -> Actuation {
+        if self.actuated_types().iter().all(|t| *t == "R") {
+            Actuation::Revolute
+        } else {
+            Actuation::Prismatic
+        }
+    }
+
+    fn check(&self) -> Result<(), StudyError> {
+        self.translational_robot().map(|_| ())
+    }
+
+    /// The reference working mode of the file (its home configuration's).
+    fn with_workspace<V: WorkspaceVisitor>(
+        &self,
+        constraints: &[WorkspaceConstraint],
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        let robot = self
+            .translational_robot()
+            .map_err(|e| BuildError::Design(e.to_string()))?;
+        let mode = robot.model().home_mode();
+        visit(&robot, &[mode], constraints, visitor)
+    }
+
+    /// No drawing yet: a study of a robot file reports it and writes no robot picture.
+    fn skeleton_at(&self, _p: &Vector3<f64>) -> Result<Skeleton, String> {
+        Err("a robot file is not drawn (no skeleton from its joints yet)".into())
+    }
+
+    /// As for every mechanism, with joint ranges refused for a robot whose actuators are both
+    /// revolute and prismatic (give them as the file's `limits`).
+    fn constraints(&self, spec: &ConstraintsSpec) -> Result<Vec<WorkspaceConstraint>, String> {
+        let types = self.actuated_types();
+        let mixed = types.contains(&"R") && types.iter().any(|t| *t != "R");
+        let ranges = spec.joint_range.is_some()
+            || spec.joint_range_deg.is_some()
+            || !spec.joint_ranges.is_empty()
+            || !spec.joint_ranges_deg.is_empty();
+        if mixed && ranges {
+            return Err(
+                "the actuators of this robot file are revolute and prismatic: give \
+                        their ranges as `limits` in the robot file"
+                    .into(),
+            );
+        }
+        spec.to_library(self.kind(), self.actuation())
+    }
+}

@@ -1,0 +1,401 @@
+//! A robot file as a study mechanism (issue 18, the study hookup): the workspace study of the
+//! Tsai platform and the Linear Delta written as robot files agrees with the same study on the
+//! hand-written tables point by point; a sweep over a robot file's `[parameters]` variable
+//! agrees with the hand-written sweep at the same nodes; a Pareto study runs on a robot file;
+//! errors name their key path.
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::print_stdout
+)]
+
+use pkm_study::outcome::{Artifact, Cell, Table};
+use pkm_study::schema::mechanism::{MechanismSpec, WorkspaceVisitor};
+use pkm_study::schema::robot_file::RobotFileSpec;
+use pkm_study::workspace::constraints_of;
+use pkm_study::{
+    GridRun, GridStudy, StudyError, StudyMechanism, WorkspaceStudy, from_json_str, from_toml_str,
+    pareto, sweep, workspace,
+};
+use pkm_traits::{ConstrainedWorkspace, Silent};
+use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
+
+/// Relative agreement of the study numbers (W, η, GCI, 1/κ at a point).
+const AGREE: f64 = 1e-9;
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= AGREE * a.abs().max(b.abs()) + 1e-300
+}
+
+fn robot_table(file: &str) -> toml::Table {
+    let path = format!(
+        "{}/../../examples/robots/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    toml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn robot_spec(table: toml::Table) -> MechanismSpec {
+    MechanismSpec::RobotFile(RobotFileSpec::inline(table))
+}
+
+/// 1/κ at every sample point, `None` outside the workspace.
+struct PerPoint<'a>(&'a [nalgebra::Vector3<f64>]);
+
+impl WorkspaceVisitor for PerPoint<'_> {
+    type Output = Vec<Option<f64>>;
+    fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, const NQ: usize>(
+        self,
+        workspace: &Workspace<'_, M, NQ>,
+    ) -> Self::Output
+    where
+        Dim<NQ>: TranslationalCondition<NQ>,
+    {
+        self.0
+            .iter()
+            .map(|x| workspace.inverse_condition(x))
+            .collect()
+    }
+}
+
+/// The hand-written study and the same study on `robot`: the same members, 1/κ at every member,
+/// W, η and GCI within [`AGREE`]. Returns the number of members.
+fn workspace_agrees(hand: &str, robot: toml::Table) -> usize {
+    let hand: WorkspaceStudy = from_toml_str(hand).unwrap();
+    let mut file = hand.clone();
+    file.mechanism = robot_spec(robot);
+    let points = {
+        let domain = hand.sampling.domain(None).unwrap();
+        hand.sampling.point_set(domain).unwrap()
+    };
+    let values = |study: &WorkspaceStudy| {
+        let constraints = constraints_of(&study.mechanism, study.constraints.as_ref()).unwrap();
+        study
+            .mechanism
+            .with_workspace(&constraints, PerPoint(points.points()))
+            .unwrap()
+    };
+    let (a, b) = (values(&hand), values(&file));
+    let (mut members, mut worst) = (0, 0.0_f64);
+    for (k, (a, b)) in a.iter().zip(&b).enumerate() {
+        match (a, b) {
+            (Some(a), Some(b)) => {
+                assert!(close(*a, *b), "point {k}: 1/κ {a} vs {b}");
+                worst = worst.max((a - b).abs() / a.abs().max(b.abs()));
+                members += 1;
+            }
+            (None, None) => {}
+            _ => panic!(
+                "point {k} at {}: membership {a:?} vs {b:?}",
+                points.points()[k]
+            ),
+        }
+    }
+    assert!(members >= 100, "vacuous: {members} members");
+    let (a, b) = (
+        workspace(&hand, &Silent).unwrap().result.estimate,
+        workspace(&file, &Silent).unwrap().result.estimate,
+    );
+    assert_eq!(a.n_inside, b.n_inside);
+    assert!(close(a.volume, b.volume), "W {} vs {}", a.volume, b.volume);
+    assert!(close(a.eta, b.eta), "η {} vs {}", a.eta, b.eta);
+    let (ga, gb) = (a.gci.unwrap(), b.gci.unwrap());
+    assert!(close(ga, gb), "GCI {ga} vs {gb}");
+    println!(
+        "{members} members of {}; largest relative 1/κ difference {worst:.1e}; \
+         GCI {:.1e}, W {:.1e}",
+        points.points().len(),
+        (ga - gb).abs() / ga,
+        (a.volume - b.volume).abs() / a.volume
+    );
+    members
+}
+
+#[test]
+fn tsai_robot_file_workspace_agrees_with_the_tsai_table() {
+    let hand = r#"
+[mechanism.tsai]
+a = 0.44
+b = 0.56
+[sampling]
+seed = 3
+points = 4096
+replicates = 2
+region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
+"#;
+    let members = workspace_agrees(hand, robot_table("tsai.toml"));
+    assert!(members > 1000, "{members}");
+}
+
+#[test]
+fn linear_delta_robot_file_workspace_agrees_with_its_table_under_joint_ranges() {
+    let hand = r#"
+[mechanism.linear_delta]
+l1_over_yr = 1.5
+ya_over_yr = 0.0
+zr_over_yr = 0.0
+l2_over_l1 = 0.8333333333333334
+yr = 0.2
+[constraints]
+joint_range = [-0.3, 0.3]
+below_z = 0.0
+[sampling]
+seed = 5
+points = 4096
+replicates = 2
+region = { box = { lower = [-0.3, -0.25, -0.35], upper = [0.3, 0.25, 0.0] } }
+"#;
+    let members = workspace_agrees(hand, robot_table("linear_delta.toml"));
+    assert!(members > 300, "{members}");
+}
+
+/// A Linear Delta (YR = 0.2 m, L1 = 0.3 m, YA = 0, ZR = 0.1 m) whose centre arm lies along
+/// its rail at home, so that the centre arm length L2 is one number of the file: the centre
+/// carriage leads the end effector (0, 0, 0.1) by `centre_arm` along x. The outer carriages
+/// trail by 0.2 m (the paper's leaning, as `examples/robots/linear_delta.toml`); each U joint's
+/// first axis is $\hat x \times d$ (d the arm), its second $d \times$ the first.
+const LINEAR_DELTA_BY_PARAMETERS: &str = r#"
+name = "3-PUU"
+task = ["x", "y", "z"]
+
+[parameters]
+centre_arm = 0.18
+
+[home]
+position = [0.0, 0.0, 0.1]
+
+[[legs]]
+joints = [
+  { type = "P", axis = [1.0, 0.0, 0.0], actuated = true, offset = -0.2 },
+  { type = "U", axes = [[0.0, -0.1, 0.2], [0.05, -0.04, -0.02]], point = [-0.2, -0.2, 0.0] },
+  { type = "U", axes = [[0.05, -0.04, -0.02], [0.0, -0.1, 0.2]], point = [0.0, 0.0, 0.1] },
+]
+
+[[legs]]
+joints = [
+  { type = "P", axis = [1.0, 0.0, 0.0], actuated = true, offset = -0.2 },
+  { type = "U", axes = [[0.0, -0.1, -0.2], [0.05, 0.04, -0.02]], point = [-0.2, 0.2, 0.0] },
+  { type = "U", axes = [[0.05, 0.04, -0.02], [0.0, -0.1, -0.2]], point = [0.0, 0.0, 0.1] },
+]
+
+[[legs]]
+joints = [
+  { type = "P", axis = [1.0, 0.0, 0.0], actuated = true, offset = "centre_arm" },
+  { type = "U", axes = [[0.0, 1.0, 0.0], [0.0, 0.0, -1.0]], point = ["centre_arm", 0.0, 0.1] },
+  { type = "U", axes = [[0.0, 0.0, -1.0], [0.0, 1.0, 0.0]], point = [0.0, 0.0, 0.1] },
+]
+"#;
+
+/// The hand-written table of the same robot (L2/L1 = `centre_arm` / 0.3) with its grid over
+/// L2/L1, and the robot file's study over `centre_arm` at the same designs.
+fn linear_delta_grids() -> (GridStudy, GridStudy) {
+    // z ≤ 0: the plane the hand-written model's end effector cannot pass (Miller 2004 §2.2).
+    let common = r#"
+[constraints]
+below_z = 0.0
+[sampling]
+seed = 11
+points = 4096
+replicates = 2
+region = { box = { lower = [-0.4, -0.3, -0.45], upper = [0.4, 0.3, 0.05] } }
+[sweep]
+objective = { gci = 1.0 }
+report = ["volume", "eta"]
+[pareto]
+objectives = ["volume", "gci"]
+"#;
+    let hand = format!(
+        "[mechanism.linear_delta]\nl1_over_yr = 1.5\nya_over_yr = 0.0\nzr_over_yr = 0.5\n\
+         l2_over_l1 = 0.6\nyr = 0.2\n{common}\n\
+         [[variables]]\nname = \"l2_over_l1\"\nfrom = 0.6\nto = 0.9\nstep = 0.1\n"
+    );
+    let file = format!(
+        "{common}\n[[variables]]\nname = \"centre_arm\"\nfrom = 0.18\nto = 0.27\nstep = 0.03\n\
+         [mechanism.robot_file]\nfile = \"unused\"\n"
+    );
+    let hand: GridStudy = from_toml_str(&hand).unwrap();
+    let mut file: GridStudy = from_toml_str(&file).unwrap();
+    file.mechanism = robot_spec(toml::from_str(LINEAR_DELTA_BY_PARAMETERS).unwrap());
+    (hand, file)
+}
+
+fn landscape(artifacts: &[Artifact]) -> &Table {
+    artifacts
+        .iter()
+        .find_map(|a| match a {
+            Artifact::Table { name, table } if name.contains("landscape") => Some(table),
+            _ => None,
+        })
+        .expect("a landscape table")
+}
+
+#[test]
+fn a_sweep_over_a_robot_file_parameter_matches_the_linear_delta_sweep() {
+    let (hand, file) = linear_delta_grids();
+    let a = sweep(&hand, pkm_study::Shard::WHOLE, &Silent).unwrap();
+    let b = sweep(&file, pkm_study::Shard::WHOLE, &Silent).unwrap();
+    let (ta, tb) = (landscape(&a.artifacts), landscape(&b.artifacts));
+    assert_eq!(ta.header[2..], tb.header[2..]);
+    assert_eq!((ta.rows.len(), tb.rows.len()), (4, 4));
+    let mut compared = 0;
+    for (ra, rb) in ta.rows.iter().zip(&tb.rows) {
+        // Columns: node, the variable (L2/L1 against L2), the indices, infeasible.
+        assert_eq!(ra[0], rb[0]);
+        let (Cell::Number(ratio), Cell::Number(l2)) = (&ra[1], &rb[1]) else {
+            panic!("{ra:?} vs {rb:?}")
+        };
+        assert!(close(*ratio * 0.3, *l2), "L2/L1 = {ratio}, L2 = {l2}");
+        for (ca, cb) in ra[2..].iter().zip(&rb[2..]) {
+            match (ca, cb) {
+                (Cell::Number(x), Cell::Number(y)) => {
+                    assert!(close(*x, *y), "{ra:?} vs {rb:?}");
+                    compared += 1;
+                }
+                (x, y) => assert_eq!(x, y),
+            }
+        }
+    }
+    // volume, eta, gci and the utility at four nodes.
+    assert_eq!(compared, 16, "{ta:?}");
+    let (GridRun::Complete(a), GridRun::Complete(b)) = (a.result, b.result) else {
+        panic!("a whole grid")
+    };
+    assert_eq!(a.grid_optimum.0, b.grid_optimum.0);
+    assert_eq!(b.mechanism, "robot_file");
+}
+
+#[test]
+fn a_pareto_study_runs_on_a_robot_file() {
+    let (hand, file) = linear_delta_grids();
+    let run = |study| match pareto(study, pkm_study::Shard::WHOLE, &Silent)
+        .unwrap()
+        .result
+    {
+        GridRun::Complete(r) => r,
+        GridRun::Part(_) => panic!("a whole grid"),
+    };
+    let (a, b) = (run(&hand), run(&file));
+    assert!(!b.front.is_empty());
+    let nodes = |r: &pkm_study::ParetoResult| r.front.iter().map(|p| p.node).collect::<Vec<_>>();
+    assert_eq!(nodes(&a), nodes(&b));
+    for (p, q) in a.front.iter().zip(&b.front) {
+        for (x, y) in p.values.iter().zip(&q.values) {
+            assert!(close(*x, *y), "{p:?} vs {q:?}");
+        }
+    }
+}
+
+#[test]
+fn parameters_are_the_design_variables() {
+    let mut table: toml::Table = toml::from_str(LINEAR_DELTA_BY_PARAMETERS).unwrap();
+    let parameters = table["parameters"].as_table_mut().unwrap();
+    parameters.insert("tilt_deg".into(), toml::Value::Integer(3));
+    let mut spec = robot_spec(table);
+    let variables = spec.variables();
+    let names: Vec<_> = variables.iter().map(|v| (&*v.name, v.unit)).collect();
+    assert_eq!(
+        names,
+        [
+            ("centre_arm", pkm_study::Unit::Length),
+            ("tilt_deg", pkm_study::Unit::Angle)
+        ]
+    );
+    assert_eq!(spec.get("tilt_deg"), Some(3.0));
+    spec.set("centre_arm", 0.25).unwrap();
+    assert_eq!(spec.get("centre_arm"), Some(0.25));
+    let unknown = spec.set("b", 0.5).unwrap_err();
+    assert!(
+        unknown.contains("expected one of centre_arm, tilt_deg"),
+        "{unknown}"
+    );
+}
+
+#[test]
+fn a_workspace_study_reads_an_inline_robot_from_json() {
+    let robot =
+        serde_json::to_value(toml::from_str::<toml::Table>(LINEAR_DELTA_BY_PARAMETERS).unwrap());
+    let study = serde_json::json!({
+        "mechanism": { "robot_file": robot.unwrap() },
+        "sampling": {
+            "points": 1024,
+            "region": { "box": { "lower": [-0.4, -0.3, -0.45], "upper": [0.4, 0.3, 0.05] } }
+        }
+    });
+    let study: WorkspaceStudy = from_json_str(&study.to_string()).unwrap();
+    let result = workspace(&study, &Silent).unwrap().result;
+    assert!(result.estimate.n_inside > 0);
+    assert_eq!(result.mechanism, "robot_file");
+}
+
+/// The key path of the study error of `robot` (a robot file's keys) in a workspace study.
+fn error_path(robot: &str) -> (String, String) {
+    let table: toml::Table = toml::from_str(robot).unwrap();
+    let hand = "[mechanism.tsai]\na = 0.44\nb = 0.56\n[sampling]\npoints = 64\n";
+    let mut study: WorkspaceStudy = from_toml_str(hand).unwrap();
+    study.mechanism = robot_spec(table);
+    match workspace(&study, &Silent) {
+        Err(e @ StudyError::Invalid { .. }) => (e.path().unwrap().to_string(), e.to_string()),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn robot_file_errors_name_their_key_path() {
+    let unknown_name =
+        LINEAR_DELTA_BY_PARAMETERS.replace(r#"point = ["centre_arm""#, r#"point = ["center_arm""#);
+    let (path, message) = error_path(&unknown_name);
+    assert_eq!(path, "mechanism.robot_file.legs[2].joints[1].point[0]");
+    assert!(message.contains("expected one of centre_arm"), "{message}");
+
+    let parallel_axes = LINEAR_DELTA_BY_PARAMETERS.replace(
+        "[[0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]",
+        "[[0.0, 1.0, 0.0], [0.0, -1.0, 0.0]]",
+    );
+    let (path, message) = error_path(&parallel_axes);
+    assert!(
+        path.starts_with("mechanism.robot_file.legs[2].joints[1]"),
+        "{path}: {message}"
+    );
+
+    let three_prs = std::fs::read_to_string(format!(
+        "{}/../../examples/robots/three_prs.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let (path, message) = error_path(&three_prs);
+    assert_eq!(path, "mechanism.robot_file.task");
+    assert!(message.contains("tilt_x"), "{message}");
+}
+
+#[test]
+fn a_named_file_is_resolved_by_the_caller() {
+    let study = r#"
+[mechanism.robot_file]
+file = "../robots/tsai.toml"
+[sampling]
+points = 256
+region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
+"#;
+    let mut study: WorkspaceStudy = from_toml_str(study).unwrap();
+    let unresolved = workspace(&study, &Silent).unwrap_err();
+    assert_eq!(
+        unresolved.path().unwrap().to_string(),
+        "mechanism.robot_file.file"
+    );
+    let MechanismSpec::RobotFile(spec) = &mut study.mechanism else {
+        panic!("a robot file")
+    };
+    let studies = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies");
+    let missing = spec
+        .clone()
+        .resolve_file(|file: &str| std::fs::read_to_string(file));
+    let message = missing.unwrap_err().to_string();
+    assert!(
+        message.contains("cannot read ../robots/tsai.toml"),
+        "{message}"
+    );
+    spec.resolve_file(|file| std::fs::read_to_string(studies.join(file)))
+        .unwrap();
+    assert!(workspace(&study, &Silent).unwrap().result.estimate.n_inside > 0);
+}
