@@ -12,6 +12,7 @@ mod parse;
 pub mod registry;
 pub mod scene;
 pub mod schema;
+mod starts;
 pub mod sweep;
 pub mod task;
 pub mod tsai;

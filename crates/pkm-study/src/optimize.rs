@@ -8,13 +8,13 @@
 //!
 //! Every setting is checked before the first start runs, each at its key path.
 
-use crate::outcome::{Artifact, Cell, Outcome, Table};
+use crate::outcome::{Artifact, Outcome};
 use crate::scene;
 use crate::schema::mechanism::{MechanismSpec, TsaiSpec};
+use crate::starts::{self, Reached, ranked_chart, start_row};
 use crate::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
 use crate::{KeyPath, StudyError};
 use nalgebra::Vector3;
-use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
 use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
 use pkm_optimizers::{
     AugmentedLagrangianSettings, ConstrainedResult, Multistart, MultistartRun, OptimizeError,
@@ -484,103 +484,41 @@ fn summarise(outcome: &mut Outcome<OptimizeResult>, names: &[&str], best: &Const
     outcome.summary.extend([optimum, checks]);
 }
 
-/// `starts.csv` (each start and where it ended) and `starts.svg` (the values reached, best
-/// first).
+/// `starts.csv` (each start and where it ended, with its largest constraint violation) and
+/// `starts.svg` (the values reached, best first).
 fn starts_artifacts(
     names: &[&str],
     result: &OptimizeResult,
     run: &MultistartRun<ConstrainedResult>,
 ) -> [Artifact; 2] {
     let quantity = result.objective.as_str();
-    let mut header: Vec<String> = vec!["start".into()];
-    header.extend(names.iter().map(|n| format!("start_{n}")));
-    header.extend(names.iter().map(|n| (*n).to_owned()));
-    header.extend([
-        quantity.into(),
-        "max_violation".into(),
-        "termination".into(),
-    ]);
-    let mut table = Table::new(header);
-    table.rows = run
+    let rows = run
         .starts
         .iter()
         .zip(&run.outcomes)
         .enumerate()
-        .map(|(k, (start, o))| start_row(k, start, o, names.len()))
+        .map(|(k, (start, o))| {
+            let reached = o.as_ref().map(|r| Reached {
+                design: &r.design,
+                numbers: vec![
+                    r.value,
+                    r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g)),
+                ],
+                termination: &r.termination,
+            });
+            start_row(k, start, reached, names.len() + 2)
+        })
         .collect();
-    [
-        Artifact::Table {
-            name: "starts.csv".into(),
-            table,
-        },
-        Artifact::Chart {
-            name: "starts.svg".into(),
-            chart: Box::new(starts_chart(quantity, result.best_start, run)),
-        },
-    ]
-}
-
-/// Start `k`'s row: the start, then the design reached, its value, largest violation and
-/// termination, or empty cells and the reason it failed.
-fn start_row(
-    k: usize,
-    start: &[f64],
-    outcome: &Result<ConstrainedResult, OptimizeError>,
-    n: usize,
-) -> Vec<Cell> {
-    let mut row = vec![Cell::Text(k.to_string())];
-    row.extend(start.iter().map(|v| Cell::Number(*v)));
-    match outcome {
-        Ok(r) => {
-            row.extend(r.design.iter().map(|v| Cell::Number(*v)));
-            row.push(Cell::Number(r.value));
-            let violation = r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g));
-            row.push(Cell::Number(violation));
-            row.push(Cell::Text(format!("\"{}\"", r.termination)));
-        }
-        Err(e) => {
-            row.extend(std::iter::repeat_n(Cell::Missing, n + 2));
-            row.push(Cell::Text(format!(
-                "\"{}\"",
-                e.to_string().replace('"', "'")
-            )));
-        }
-    }
-    row
-}
-
-/// The values reached, best first (rank from 1), the best labelled with its start.
-fn starts_chart(
-    quantity: &str,
-    best_start: usize,
-    run: &MultistartRun<ConstrainedResult>,
-) -> Chart {
-    let mut reached: Vec<(usize, f64)> = run
+    let values = run
         .outcomes
         .iter()
-        .enumerate()
-        .filter_map(|(k, o)| o.as_ref().ok().map(|r| (k, r.value)))
-        .collect();
-    reached.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    let ranked: Vec<(f64, f64)> = reached
-        .iter()
-        .enumerate()
-        .map(|(rank, (_, v))| (rank as f64 + 1.0, *v))
-        .collect();
-    let marker = ranked
-        .first()
-        .map(|&(x, y)| Marker::new(format!("start {best_start}"), x, y));
-    let series = vec![
-        Series::points("designs", ranked).with_colour(Colour::Rgb([170, 170, 170])),
-        Series::styled("non-dominated", SeriesStyle::LineAndPoints, Vec::new())
-            .with_colour(Colour::Rgb([0, 0, 255])),
-    ];
-    Chart::series(
+        .filter_map(|o| o.as_ref().ok().map(|r| r.value));
+    let chart = ranked_chart(
         format!("{quantity} reached from each start"),
-        "rank",
         quantity,
-        series,
-    )
-    .with_markers(marker)
-    .with_legend(LegendPosition::LowerLeft)
+        values.collect(),
+        true,
+        result.best_start,
+    );
+    starts::starts_artifacts(names, &[quantity, "max_violation"], rows, chart)
 }

@@ -7,9 +7,8 @@
 
 use super::{Context, Report, Run};
 use crate::CliError;
-use pkm_study::dynamics::DynamicsStudy;
-use pkm_study::schema::units::Real;
-use pkm_study::{Key, KeyPath, StudyError};
+use pkm_study::StudyError;
+use pkm_study::dynamics::{DynamicsStudy, TrajectoryCsv};
 use pkm_traits::Progress;
 use std::path::{Path, PathBuf};
 
@@ -32,13 +31,6 @@ impl Run for Args {
     }
 }
 
-/// A CSV trajectory read from a file: its rows and the file line of each.
-struct CsvRows {
-    path: PathBuf,
-    rows: Vec<[Real; 4]>,
-    lines: Vec<usize>,
-}
-
 /// Runs `study`, first reading its CSV trajectory (relative to `base`) into its positions.
 fn run(
     base: &Path,
@@ -48,70 +40,19 @@ fn run(
     let Some(name) = &study.trajectory.csv else {
         return pkm_study::dynamics(study, progress);
     };
-    let csv = read_csv(&base.join(name))?;
-    let mut resolved = study.clone();
-    resolved.trajectory.csv = None;
-    resolved.trajectory.positions = Some(csv.rows.clone());
-    pkm_study::dynamics(&resolved, progress).map_err(|e| at_csv_line(&csv, e))
+    read_csv(&base.join(name))?.run(study, progress)
 }
 
-/// The study layer's error about `trajectory.positions[k]` as an error at the `csv` key
-/// naming the file and its line.
-fn at_csv_line(csv: &CsvRows, error: StudyError) -> StudyError {
-    let Some(keys) = error.path().map(KeyPath::keys) else {
-        return error;
-    };
-    let field = |k: usize, name: &str| matches!(keys.get(k), Some(Key::Field(f)) if f == name);
-    if !(field(0, "trajectory") && field(1, "positions")) {
-        return error;
-    }
-    let file = csv.path.display();
-    let message = match keys.get(2) {
-        Some(Key::Index(k)) => {
-            let line = csv.lines.get(*k).copied().unwrap_or(0);
-            format!("{file}: line {line}: {}", error.message())
-        }
-        _ => format!("{file}: {}", error.message()),
-    };
-    StudyError::invalid("trajectory.csv", message)
-}
-
-/// Reads `t, x, y, z` rows (s, m) after a header line, blank lines skipped.
+/// Reads the CSV file `path` (refused unread above [`TrajectoryCsv::MAX_BYTES`]).
 ///
 /// # Errors
 /// [`StudyError::Invalid`] at `trajectory.csv` naming the file (and the line) for a file that
-/// cannot be read or a row that is not four finite numbers.
-fn read_csv(path: &Path) -> Result<CsvRows, StudyError> {
-    let at = |message: String| {
-        StudyError::invalid("trajectory.csv", format!("{}: {message}", path.display()))
+/// cannot be read, is too large, or has a row that is not four finite numbers.
+fn read_csv(path: &Path) -> Result<TrajectoryCsv, StudyError> {
+    let unreadable = |e: std::io::Error| {
+        StudyError::invalid("trajectory.csv", format!("{}: {e}", path.display()))
     };
-    let text = std::fs::read_to_string(path).map_err(|e| at(e.to_string()))?;
-    let (mut rows, mut lines) = (Vec::new(), Vec::new());
-    for (k, line) in text.lines().enumerate().skip(1) {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let values: Vec<f64> = line
-            .split(',')
-            .map(|v| v.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|e| at(format!("line {}: {e}: expected t (s), x, y, z (m)", k + 1)))?;
-        let &[t, x, y, z] = values.as_slice() else {
-            let count = values.len();
-            return Err(at(format!(
-                "line {}: {count} values; expected 4: t (s), x, y, z (m)",
-                k + 1
-            )));
-        };
-        if !values.iter().all(|v| v.is_finite()) {
-            return Err(at(format!("line {}: expected finite numbers", k + 1)));
-        }
-        rows.push([t, x, y, z].map(Real));
-        lines.push(k + 1);
-    }
-    Ok(CsvRows {
-        path: path.to_path_buf(),
-        rows,
-        lines,
-    })
+    TrajectoryCsv::check_size(path, std::fs::metadata(path).map_err(unreadable)?.len())?;
+    let text = std::fs::read_to_string(path).map_err(unreadable)?;
+    TrajectoryCsv::parse(path, &text)
 }

@@ -18,9 +18,11 @@
 //! stays plain serde: a JSON document or a Python dict gives its positions inline.
 
 mod artifacts;
+mod csv;
 mod plan;
 pub mod schema;
 
+pub use csv::TrajectoryCsv;
 pub use plan::{MAX_SAMPLES, mass_parameters, path_of};
 pub use schema::{
     DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec, LawSpec,

@@ -4,10 +4,10 @@
 use super::problem::smallest_singular_value;
 use super::schema::Goal;
 use crate::StudyError;
-use crate::outcome::{Artifact, Cell, Outcome, Table};
+use crate::outcome::{Artifact, Outcome};
+use crate::starts::{self, Reached, ranked_chart, start_row};
 use nalgebra::{Isometry3, Matrix6, Vector3, Vector6};
-use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
-use pkm_optimizers::{ActiveBound, LocalOptimum, MultistartRun, OptimizeError};
+use pkm_optimizers::{ActiveBound, LocalOptimum, MultistartRun};
 use pkm_screw_theory::{ScrewError, Twist, line_set_rank};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -211,99 +211,37 @@ pub(super) fn summarise(outcome: &mut Outcome<TaskResult>) {
     outcome.summary.extend(lines);
 }
 
-/// `starts.csv` (each start and where it ended) and `starts.svg` (the objective reached,
-/// best first).
+/// `starts.csv` and `starts.svg` (the objective reached from each start, best first).
 pub(super) fn starts_artifacts(
     names: &[String],
     result: &TaskResult,
     run: &MultistartRun<LocalOptimum>,
 ) -> [Artifact; 2] {
-    let mut header: Vec<String> = vec!["start".into()];
-    header.extend(names.iter().map(|n| format!("start_{n}")));
-    header.extend(names.iter().cloned());
-    header.extend(["objective".into(), "termination".into()]);
-    let mut table = Table::new(header);
-    table.rows = run
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let rows = run
         .starts
         .iter()
         .zip(&run.outcomes)
         .enumerate()
-        .map(|(k, (start, o))| start_row(k, start, o, names.len()))
+        .map(|(k, (start, o))| {
+            let reached = o.as_ref().map(|r| Reached {
+                design: &r.design,
+                numbers: vec![r.value],
+                termination: &r.termination,
+            });
+            start_row(k, start, reached, names.len() + 1)
+        })
         .collect();
-    [
-        Artifact::Table {
-            name: "starts.csv".into(),
-            table,
-        },
-        Artifact::Chart {
-            name: "starts.svg".into(),
-            chart: Box::new(starts_chart(result, run)),
-        },
-    ]
-}
-
-/// Start `k`'s row: the start, then the design reached, its value and termination, or empty
-/// cells and the reason it failed.
-fn start_row(
-    k: usize,
-    start: &[f64],
-    outcome: &Result<LocalOptimum, OptimizeError>,
-    n: usize,
-) -> Vec<Cell> {
-    let mut row = vec![Cell::Text(k.to_string())];
-    row.extend(start.iter().map(|v| Cell::Number(*v)));
-    match outcome {
-        Ok(r) => {
-            row.extend(r.design.iter().map(|v| Cell::Number(*v)));
-            row.push(Cell::Number(r.value));
-            row.push(Cell::Text(format!("\"{}\"", r.termination)));
-        }
-        Err(e) => {
-            row.extend(std::iter::repeat_n(Cell::Missing, n + 1));
-            row.push(Cell::Text(format!(
-                "\"{}\"",
-                e.to_string().replace('"', "'")
-            )));
-        }
-    }
-    row
-}
-
-/// The objective reached from each start, best first (rank from 1), the best labelled with
-/// its start.
-fn starts_chart(result: &TaskResult, run: &MultistartRun<LocalOptimum>) -> Chart {
-    let maximise = result.goal == Goal::Maximise;
-    let mut reached: Vec<f64> = run
+    let values = run
         .outcomes
         .iter()
-        .filter_map(|o| o.as_ref().ok().map(|r| r.value))
-        .collect();
-    reached.sort_by(|a, b| {
-        if maximise {
-            b.total_cmp(a)
-        } else {
-            a.total_cmp(b)
-        }
-    });
-    let ranked: Vec<(f64, f64)> = reached
-        .iter()
-        .enumerate()
-        .map(|(rank, v)| (rank as f64 + 1.0, *v))
-        .collect();
-    let marker = ranked
-        .first()
-        .map(|&(x, y)| Marker::new(format!("start {}", result.best_start), x, y));
-    let series = vec![
-        Series::points("designs", ranked).with_colour(Colour::Rgb([170, 170, 170])),
-        Series::styled("non-dominated", SeriesStyle::LineAndPoints, Vec::new())
-            .with_colour(Colour::Rgb([0, 0, 255])),
-    ];
-    Chart::series(
-        "objective reached from each start",
-        "rank",
+        .filter_map(|o| o.as_ref().ok().map(|r| r.value));
+    let chart = ranked_chart(
+        "objective reached from each start".into(),
         "objective",
-        series,
-    )
-    .with_markers(marker)
-    .with_legend(LegendPosition::LowerLeft)
+        values.collect(),
+        result.goal == Goal::Maximise,
+        result.best_start,
+    );
+    starts::starts_artifacts(&names, &["objective"], rows, chart)
 }

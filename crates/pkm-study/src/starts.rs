@@ -1,0 +1,105 @@
+//! The starts of a multistart study as artifacts: `starts.csv` (each start and where it ended)
+//! and `starts.svg` (the values reached, best first, the best labelled with its start). Shared
+//! by the `optimize` and `task` studies.
+
+use crate::outcome::{Artifact, Cell, Table};
+use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
+use pkm_optimizers::OptimizeError;
+use std::fmt::Display;
+
+/// Where one start ended: the design, then the numbers of its row (the value, then any
+/// further column), and the termination.
+pub(crate) struct Reached<'a, T: Display> {
+    pub design: &'a [f64],
+    pub numbers: Vec<f64>,
+    pub termination: T,
+}
+
+/// `starts.csv` and `starts.svg`: `names` the design variables, `quantities` the columns after
+/// the design (the first is the value the chart ranks), `rows` each start's row from
+/// [`start_row`], `values` the values reached, `best_start` the start the study chose.
+pub(crate) fn starts_artifacts(
+    names: &[&str],
+    quantities: &[&str],
+    rows: Vec<Vec<Cell>>,
+    chart: Chart,
+) -> [Artifact; 2] {
+    let mut header: Vec<String> = vec!["start".into()];
+    header.extend(names.iter().map(|n| format!("start_{n}")));
+    header.extend(names.iter().map(|n| (*n).to_owned()));
+    header.extend(quantities.iter().map(|q| (*q).to_owned()));
+    header.push("termination".into());
+    let mut table = Table::new(header);
+    table.rows = rows;
+    [
+        Artifact::Table {
+            name: "starts.csv".into(),
+            table,
+        },
+        Artifact::Chart {
+            name: "starts.svg".into(),
+            chart: Box::new(chart),
+        },
+    ]
+}
+
+/// Start `k`'s row: the start, then the design reached, its numbers and termination, or
+/// `missing` empty cells and the reason it failed.
+pub(crate) fn start_row<T: Display>(
+    k: usize,
+    start: &[f64],
+    outcome: Result<Reached<'_, T>, &OptimizeError>,
+    missing: usize,
+) -> Vec<Cell> {
+    let mut row = vec![Cell::Text(k.to_string())];
+    row.extend(start.iter().map(|v| Cell::Number(*v)));
+    match outcome {
+        Ok(r) => {
+            row.extend(r.design.iter().map(|v| Cell::Number(*v)));
+            row.extend(r.numbers.into_iter().map(Cell::Number));
+            row.push(Cell::Text(format!("\"{}\"", r.termination)));
+        }
+        Err(e) => {
+            row.extend(std::iter::repeat_n(Cell::Missing, missing));
+            row.push(Cell::Text(format!(
+                "\"{}\"",
+                e.to_string().replace('"', "'")
+            )));
+        }
+    }
+    row
+}
+
+/// The values reached, best first (largest first when `maximise`; ties in start order), ranked
+/// from 1, the best labelled with `best_start`.
+pub(crate) fn ranked_chart(
+    title: String,
+    quantity: &str,
+    mut reached: Vec<f64>,
+    maximise: bool,
+    best_start: usize,
+) -> Chart {
+    reached.sort_by(|a, b| {
+        if maximise {
+            b.total_cmp(a)
+        } else {
+            a.total_cmp(b)
+        }
+    });
+    let ranked: Vec<(f64, f64)> = reached
+        .iter()
+        .enumerate()
+        .map(|(rank, v)| (rank as f64 + 1.0, *v))
+        .collect();
+    let marker = ranked
+        .first()
+        .map(|&(x, y)| Marker::new(format!("start {best_start}"), x, y));
+    let series = vec![
+        Series::points("designs", ranked).with_colour(Colour::Rgb([170, 170, 170])),
+        Series::styled("non-dominated", SeriesStyle::LineAndPoints, Vec::new())
+            .with_colour(Colour::Rgb([0, 0, 255])),
+    ];
+    Chart::series(title, "rank", quantity, series)
+        .with_markers(marker)
+        .with_legend(LegendPosition::LowerLeft)
+}
