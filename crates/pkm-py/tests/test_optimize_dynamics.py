@@ -148,7 +148,7 @@ def test_task_result_is_the_commands_to_the_last_bit(pkm_command, tmp_path):
     )
     command = json.loads((out / "results.json").read_text())["result"]
     outcome = pkm.task(TASK_TOML, progress=False)
-    assert serialised(outcome["result"]) == serialised(command["result"])
+    assert serialised(outcome["result"]) == serialised(command)
     assert len(outcome["tables"]["starts.csv"]["objective"]) == 16
 
 
