@@ -3,6 +3,7 @@ carry key paths; Ctrl-C cancels a running study."""
 
 import json
 import subprocess
+import signal
 import threading
 import time
 import _thread
@@ -85,6 +86,10 @@ def test_keyboard_interrupt_cancels_a_running_study_within_a_second(nuwar_study,
     # blocks of 4096 points.
     nuwar_study["sampling"]["points"] = 1 << 20
     nuwar_study["sampling"]["replicates"] = 4
+    # Python raises KeyboardInterrupt only under its default SIGINT handler; a process started
+    # in the background by a non-interactive shell inherits SIGINT ignored (and then
+    # `interrupt_main` does nothing), so the test installs the handler an interactive user has.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(interrupt_at, _thread.interrupt_main)
     start = time.monotonic()
     timer.start()
@@ -93,6 +98,7 @@ def test_keyboard_interrupt_cancels_a_running_study_within_a_second(nuwar_study,
             pkm.workspace(nuwar_study, progress=False)
     finally:
         timer.cancel()  # never a stray interrupt after the test
+        signal.signal(signal.SIGINT, previous)
     elapsed = time.monotonic() - start
     print(f"cancelled {elapsed - interrupt_at:.2f} s after the interrupt")
     assert timer.finished.is_set()
