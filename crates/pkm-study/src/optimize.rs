@@ -239,10 +239,7 @@ fn free_variables(o: &OptimizeSection) -> Result<Vec<(usize, Bounds)>, StudyErro
     for (name, [lo, hi]) in &o.variables {
         let path = KeyPath::parse("optimize.variables").field(name.as_str());
         let k = variable_index(path.clone(), name)?;
-        let bounds = Bounds::new(*lo, *hi).map_err(|e| {
-            let m = format!("{name} = [{lo}, {hi}]: expected [lower, upper] with lower <= upper");
-            StudyError::invalid(path, format!("{m} ({e})"))
-        })?;
+        let bounds = starts::variable_bounds(path, name, *lo, *hi)?;
         chosen.push((k, bounds));
     }
     chosen.sort_by_key(|(k, _)| *k);

@@ -1,11 +1,29 @@
 //! The starts of a multistart study as artifacts: `starts.csv` (each start and where it ended)
 //! and `starts.svg` (the values reached, best first, the best labelled with its start). Shared
-//! by the `optimize` and `task` studies.
+//! by the `optimize` and `task` studies, with the bounds of their variables.
 
 use crate::outcome::{Artifact, Cell, Table};
+use crate::{KeyPath, StudyError};
 use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
 use pkm_optimizers::OptimizeError;
+use pkm_traits::Bounds;
 use std::fmt::Display;
+
+/// The bounds `[lo, hi]` a study gives the variable `name` at `path`.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `path` unless `lo <= hi`, both finite.
+pub(crate) fn variable_bounds(
+    path: KeyPath,
+    name: &str,
+    lo: f64,
+    hi: f64,
+) -> Result<Bounds, StudyError> {
+    Bounds::new(lo, hi).map_err(|e| {
+        let m = format!("{name} = [{lo}, {hi}]: expected [lower, upper] with lower <= upper");
+        StudyError::invalid(path, format!("{m} ({e})"))
+    })
+}
 
 /// Where one start ended: the design, then the numbers of its row (the value, then any
 /// further column), and the termination.

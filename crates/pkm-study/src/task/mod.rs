@@ -127,10 +127,7 @@ fn chosen_variables(
             );
             StudyError::invalid(path.clone(), message)
         })?;
-        let bounds = Bounds::new(*lo, *hi).map_err(|e| {
-            let m = format!("{name} = [{lo}, {hi}]: expected [lower, upper] with lower <= upper");
-            StudyError::invalid(path, format!("{m} ({e})"))
-        })?;
+        let bounds = crate::starts::variable_bounds(path, name, *lo, *hi)?;
         chosen.push((k, bounds));
     }
     chosen.sort_by_key(|(k, _)| *k);
