@@ -199,16 +199,7 @@ impl RobotModel {
         motion: f64,
         config: &Configuration,
     ) -> Result<Vec<JointValue>, KinematicsError> {
-        let problem = ClosureProblem {
-            model: self,
-            legs: vec![i],
-            free_pose: vec![],
-            fixed_actuators: true,
-        };
-        let mut start = config.clone();
-        start.joints[i] = self.legs[i].home_values();
-        start.joints[i][self.legs[i].actuator] = JointValue::Scalar(motion);
-        self.solve_from_seeds(&problem, i, start)
+        self.newton_leg(i, Some(motion), config)
     }
 
     /// Leg `i` solved whole by damped Newton from its home values, then seeded restarts.
@@ -217,14 +208,28 @@ impl RobotModel {
         i: usize,
         config: &Configuration,
     ) -> Result<Vec<JointValue>, KinematicsError> {
+        self.newton_leg(i, None, config)
+    }
+
+    /// Leg `i` by damped Newton from its home values (its actuator held at `motion` when given),
+    /// then seeded restarts.
+    fn newton_leg(
+        &self,
+        i: usize,
+        motion: Option<f64>,
+        config: &Configuration,
+    ) -> Result<Vec<JointValue>, KinematicsError> {
         let problem = ClosureProblem {
             model: self,
             legs: vec![i],
             free_pose: vec![],
-            fixed_actuators: false,
+            fixed_actuators: motion.is_some(),
         };
         let mut start = config.clone();
         start.joints[i] = self.legs[i].home_values();
+        if let Some(motion) = motion {
+            start.joints[i][self.legs[i].actuator] = JointValue::Scalar(motion);
+        }
         self.solve_from_seeds(&problem, i, start)
     }
 

@@ -36,6 +36,7 @@ use pkm_optimizers::{
 use pkm_screw_theory::Twist;
 use pkm_traits::{Bounds, Objective, Progress, Residuals};
 use report::{starts_artifacts, summarise, wrench_matrix};
+use std::collections::BTreeMap;
 
 /// Runs a task study: the multistart, the report at the best start, the starts as a table and
 /// a chart, and the drawing of the robot at the optimal pose with the task twists' axes.
@@ -182,20 +183,40 @@ fn run_starts<P: Residuals>(
     Ok((run, best_start, best))
 }
 
-/// Each twist's $F$ at the optimum by `f`.
+/// Each twist's $F$ at `pose` of `mechanism`.
 fn twist_values(
+    mechanism: &impl WrenchSystem,
+    pose: &Isometry3<f64>,
     twists: &[(f64, Twist)],
-    f: impl Fn(&Twist) -> Result<f64, StudyError>,
 ) -> Result<Vec<TwistValue>, StudyError> {
     twists
         .iter()
         .map(|(w, t)| {
             Ok(TwistValue {
                 weight: *w,
-                f: f(t)?,
+                f: task_f(mechanism, pose, t)?,
             })
         })
         .collect()
+}
+
+/// $F$ of `twist` at `pose` of `mechanism` (eq. 12 of Wolf & Shoham).
+fn task_f(
+    mechanism: &impl WrenchSystem,
+    pose: &Isometry3<f64>,
+    twist: &Twist,
+) -> Result<f64, StudyError> {
+    Ok(mechanism
+        .task_objective(pose, twist)
+        .map_err(pkm_traits::ObjectiveError::from)?)
+}
+
+/// `names` paired with `values`, as the result's maps hold them.
+fn named<'a>(
+    names: impl IntoIterator<Item = &'a str>,
+    values: impl IntoIterator<Item = f64>,
+) -> BTreeMap<String, f64> {
+    names.into_iter().map(str::to_owned).zip(values).collect()
 }
 
 fn stewart(
@@ -239,31 +260,26 @@ fn stewart(
     if max_angle.is_some() {
         names.extend(["u_x", "u_y", "u_z"].map(str::to_owned));
     }
-    let f = |t: &Twist| {
-        Ok(mechanism
-            .task_objective(&pose, t)
-            .map_err(pkm_traits::ObjectiveError::from)?)
-    };
     let result = TaskResult {
         title: study.title.clone(),
         mechanism: "stewart_gough".into(),
         goal: task.goal,
         objective: best.value,
         best_start,
-        optimum: names
-            .iter()
-            .cloned()
-            .zip(best.design.iter().copied())
-            .collect(),
-        design: STEWART_VARIABLES[..4]
-            .iter()
-            .map(|n| (*n).to_owned())
-            .zip(stewart_design_values(&mechanism.design()))
-            .collect(),
+        optimum: named(
+            names.iter().map(String::as_str),
+            best.design.iter().copied(),
+        ),
+        design: named(
+            STEWART_VARIABLES[..4].iter().copied(),
+            stewart_design_values(&mechanism.design()),
+        ),
         pose: PoseReport::from(&pose),
-        twists: twist_values(twists, f)?,
+        twists: twist_values(&mechanism, &pose, twists)?,
         leg_lengths: Some(leg_lengths(&mechanism, &pose)),
-        wrench_matrix: wrench_matrix(&objective_rows(&mechanism, &pose)?, f)?,
+        wrench_matrix: wrench_matrix(&objective_rows(&mechanism, &pose)?, |t| {
+            task_f(&mechanism, &pose, t)
+        })?,
         optimality: Optimality::from(&best),
         starts: run.starts.len(),
     };
@@ -331,11 +347,6 @@ fn upu(
         .iter()
         .map(|(k, _)| UPU_VARIABLES[*k].to_owned())
         .collect();
-    let f = |t: &Twist| {
-        Ok(mechanism
-            .task_objective(&pose, t)
-            .map_err(pkm_traits::ObjectiveError::from)?)
-    };
     let all = problem.full(&best.design);
     let result = TaskResult {
         title: study.title.clone(),
@@ -343,20 +354,15 @@ fn upu(
         goal: task.goal,
         objective: best.value,
         best_start,
-        optimum: names
-            .iter()
-            .cloned()
-            .zip(best.design.iter().copied())
-            .collect(),
-        design: UPU_VARIABLES[..8]
-            .iter()
-            .map(|n| (*n).to_owned())
-            .zip(all)
-            .collect(),
+        optimum: named(
+            names.iter().map(String::as_str),
+            best.design.iter().copied(),
+        ),
+        design: named(UPU_VARIABLES[..8].iter().copied(), all),
         pose: PoseReport::from(&pose),
-        twists: twist_values(twists, f)?,
+        twists: twist_values(&mechanism, &pose, twists)?,
         leg_lengths: None,
-        wrench_matrix: wrench_matrix(&rows, f)?,
+        wrench_matrix: wrench_matrix(&rows, |t| task_f(&mechanism, &pose, t))?,
         optimality: Optimality::from(&best),
         starts: run.starts.len(),
     };
