@@ -4,13 +4,27 @@
 //!    \big(\max(0, \mu_i + \rho g_i(p))^2 - \mu_i^2\big), $$
 //! minimised over the box by a spectral projected gradient with central-difference gradients
 //! in the scaled variables $z_j = x_j / s_j$ of [`crate::scaling`] (by default $s_j$ = the
-//! width of the box side, so lengths in metres and angles in degrees move alike), then $\mu_i \leftarrow \max(0, \mu_i + \rho g_i)$; $\rho$ (from [`INITIAL_PENALTY`]) grows
-//! by [`PENALTY_GROWTH`] up to [`MAX_PENALTY`] when the violation does not shrink by
-//! [`REQUIRED_VIOLATION_DECREASE`]. A maximisation ([`Sense::Maximise`]) minimises $-f$. (argmin offers no constrained SQP; the `cobyla` crate is
+//! width of the box side, so lengths in metres and angles in degrees move alike), then $\mu_i \leftarrow \max(0, \mu_i + \rho g_i)$; $\rho$ grows
+//! by [`PENALTY_GROWTH`] up to [`MAX_PENALTY`] when the violation exceeds the feasibility
+//! tolerance and did not shrink by [`REQUIRED_VIOLATION_DECREASE`].
+//!
+//! The first penalty is set at the start $x_0$ (multipliers 0) from the scaled gradients
+//! $\nabla_z = S \nabla_x$ (central differences):
+//! $$ \rho_0 = \min\Big(\rho_{\max}, \max\big(\rho_{\min}, \max_i
+//!    \frac{-\nabla_z f \cdot \nabla_z g_i}{\delta\, \lVert \nabla_z g_i \rVert^3}\big)\Big), $$
+//! $\delta =$ [`FIRST_VIOLATION_TARGET`], $\rho_{\min} =$ [`INITIAL_PENALTY`],
+//! $\rho_{\max} =$ [`MAX_PENALTY`]. On the linear model along the normal of constraint $i$,
+//! the first subproblem $\min f + \tfrac{\rho}{2} g_i^2$ stops at the scaled distance
+//! $t = -\nabla_z f \cdot \nabla_z g_i / (\rho \lVert \nabla_z g_i \rVert^3)$ outside the
+//! constraint when $f$ pushes across it, and $\rho_0$ keeps $t \le \delta$. A fixed first
+//! penalty does not: where $f$ grows faster than the quadratic penalty across a constraint
+//! (a volume $\propto R^3$ beyond a reach limit $R \le 1$) the first subproblem runs to the far
+//! corner of the box, and the scaled steps carry every other variable across its whole range on
+//! the way, so the run loses the basin of its start (issue 20: Stamper's antiparallel legs). A maximisation ([`Sense::Maximise`]) minimises $-f$. (argmin offers no constrained SQP; the `cobyla` crate is
 //! derivative-free and slower on these smooth 6-D problems, so neither was taken.)
 
 use crate::OptimizeError;
-use crate::finite_differences::RELATIVE_STEP;
+use crate::finite_differences::{self, RELATIVE_STEP};
 use crate::multistart::LocalResult;
 use crate::scaling::{CharacteristicScale, variable_scales};
 use crate::sense::Sense;
@@ -20,15 +34,21 @@ use pkm_traits::{Constraints, InvalidInput, ObjectiveError, Progress};
 use serde::{Deserialize, Serialize};
 use std::cell::Cell;
 
-/// Penalty $\rho$ of the first outer iteration.
+/// Smallest penalty $\rho$ of the first outer iteration (the rule of the module docs may start
+/// higher).
 pub const INITIAL_PENALTY: f64 = 10.0;
+/// Violation, as a distance in scaled units (box widths under the default scaling), that the
+/// first outer iteration's penalty allows along each constraint's normal (the first-penalty
+/// rule of the module docs).
+pub const FIRST_VIOLATION_TARGET: f64 = 1e-2;
 /// Factor by which $\rho$ grows after an outer iteration that did not shrink the violation
 /// enough.
 pub const PENALTY_GROWTH: f64 = 10.0;
 /// Largest penalty: beyond it the augmented Lagrangian is too ill-conditioned for the inner
 /// solver.
 pub const MAX_PENALTY: f64 = 1e10;
-/// $\rho$ grows unless the largest violation shrinks to this fraction of the previous one.
+/// $\rho$ grows unless the largest violation shrinks to this fraction of the previous one or
+/// is within [`AugmentedLagrangianSettings::feasibility`].
 pub const REQUIRED_VIOLATION_DECREASE: f64 = 0.25;
 /// The multipliers have settled when no $\mu_i$ changed by more than this relative amount
 /// $(1 + \max_i \mu_i)$ in the last outer iteration.
@@ -177,7 +197,6 @@ fn solve<P: Constraints>(
     let mut x = start.to_vec();
     project(bounds, &mut x);
     let mut mu = vec![0.0; m];
-    let mut rho = INITIAL_PENALTY;
     let mut g = vec![0.0; m];
     let mut violation = f64::INFINITY;
     let mut termination = Termination::MaxIterations;
@@ -186,6 +205,7 @@ fn solve<P: Constraints>(
         evaluations.set(evaluations.get() + 1);
         Ok(sense.minimised(problem.value(p)?))
     };
+    let mut rho = initial_penalty(problem, &objective, &x, settings.fd_step, &scale)?;
     let inner = InnerSettings {
         fd_step: settings.fd_step,
         tolerance: settings.tolerance,
@@ -234,7 +254,11 @@ fn solve<P: Constraints>(
             };
             break;
         }
-        if new_violation > REQUIRED_VIOLATION_DECREASE * violation {
+        // A design already within the feasibility tolerance needs no larger penalty: growing
+        // it there only amplifies the inner solve's error in the multiplier update.
+        if new_violation > settings.feasibility
+            && new_violation > REQUIRED_VIOLATION_DECREASE * violation
+        {
             rho = (rho * PENALTY_GROWTH).min(MAX_PENALTY);
         }
         violation = new_violation;
@@ -261,6 +285,47 @@ fn solve<P: Constraints>(
         inner_iterations,
         evaluations: evaluations.get() + 1,
     })
+}
+
+/// The penalty of the first outer iteration at the start `x` (multipliers 0): $\rho_0$ of the
+/// module docs.
+fn initial_penalty<P: Constraints, F>(
+    problem: &P,
+    objective: &F,
+    x: &[f64],
+    fd_step: f64,
+    scale: &[f64],
+) -> Result<f64, OptimizeError>
+where
+    F: Fn(&[f64]) -> Result<f64, ObjectiveError>,
+{
+    let (bounds, m, n) = (problem.bounds(), problem.n_constraints(), x.len());
+    if m == 0 {
+        return Ok(INITIAL_PENALTY);
+    }
+    let gradient = finite_differences::gradient(objective, bounds, x, objective(x)?, fd_step)?;
+    let jacobian = finite_differences::jacobian(
+        &|p: &[f64], out: &mut [f64]| problem.inequalities(p, out),
+        bounds,
+        x,
+        m,
+        fd_step,
+    )?;
+    let rho = jacobian
+        .chunks_exact(n)
+        .map(|row| {
+            let (push, norm2) = row
+                .iter()
+                .zip(&gradient)
+                .zip(scale)
+                .fold((0.0, 0.0), |(push, norm2), ((dg, df), s)| {
+                    (push - s * s * df * dg, norm2 + (s * dg).powi(2))
+                });
+            push / (FIRST_VIOLATION_TARGET * norm2 * norm2.sqrt())
+        })
+        .filter(|r| r.is_finite())
+        .fold(INITIAL_PENALTY, f64::max);
+    Ok(rho.min(MAX_PENALTY))
 }
 
 fn check_start<P: Constraints>(problem: &P, start: &[f64]) -> Result<(), OptimizeError> {
@@ -297,7 +362,7 @@ impl AugmentedLagrangianSettings {
         ] {
             InvalidInput::require_positive(setting, value)?;
         }
-        if !((crate::finite_differences::MIN_RELATIVE_STEP..0.1).contains(&self.fd_step)) {
+        if !((finite_differences::MIN_RELATIVE_STEP..0.1).contains(&self.fd_step)) {
             return Err(InvalidInput::new(
                 "fd_step",
                 self.fd_step,

@@ -68,8 +68,9 @@ mod weighted_combination;
 mod weighted_sum;
 
 pub use augmented_lagrangian::{
-    AugmentedLagrangianSettings, ConstrainedResult, INITIAL_PENALTY, MAX_PENALTY,
-    MULTIPLIER_TOLERANCE, PENALTY_GROWTH, REQUIRED_VIOLATION_DECREASE, augmented_lagrangian,
+    AugmentedLagrangianSettings, ConstrainedResult, FIRST_VIOLATION_TARGET, INITIAL_PENALTY,
+    MAX_PENALTY, MULTIPLIER_TOLERANCE, PENALTY_GROWTH, REQUIRED_VIOLATION_DECREASE,
+    augmented_lagrangian,
 };
 pub use error::OptimizeError;
 pub use grid_axis::GridAxis;
