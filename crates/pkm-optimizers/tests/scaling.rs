@@ -343,3 +343,75 @@ fn a_user_scale_is_as_good_as_the_bounds() {
         assert_eq!(run.termination, PROJECTED_GRADIENT, "{run:?}");
     }
 }
+
+/// A reach $r \in [0, 2.5]$ under the limit $r \le 1$ and an angle $\theta \in [0°, 360°]$:
+/// maximise $f = r^3 (1 + 0.1 \cos 3\theta)$, local maxima at $r = 1$, $\theta = 0°, 120°,
+/// 240°, 360°$, each with the multiplier $\mu = \partial f / \partial r = 3 \cdot 1.1$. Like
+/// Stamper's volume ($\propto R^3$) across its reach limit, $f$ grows faster than any quadratic
+/// penalty beyond the constraint.
+struct CubicReach([Bounds; 2]);
+
+impl Objective for CubicReach {
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.0
+    }
+    fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+        Ok(p[0].powi(3) * (1.0 + 0.1 * (3.0 * p[1].to_radians()).cos()))
+    }
+}
+
+impl Constraints for CubicReach {
+    fn n_constraints(&self) -> usize {
+        1
+    }
+    fn inequalities(&self, p: &[f64], g: &mut [f64]) -> Result<(), ObjectiveError> {
+        g[0] = p[0] - 1.0;
+        Ok(())
+    }
+}
+
+#[test]
+fn augmented_lagrangian_keeps_the_basin_of_its_start_beyond_a_cubic_reach_limit() {
+    // A fixed first penalty (10) sent the first subproblem to r = 2.5, where the scaled steps
+    // carried θ into another basin (θ = 100° ended at 0°; issue 20: Stamper's antiparallel legs
+    // lost). A penalty that kept growing once feasible (Stamper's settings) let the multiplier
+    // drift from 3.3 (3.26 after 20 outer iterations from θ = 100°).
+    let problem = CubicReach(bounds([(0.0, 2.5), (0.0, 360.0)]));
+    let precise = AugmentedLagrangianSettings {
+        fd_step: 1e-6,
+        ..AugmentedLagrangianSettings::default()
+    };
+    // Stamper's settings (src/papers/stamper1997/optima.rs, full mode).
+    let stamper = AugmentedLagrangianSettings {
+        fd_step: 1e-3,
+        tolerance: 1e-6,
+        feasibility: 1e-4,
+        max_outer: 20,
+        max_inner: 200,
+        scale: None,
+    };
+    let starts = [
+        (100.0, 120.0),
+        (140.0, 120.0),
+        (215.0, 240.0),
+        (265.0, 240.0),
+    ];
+    for (settings, (start, basin)) in [precise, stamper]
+        .into_iter()
+        .flat_map(|s| starts.map(|st| (s, st)))
+    {
+        let r = augmented_lagrangian(&problem, Sense::Maximise, &[1.0, start], &settings, &Silent)
+            .unwrap();
+        assert!(
+            (r.design[0] - 1.0).abs() < 1e-4 && (r.design[1] - basin).abs() < 0.1,
+            "from θ = {start}: {r:?}"
+        );
+        assert!(
+            (r.multipliers[0] - 3.3).abs() < 1e-2,
+            "from θ = {start}: {r:?}"
+        );
+    }
+}
