@@ -109,6 +109,18 @@ fn tsai_volume_optimisation_matches_the_library_run() {
     assert_eq!(r.optimality.active_constraints, [0]);
     assert!(r.constraints[0].multiplier > 0.0);
     assert!(r.optimality.least_squares_multipliers[0] > 0.0);
+    // Second order: a maximum, not a saddle (issue 20: with the solver scaling and a fixed first
+    // penalty the example stopped at W 1.000777 with a reduced-Hessian eigenvalue of -12.9; now
+    // 5.6 and 38.9).
+    assert!(!r.optimality.reduced_hessian_eigenvalues.is_empty());
+    assert!(
+        r.optimality
+            .reduced_hessian_eigenvalues
+            .iter()
+            .all(|&e| e > 0.0),
+        "{:?}",
+        r.optimality.reduced_hessian_eigenvalues
+    );
     // The starts table has one row per start, the best one's value being the maximum.
     let pkm_study::Artifact::Table { name, table } = &outcome.artifacts[0] else {
         panic!("the starts table comes first");
