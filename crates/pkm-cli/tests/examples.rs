@@ -28,7 +28,10 @@ fn checked_grid(name: &str, kind: &str) -> usize {
         _ => pkm_study::pareto(&grid, Shard::WHOLE, &Stop).map(|_| ()),
     };
     assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
-    pkm_study::grid::prepare(&grid, &[]).unwrap().grid.len()
+    pkm_study::grid::prepare(&grid, &[], &pkm_traits::Silent)
+        .unwrap()
+        .grid
+        .len()
 }
 
 #[test]

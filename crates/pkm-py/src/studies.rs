@@ -83,7 +83,11 @@ fn workspace(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> P
 #[pyfunction]
 #[pyo3(signature = (study, progress = None))]
 fn optimize(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Py<PyAny>> {
-    run(study, progress, pkm_study::optimize)
+    run(
+        study,
+        progress,
+        pkm_study::optimize::<pkm_study::MechanismSpec>,
+    )
 }
 
 /// The sweep study (`pkm sweep`) of the whole grid, or of the shard `(i, n)` (1 ≤ i ≤ n).
@@ -91,7 +95,7 @@ fn optimize(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> Py
 #[pyfunction]
 #[pyo3(signature = (study, progress = None))]
 fn task(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Py<PyAny>> {
-    run(study, progress, pkm_study::task)
+    run(study, progress, pkm_study::task::<pkm_study::MechanismSpec>)
 }
 
 #[pyfunction]

@@ -5,8 +5,9 @@
 
 use crate::indices::{Evaluator, Infeasible};
 use crate::outcome::{Cell, Outcome, Table};
-use crate::registry::StudyMechanism as _;
+use crate::registry::StudyMechanism;
 use crate::schema::grid::{GridStudy, IndexName, IndexSettings, VariableSpec};
+use crate::schema::mechanism::MechanismSpec;
 use crate::workspace::constraints_of;
 use crate::{KeyPath, StudyError};
 use pkm_optimizers::{GridAxis, GridSearch, MAX_GRID_NODES};
@@ -120,11 +121,11 @@ pub enum GridRun<R> {
 
 /// A checked grid study, ready to evaluate.
 #[derive(Debug)]
-pub struct Prepared {
+pub struct Prepared<M = MechanismSpec> {
     /// The grid.
     pub grid: Grid,
     /// Evaluates designs.
-    pub evaluator: Evaluator,
+    pub evaluator: Evaluator<M>,
 }
 
 /// Checks index settings at `path` (`indices`, or a refinement level's overrides).
@@ -176,7 +177,9 @@ fn axis(k: usize, v: &VariableSpec) -> Result<GridAxis, StudyError> {
 }
 
 /// The checked variables of `study`: names and axes.
-fn variables(study: &GridStudy) -> Result<(Vec<String>, Vec<GridAxis>), StudyError> {
+fn variables<M: StudyMechanism>(
+    study: &GridStudy<M>,
+) -> Result<(Vec<String>, Vec<GridAxis>), StudyError> {
     if study.variables.is_empty() {
         return Err(StudyError::invalid(
             "variables",
@@ -208,16 +211,19 @@ fn variables(study: &GridStudy) -> Result<(Vec<String>, Vec<GridAxis>), StudyErr
 }
 
 /// Checks the study's grid, indices and constraints and builds the evaluator for `requested`
-/// (each index with the key path that asked for it).
+/// (each index with the key path that asked for it); the common points are generated in blocks
+/// that each check `progress` first.
 ///
 /// # Errors
 /// [`StudyError::Invalid`] at the offending key: no, unknown or repeated variable, bad axis,
 /// too many nodes, an index the mechanism does not have, a constraint it cannot evaluate,
-/// missing sampling or region for a workspace index; [`StudyError::Index`] for bad points.
-pub fn prepare(
-    study: &GridStudy,
+/// missing sampling or region for a workspace index; [`StudyError::Index`] for bad points;
+/// [`StudyError::Cancelled`] when `progress` asks to stop while the points are generated.
+pub fn prepare<M: StudyMechanism>(
+    study: &GridStudy<M>,
     requested: &[(IndexName, KeyPath)],
-) -> Result<Prepared, StudyError> {
+    progress: &dyn Progress,
+) -> Result<Prepared<M>, StudyError> {
     check_index_settings(study.indices, "indices")?;
     let (names, axes) = variables(study)?;
     for (index, path) in requested {
@@ -228,6 +234,7 @@ pub fn prepare(
         }
     }
     let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
+    let search = GridSearch::new(axes)?;
     let points = match requested.iter().find(|(i, _)| i.needs_points()) {
         None => None,
         Some((index, path)) => {
@@ -243,10 +250,10 @@ pub fn prepare(
                 ));
             }
             let domain = sampling.domain(None)?;
-            Some(sampling.point_set(domain)?)
+            progress.phase("sampling points");
+            Some(sampling.point_set_cancellable(domain, progress)?)
         }
     };
-    let search = GridSearch::new(axes)?;
     let grid = Grid { names, search };
     let variables = grid.names.clone();
     let evaluator = Evaluator::new(study.mechanism.clone(), variables, constraints, points);
@@ -259,8 +266,8 @@ pub fn prepare(
 /// # Errors
 /// [`StudyError::Cancelled`] when `progress` asks to stop; a study error found while
 /// evaluating.
-pub fn evaluate_nodes(
-    prepared: &Prepared,
+pub fn evaluate_nodes<M: StudyMechanism>(
+    prepared: &Prepared<M>,
     indices: &[IndexName],
     settings: IndexSettings,
     range: Range<usize>,
@@ -292,8 +299,8 @@ pub(crate) enum Evaluated {
 ///
 /// # Errors
 /// As [`evaluate_nodes`].
-pub(crate) fn evaluate_shard(
-    prepared: &Prepared,
+pub(crate) fn evaluate_shard<M: StudyMechanism>(
+    prepared: &Prepared<M>,
     indices: &[IndexName],
     settings: IndexSettings,
     shard: Shard,
@@ -326,8 +333,8 @@ pub(crate) fn evaluate_shard(
 ///
 /// # Errors
 /// As [`evaluate_shard`] and `finish`.
-pub(crate) fn run<R>(
-    prepared: &Prepared,
+pub(crate) fn run<M: StudyMechanism, R>(
+    prepared: &Prepared<M>,
     indices: &[IndexName],
     settings: IndexSettings,
     shard: Shard,
@@ -397,9 +404,9 @@ pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
 ///
 /// # Errors
 /// As [`crate::scene::design_scene`].
-pub fn design_scene(
-    study: &GridStudy,
-    prepared: &Prepared,
+pub fn design_scene<M: StudyMechanism>(
+    study: &GridStudy<M>,
+    prepared: &Prepared<M>,
     values: &[f64],
 ) -> Result<pkm_draw::Scene, String> {
     let spec = prepared.evaluator.mechanism_at(values)?;

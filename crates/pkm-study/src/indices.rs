@@ -8,7 +8,7 @@
 //! never given another design's values, however close the nodes of a sweep.
 
 use crate::StudyError;
-use crate::registry::StudyMechanism as _;
+use crate::registry::StudyMechanism;
 use crate::schema::grid::{IndexName, IndexSettings};
 use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
@@ -37,8 +37,8 @@ impl IndexSettings {
 
 /// Evaluates indices at designs of one study.
 #[derive(Debug)]
-pub struct Evaluator {
-    base: MechanismSpec,
+pub struct Evaluator<M = MechanismSpec> {
+    base: M,
     variables: Vec<String>,
     constraints: Vec<WorkspaceConstraint>,
     points: Option<PointSet>,
@@ -71,11 +71,11 @@ impl WorkspaceVisitor for VolumeAndEta<'_> {
     }
 }
 
-impl Evaluator {
+impl<M: StudyMechanism> Evaluator<M> {
     /// An evaluator of `base` with `variables` (names already checked) under `constraints`,
     /// on `points` (needed for the workspace indices), with an empty cache.
     pub fn new(
-        base: MechanismSpec,
+        base: M,
         variables: Vec<String>,
         constraints: Vec<WorkspaceConstraint>,
         points: Option<PointSet>,
@@ -94,7 +94,7 @@ impl Evaluator {
     /// # Errors
     /// The mechanism's message for an unknown variable (checked before any run, so not reached
     /// then).
-    pub fn mechanism_at(&self, design: &[f64]) -> Result<MechanismSpec, Infeasible> {
+    pub fn mechanism_at(&self, design: &[f64]) -> Result<M, Infeasible> {
         let mut spec = self.base.clone();
         for (name, value) in self.variables.iter().zip(design) {
             spec.set(name, *value)?;
@@ -149,7 +149,7 @@ impl Evaluator {
     /// W and η of `spec` when `indices` ask for a workspace index.
     fn workspace_indices(
         &self,
-        spec: &MechanismSpec,
+        spec: &M,
         indices: &[IndexName],
     ) -> Result<Result<Option<VolumeAndEtaValues>, Infeasible>, StudyError> {
         if !indices.iter().any(|i| i.needs_points()) {
@@ -172,7 +172,7 @@ impl Evaluator {
 
     fn cross_section_index(
         &self,
-        spec: &MechanismSpec,
+        spec: &M,
         index: IndexName,
         settings: IndexSettings,
     ) -> Result<f64, Infeasible> {

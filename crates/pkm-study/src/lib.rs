@@ -30,7 +30,7 @@ pub use registry::{Actuation, StudyMechanism, Unit, Variable};
 pub use schema::grid::GridStudy;
 pub use schema::mechanism::MechanismSpec;
 pub use sweep::{SweepResult, SweepStudy, sweep};
-pub use task::{TaskResult, TaskStudy, task};
+pub use task::{TaskMechanism, TaskResult, TaskStudy, task};
 pub use workspace::{WorkspaceResult, WorkspaceStudy, workspace};
 
 /// What the registry macros need from this crate's dependencies, so that a crate which

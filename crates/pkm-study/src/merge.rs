@@ -7,6 +7,7 @@ pub use crate::error::MergeError;
 use crate::grid::{self, NodeOutcome, ShardResult};
 use crate::outcome::Outcome;
 use crate::pareto::{self, ParetoResult};
+use crate::registry::StudyMechanism;
 use crate::schema::grid::{GridStudy, IndexName};
 use crate::sweep::{self, SweepResult};
 use pkm_traits::Progress;
@@ -74,8 +75,8 @@ pub fn join(mut parts: Vec<ShardResult>) -> Result<(Vec<IndexName>, Vec<NodeOutc
 /// # Errors
 /// The study's errors (checked again, before any computation), [`StudyError::Merge`] for parts
 /// that are not the whole of one run of this study, and the finishing errors of `kind`.
-pub fn merge(
-    study: &GridStudy,
+pub fn merge<M: StudyMechanism>(
+    study: &GridStudy<M>,
     kind: GridKind,
     parts: Vec<ShardResult>,
     progress: &dyn Progress,
@@ -84,7 +85,7 @@ pub fn merge(
     match kind {
         GridKind::Sweep => {
             let plan = sweep::plan(study)?;
-            let prepared = grid::prepare(study, &plan.requested)?;
+            let prepared = grid::prepare(study, &plan.requested, progress)?;
             check_parts(
                 &plan.indices(),
                 &indices,
@@ -96,7 +97,7 @@ pub fn merge(
         }
         GridKind::Pareto => {
             let plan = pareto::plan(study)?;
-            let prepared = grid::prepare(study, &plan.requested)?;
+            let prepared = grid::prepare(study, &plan.requested, progress)?;
             check_parts(
                 &plan.indices(),
                 &indices,

@@ -9,9 +9,10 @@
 //! Every setting is checked before the first start runs, each at its key path.
 
 use crate::outcome::{Artifact, Outcome};
+use crate::registry::StudyMechanism;
 use crate::scene;
-use crate::schema::mechanism::{MechanismSpec, TsaiSpec};
-use crate::starts::{self, Reached, ranked_chart, start_row};
+use crate::schema::mechanism::MechanismSpec;
+use crate::starts::{self, Reached, ranked_chart};
 use crate::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
 use crate::{KeyPath, StudyError};
 use nalgebra::Vector3;
@@ -25,14 +26,15 @@ use pkm_workspace_indices::Sampler;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// An optimize study.
+/// An optimize study of a mechanism of the registry `M` (the papers' mechanisms by default);
+/// a mechanism takes part through [`StudyMechanism::smooth_objective`].
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct OptimizeStudy {
+pub struct OptimizeStudy<M = MechanismSpec> {
     /// Free text.
     pub title: Option<String>,
     /// The nominal design (its values hold for the variables that are not optimised).
-    pub mechanism: MechanismSpec,
+    pub mechanism: M,
     /// What is optimised and how.
     pub optimize: OptimizeSection,
 }
@@ -196,29 +198,6 @@ fn refused(section: &str, e: OptimizeError) -> StudyError {
     }
 }
 
-/// The Tsai table of the study's mechanism.
-fn tsai_spec(study: &OptimizeStudy) -> Result<&TsaiSpec, StudyError> {
-    match &study.mechanism {
-        MechanismSpec::Tsai(spec) => Ok(spec),
-        _ => Err(StudyError::invalid(
-            "mechanism",
-            "pkm optimize optimises the Tsai platform: expected a [mechanism.tsai] table",
-        )),
-    }
-}
-
-/// The six values of a `[mechanism.tsai]` table, in [`TSAI_VARIABLES`] order.
-pub fn tsai_values(spec: &TsaiSpec) -> [f64; 6] {
-    [
-        spec.a.0,
-        spec.b.0,
-        spec.d_plus_e.0,
-        spec.c_minus_r.0,
-        spec.phi2_deg.0,
-        spec.phi3_deg.0,
-    ]
-}
-
 fn unknown_variable(name: &str) -> String {
     format!(
         "unknown design variable `{name}`: expected one of {} (lengths in m, *_deg in degrees)",
@@ -306,8 +285,11 @@ fn criterion(o: &OptimizeSection) -> Result<(TsaiCriterion, Vec<Vector3<f64>>), 
 }
 
 /// Checks every setting of `study` (before any start runs).
-fn check(study: &OptimizeStudy) -> Result<Checked, StudyError> {
-    let spec = tsai_spec(study)?;
+fn check<M: StudyMechanism>(study: &OptimizeStudy<M>) -> Result<Checked, StudyError> {
+    let nominal = study
+        .mechanism
+        .smooth_objective()
+        .map_err(|m| StudyError::invalid("mechanism", m))?;
     let o = &study.optimize;
     let free = free_variables(o)?;
     let inequalities = inequalities(o)?;
@@ -328,7 +310,7 @@ fn check(study: &OptimizeStudy) -> Result<Checked, StudyError> {
         .map_err(|e| refused("optimize.starts", e))?;
     let (criterion, points) = criterion(o)?;
     Ok(Checked {
-        nominal: tsai_values(spec),
+        nominal,
         free,
         criterion,
         points,
@@ -346,8 +328,8 @@ fn check(study: &OptimizeStudy) -> Result<Checked, StudyError> {
 /// before the first start), or when no start reaches a feasible design (at `optimize.starts`)
 /// or the optimality check fails (at `optimize.check_step`); [`StudyError::Cancelled`] when
 /// `progress` asks to stop.
-pub fn optimize(
-    study: &OptimizeStudy,
+pub fn optimize<M: StudyMechanism>(
+    study: &OptimizeStudy<M>,
     progress: &dyn Progress,
 ) -> Result<Outcome<OptimizeResult>, StudyError> {
     let c = check(study)?;
@@ -384,7 +366,8 @@ pub fn optimize(
             .zip(problem.design_values(&best.design)),
     );
     let quantity = study.optimize.objective.name();
-    outcome.robot(format!("tsai: the {quantity} optimum"), scene);
+    let kind = study.mechanism.kind();
+    outcome.robot(format!("{kind}: the {quantity} optimum"), scene);
     Ok(outcome)
 }
 
@@ -403,8 +386,8 @@ fn no_feasible(run: &MultistartRun<ConstrainedResult>) -> StudyError {
 
 /// The result: the best start's design, constraints and termination, the start counts and the
 /// checks.
-fn result_of(
-    study: &OptimizeStudy,
+fn result_of<M>(
+    study: &OptimizeStudy<M>,
     problem: &TsaiProblem<'_>,
     run: &MultistartRun<ConstrainedResult>,
     (best_start, best): (usize, &ConstrainedResult),
@@ -489,23 +472,14 @@ fn starts_artifacts(
     run: &MultistartRun<ConstrainedResult>,
 ) -> [Artifact; 2] {
     let quantity = result.objective.as_str();
-    let rows = run
-        .starts
-        .iter()
-        .zip(&run.outcomes)
-        .enumerate()
-        .map(|(k, (start, o))| {
-            let reached = o.as_ref().map(|r| Reached {
-                design: &r.design,
-                numbers: vec![
-                    r.value,
-                    r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g)),
-                ],
-                termination: &r.termination,
-            });
-            start_row(k, start, reached, names.len() + 2)
-        })
-        .collect();
+    let rows = starts::start_rows(run, names.len() + 2, |r| Reached {
+        design: &r.design,
+        numbers: vec![
+            r.value,
+            r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g)),
+        ],
+        termination: &r.termination,
+    });
     let values = run
         .outcomes
         .iter()

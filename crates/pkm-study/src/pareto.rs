@@ -8,8 +8,9 @@
 
 use crate::grid::{self, GridRun, NodeOutcome, Prepared, Shard};
 use crate::outcome::{Artifact, Cell, Outcome, Table, short};
-use crate::registry::StudyMechanism as _;
+use crate::registry::StudyMechanism;
 use crate::schema::grid::{GridStudy, IndexName};
+use crate::schema::mechanism::MechanismSpec;
 use crate::{KeyPath, StudyError};
 use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
 use pkm_optimizers::{Sense, pareto_front};
@@ -18,7 +19,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A Pareto study (the `[pareto]` section of a [`GridStudy`]).
-pub type ParetoStudy = GridStudy;
+pub type ParetoStudy<M = MechanismSpec> = GridStudy<M>;
 
 /// A design of the front.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -87,7 +88,7 @@ impl Plan {
 ///
 /// # Errors
 /// [`StudyError::Invalid`] at `pareto`, `pareto.objectives` or `pareto.weights[k]`.
-pub(crate) fn plan(study: &GridStudy) -> Result<Plan, StudyError> {
+pub(crate) fn plan<M: StudyMechanism>(study: &GridStudy<M>) -> Result<Plan, StudyError> {
     let section = study.pareto.as_ref().ok_or_else(|| {
         StudyError::invalid("pareto", "missing [pareto] section (objectives = [...])")
     })?;
@@ -131,13 +132,13 @@ pub(crate) fn plan(study: &GridStudy) -> Result<Plan, StudyError> {
 /// # Errors
 /// [`StudyError::Invalid`] for a setting that cannot be used (before any computation),
 /// [`StudyError::NoFeasibleDesign`], [`StudyError::Cancelled`] when `progress` asks to stop.
-pub fn pareto(
-    study: &ParetoStudy,
+pub fn pareto<M: StudyMechanism>(
+    study: &ParetoStudy<M>,
     shard: Shard,
     progress: &dyn Progress,
 ) -> Result<Outcome<GridRun<ParetoResult>>, StudyError> {
     let plan = plan(study)?;
-    let prepared = grid::prepare(study, &plan.requested)?;
+    let prepared = grid::prepare(study, &plan.requested, progress)?;
     let indices = plan.indices();
     grid::run(&prepared, &indices, study.indices, shard, progress, |o| {
         finish(study, &plan, &prepared, &o, progress)
@@ -149,10 +150,10 @@ pub fn pareto(
 ///
 /// # Errors
 /// [`StudyError::NoFeasibleDesign`]; the front's errors.
-pub(crate) fn finish(
-    study: &GridStudy,
+pub(crate) fn finish<M: StudyMechanism>(
+    study: &GridStudy<M>,
     plan: &Plan,
-    prepared: &Prepared,
+    prepared: &Prepared<M>,
     outcomes: &[NodeOutcome],
     progress: &dyn Progress,
 ) -> Result<Outcome<ParetoResult>, StudyError> {
@@ -232,7 +233,7 @@ pub(crate) fn finish(
 }
 
 /// The front: node, variables, objectives, and the weight range that selects each design.
-fn front_table(prepared: &Prepared, r: &ParetoResult) -> Table {
+fn front_table<M>(prepared: &Prepared<M>, r: &ParetoResult) -> Table {
     let grid = &prepared.grid;
     let mut header = vec!["node".to_owned()];
     header.extend(grid.names.iter().cloned());
@@ -288,7 +289,7 @@ fn shorts(values: &[f64]) -> String {
 }
 
 /// The summary: counts, the designs some weight selects (by weight), the weighted optima.
-fn summarise(outcome: &mut Outcome<ParetoResult>, names: &[String], prepared: &Prepared) {
+fn summarise<M>(outcome: &mut Outcome<ParetoResult>, names: &[String], prepared: &Prepared<M>) {
     let r = &outcome.result;
     let (x, y) = (r.objectives[0].key(), r.objectives[1].key());
     let selected_count = r.front.iter().filter(|p| p.weight_range.is_some()).count();
@@ -329,7 +330,11 @@ fn summarise(outcome: &mut Outcome<ParetoResult>, names: &[String], prepared: &P
 }
 
 /// The drawing of the first weighting's optimum (none without weights: a warning line).
-fn robot(outcome: &mut Outcome<ParetoResult>, study: &GridStudy, prepared: &Prepared) {
+fn robot<M: StudyMechanism>(
+    outcome: &mut Outcome<ParetoResult>,
+    study: &GridStudy<M>,
+    prepared: &Prepared<M>,
+) {
     let Some(o) = outcome.result.weighted_optima.first() else {
         outcome.line("warning: no drawing of the robot: the study gives no weights");
         return;

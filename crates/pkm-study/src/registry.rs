@@ -2,7 +2,8 @@
 //! mechanism through the [`StudyMechanism`] trait rather than a match arm per command.
 //!
 //! A study's `[mechanism.<kind>]` table is one of the kinds listed by [`mechanisms!`] (one
-//! line each); every command takes any [`StudyMechanism`], so a new mechanism is a table type
+//! line each); every command takes any [`StudyMechanism`] (a task study a
+//! [`TaskMechanism`](crate::task::TaskMechanism) too), so a new mechanism is a table type
 //! (plain serde), a [`design_variables!`] line and an `impl StudyMechanism`, then one line in a
 //! [`mechanisms!`] list (see `docs/adding-a-mechanism.md`).
 
@@ -117,6 +118,22 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     /// (Miller 2004 §2.2), `None` (the default) for a mechanism without them.
     fn section_ratios(&self) -> Option<[f64; 4]> {
         None
+    }
+
+    /// The nominal design $(a, b, d + e, c - r, \phi_2, \phi_3)$ (study units) of the one
+    /// design objective that is smooth in the design: the Tsai platform's workspace volume by
+    /// column quadrature, its $\eta$ and GCI over common points (Stamper, Tsai & Walsh 1997 §5;
+    /// [`optimize`](crate::optimize)).
+    ///
+    /// # Errors
+    /// Why this mechanism has none (the default): a Monte Carlo workspace volume counts points,
+    /// so it is piecewise constant in the design and a gradient-based optimiser cannot use it.
+    fn smooth_objective(&self) -> Result<[f64; 6], String> {
+        Err(format!(
+            "{} has no objective that is smooth in the design: its Monte Carlo workspace volume \
+             is piecewise constant in the design variables; use a sweep or pareto study",
+            self.kind()
+        ))
     }
 
     /// Sets variable `name` to `value` (study unit). The value is checked when the mechanism is
@@ -314,6 +331,9 @@ macro_rules! mechanisms {
             }
             fn section_ratios(&self) -> Option<[f64; 4]> {
                 match self { $(Self::$variant(m) => m.section_ratios(),)* }
+            }
+            fn smooth_objective(&self) -> Result<[f64; 6], String> {
+                match self { $(Self::$variant(m) => m.smooth_objective(),)* }
             }
         }
     };

@@ -5,7 +5,7 @@
 use crate::outcome::{Artifact, Cell, Table};
 use crate::{KeyPath, StudyError};
 use pkm_draw::chart::{Chart, Colour, LegendPosition, Marker, Series, SeriesStyle};
-use pkm_optimizers::OptimizeError;
+use pkm_optimizers::{MultistartRun, OptimizeError};
 use pkm_traits::Bounds;
 use std::fmt::Display;
 
@@ -61,9 +61,24 @@ pub(crate) fn starts_artifacts(
     ]
 }
 
+/// Every start's row of `run` ([`start_row`]): `reached` says where a successful start ended,
+/// a failed one has `missing` empty cells.
+pub(crate) fn start_rows<'a, R, T: Display>(
+    run: &'a MultistartRun<R>,
+    missing: usize,
+    reached: impl Fn(&'a R) -> Reached<'a, T>,
+) -> Vec<Vec<Cell>> {
+    run.starts
+        .iter()
+        .zip(&run.outcomes)
+        .enumerate()
+        .map(|(k, (start, o))| start_row(k, start, o.as_ref().map(&reached), missing))
+        .collect()
+}
+
 /// Start `k`'s row: the start, then the design reached, its numbers and termination, or
 /// `missing` empty cells and the reason it failed.
-pub(crate) fn start_row<T: Display>(
+fn start_row<T: Display>(
     k: usize,
     start: &[f64],
     outcome: Result<Reached<'_, T>, &OptimizeError>,

@@ -413,6 +413,46 @@ fn every_setting_is_checked_before_any_computation_and_named_by_its_key() {
     assert_eq!(rejected_at(TSAI, GridKind::Sweep), "no path: cancelled");
 }
 
+/// A reporter that is cancelled from the start and records the phases it is told of.
+#[derive(Default)]
+struct StoppedPhases(std::sync::Mutex<Vec<String>>);
+
+impl pkm_traits::Progress for StoppedPhases {
+    fn phase(&self, message: &str) {
+        if let Ok(mut phases) = self.0.lock() {
+            phases.push(message.to_owned());
+        }
+    }
+
+    fn is_cancelled(&self) -> bool {
+        true
+    }
+}
+
+#[test]
+fn a_cancelled_grid_study_stops_while_generating_its_common_points() {
+    let text = format!("{TSAI}[pareto]\nobjectives = [\"volume\", \"gci\"]\n");
+    for kind in [GridKind::Sweep, GridKind::Pareto] {
+        let mut study: GridStudy = from_toml_str(&text).unwrap();
+        if let Some(sampling) = study.sampling.as_mut() {
+            // Far more points than the tests' studies use: generated only if not stopped.
+            sampling.points = 4_000_000;
+        }
+        let progress = StoppedPhases::default();
+        let run = match kind {
+            GridKind::Sweep => sweep(&study, Shard::WHOLE, &progress).map(|_| ()),
+            GridKind::Pareto => pareto(&study, Shard::WHOLE, &progress).map(|_| ()),
+        };
+        assert!(
+            matches!(run, Err(StudyError::Cancelled)),
+            "{kind:?}: {run:?}"
+        );
+        // Stopped in the points, before the grid is evaluated.
+        let phases = progress.0.into_inner().unwrap();
+        assert_eq!(phases, ["sampling points"], "{kind:?}");
+    }
+}
+
 #[test]
 fn a_grid_study_reads_from_json_and_a_bad_shard_is_an_empty_part() {
     let study: GridStudy = from_json_str(

@@ -5,19 +5,20 @@
 use super::mechanism::{ConstraintsSpec, MechanismSpec};
 use super::sampling::SamplingSpec;
 use super::units::Real;
-use crate::registry::StudyMechanism as _;
+use crate::registry::StudyMechanism;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A study over a grid of designs, read by [`sweep`](crate::sweep) (its `[sweep]` section) and
-/// [`pareto`](crate::pareto) (its `[pareto]` section).
+/// [`pareto`](crate::pareto) (its `[pareto]` section), of a mechanism of the registry `M` (the
+/// papers' mechanisms by default).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct GridStudy {
+pub struct GridStudy<M = MechanismSpec> {
     /// Free text.
     pub title: Option<String>,
     /// The base design; the variables override its parameters.
-    pub mechanism: MechanismSpec,
+    pub mechanism: M,
     /// Workspace limits (for the workspace indices).
     pub constraints: Option<ConstraintsSpec>,
     /// Common points of the workspace indices (needed for `volume`, `eta`, `gci`).
@@ -53,7 +54,7 @@ pub use super::index::IndexName;
 
 impl IndexName {
     /// Whether `mechanism` has it.
-    pub fn applies_to(self, mechanism: &MechanismSpec) -> bool {
+    pub fn applies_to<M: StudyMechanism>(self, mechanism: &M) -> bool {
         self.needs_points() || mechanism.section_ratios().is_some()
     }
 }

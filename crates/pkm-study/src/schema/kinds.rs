@@ -109,6 +109,18 @@ impl StudyMechanism for TsaiSpec {
         });
         first_drawable(p, tries)
     }
+
+    /// Its six design values: the column quadrature of its volume is smooth in them.
+    fn smooth_objective(&self) -> Result<[f64; 6], String> {
+        Ok([
+            self.a.0,
+            self.b.0,
+            self.d_plus_e.0,
+            self.c_minus_r.0,
+            self.phi2_deg.0,
+            self.phi3_deg.0,
+        ])
+    }
 }
 
 impl StudyMechanism for LinearDeltaSpec {

@@ -11,8 +11,9 @@ mod refine;
 
 use crate::grid::{self, GridRun, NodeOutcome, Prepared, Shard};
 use crate::outcome::{Artifact, Cell, Outcome, Table, short};
-use crate::registry::StudyMechanism as _;
+use crate::registry::StudyMechanism;
 use crate::schema::grid::{GridStudy, IndexName, SweepSection};
+use crate::schema::mechanism::MechanismSpec;
 use crate::{KeyPath, StudyError};
 use pkm_draw::chart::{self, Chart, Marker};
 use pkm_optimizers::Sense;
@@ -21,7 +22,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A sweep study (the `[sweep]` section of a [`GridStudy`]).
-pub type SweepStudy = GridStudy;
+pub type SweepStudy<M = MechanismSpec> = GridStudy<M>;
 
 /// A design with its index values and utility.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -80,7 +81,7 @@ impl Plan<'_> {
 /// # Errors
 /// [`StudyError::Invalid`] at the offending key: no `[sweep]` section, no non-zero weight, a
 /// bad refinement level, a heat map of an unknown variable.
-pub(crate) fn plan(study: &GridStudy) -> Result<Plan<'_>, StudyError> {
+pub(crate) fn plan<M: StudyMechanism>(study: &GridStudy<M>) -> Result<Plan<'_>, StudyError> {
     let section = study.sweep.as_ref().ok_or_else(|| {
         StudyError::invalid("sweep", "missing [sweep] section (objective = { ... })")
     })?;
@@ -122,8 +123,8 @@ pub(crate) fn plan(study: &GridStudy) -> Result<Plan<'_>, StudyError> {
 }
 
 /// The variable pairs of the heat maps, as axis numbers (default: the first two variables).
-fn heatmap_pairs(
-    study: &GridStudy,
+fn heatmap_pairs<M: StudyMechanism>(
+    study: &GridStudy<M>,
     section: &SweepSection,
 ) -> Result<Vec<(usize, usize)>, StudyError> {
     let names = &study.variables;
@@ -167,13 +168,13 @@ fn utility(terms: &[(IndexName, f64)], indices: &[IndexName], values: &[f64]) ->
 /// [`StudyError::Invalid`] for a setting that cannot be used (before any computation) or
 /// when no node is feasible; [`StudyError::Optimize`] for a refinement the search refuses;
 /// [`StudyError::Cancelled`] when `progress` asks to stop.
-pub fn sweep(
-    study: &SweepStudy,
+pub fn sweep<M: StudyMechanism>(
+    study: &SweepStudy<M>,
     shard: Shard,
     progress: &dyn Progress,
 ) -> Result<Outcome<GridRun<SweepResult>>, StudyError> {
     let plan = plan(study)?;
-    let prepared = grid::prepare(study, &plan.requested)?;
+    let prepared = grid::prepare(study, &plan.requested, progress)?;
     let indices = plan.indices();
     grid::run(&prepared, &indices, study.indices, shard, progress, |o| {
         finish(study, &plan, &prepared, o, progress)
@@ -186,10 +187,10 @@ pub fn sweep(
 ///
 /// # Errors
 /// No feasible node; search errors; [`StudyError::Cancelled`].
-pub(crate) fn finish(
-    study: &GridStudy,
+pub(crate) fn finish<M: StudyMechanism>(
+    study: &GridStudy<M>,
     plan: &Plan<'_>,
-    prepared: &Prepared,
+    prepared: &Prepared<M>,
     outcomes: Vec<NodeOutcome>,
     progress: &dyn Progress,
 ) -> Result<Outcome<SweepResult>, StudyError> {
@@ -338,9 +339,9 @@ fn summarise(outcome: &mut Outcome<SweepResult>, names: &[String], refined: bool
 
 /// Adds the table and chart of the utility over variables `x`, `y` with the others at the
 /// grid optimum's nodes.
-fn heatmap(
+fn heatmap<M: StudyMechanism>(
     outcome: &mut Outcome<SweepResult>,
-    prepared: &Prepared,
+    prepared: &Prepared<M>,
     utilities: &[Option<f64>],
     (x, y): (usize, usize),
 ) {

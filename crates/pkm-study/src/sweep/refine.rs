@@ -9,6 +9,7 @@
 use super::utility;
 use crate::StudyError;
 use crate::grid::Prepared;
+use crate::registry::StudyMechanism;
 use crate::schema::grid::{IndexName, IndexSettings, RefineLevel};
 use pkm_optimizers::{
     GridSearch, LatticeLevel, Sense, grid_search, lattice_refine_from, lattice_window,
@@ -53,15 +54,15 @@ pub(super) fn check_levels(levels: &[RefineLevel]) -> Result<(), StudyError> {
 }
 
 /// The utility of a design as an [`Objective`] (negated: the searches minimise).
-struct UtilityObjective<'a> {
-    prepared: &'a Prepared,
+struct UtilityObjective<'a, M> {
+    prepared: &'a Prepared<M>,
     terms: &'a [(IndexName, f64)],
     indices: Vec<IndexName>,
     settings: IndexSettings,
     bounds: Vec<Bounds>,
 }
 
-impl Objective for UtilityObjective<'_> {
+impl<M: StudyMechanism> Objective for UtilityObjective<'_, M> {
     fn dimension(&self) -> usize {
         self.bounds.len()
     }
@@ -95,8 +96,8 @@ pub(super) struct Refined {
 ///
 /// # Errors
 /// The searches' errors; [`StudyError::Cancelled`].
-pub(super) fn refine(
-    prepared: &Prepared,
+pub(super) fn refine<M: StudyMechanism>(
+    prepared: &Prepared<M>,
     terms: &[(IndexName, f64)],
     mut settings: IndexSettings,
     levels: &[RefineLevel],

@@ -38,29 +38,92 @@ use pkm_traits::{Bounds, Objective, Progress, Residuals};
 use report::{starts_artifacts, summarise, wrench_matrix};
 use std::collections::BTreeMap;
 
+/// A mechanism with a wrench system (`pkm_mechanisms::WrenchSystem`): the part of a task study
+/// that depends on it. The default refuses at `mechanism`; the Stewart–Gough platform (six leg
+/// lines) and the 3-UPU (three leg lines, three constraint couples) run their problems.
+///
+/// It is a trait of its own, not a method of [`StudyMechanism`], because its types are the task
+/// study's and the registry sits below the study kinds. A registry takes part with one impl:
+/// `impl TaskMechanism for MyMechanisms {}` refuses every kind, or delegate to the kinds that
+/// have a wrench system (as [`MechanismSpec`] does).
+pub trait TaskMechanism: StudyMechanism {
+    /// The multistart over this mechanism's task problem for `task` and its `twists` (checked),
+    /// and its report (without the study's title).
+    ///
+    /// # Errors
+    /// As [`task`]; the default: this mechanism has no wrench system.
+    fn task_run(
+        &self,
+        task: &TaskSection,
+        twists: &[(f64, Twist)],
+        progress: &dyn Progress,
+    ) -> Result<TaskRun, StudyError> {
+        let _ = (task, twists, progress);
+        Err(no_wrench_system(self.kind(), ""))
+    }
+}
+
+/// The refusal of a mechanism without a wrench system (`hint`: which kinds have one).
+fn no_wrench_system(kind: &str, hint: &str) -> StudyError {
+    let message = format!("{kind} has no wrench system for a task study{hint}");
+    StudyError::invalid("mechanism", message)
+}
+
+impl TaskMechanism for MechanismSpec {
+    fn task_run(
+        &self,
+        task: &TaskSection,
+        twists: &[(f64, Twist)],
+        progress: &dyn Progress,
+    ) -> Result<TaskRun, StudyError> {
+        match self {
+            Self::StewartGough(spec) => spec.task_run(task, twists, progress),
+            Self::ThreeUpu(spec) => spec.task_run(task, twists, progress),
+            other => Err(no_wrench_system(
+                other.kind(),
+                ": expected [mechanism.stewart_gough] or [mechanism.three_upu]",
+            )),
+        }
+    }
+}
+
+impl TaskMechanism for StewartSpec {
+    fn task_run(
+        &self,
+        task: &TaskSection,
+        twists: &[(f64, Twist)],
+        progress: &dyn Progress,
+    ) -> Result<TaskRun, StudyError> {
+        stewart(self, task, twists, progress)
+    }
+}
+
+impl TaskMechanism for ThreeUpuSpec {
+    fn task_run(
+        &self,
+        task: &TaskSection,
+        twists: &[(f64, Twist)],
+        progress: &dyn Progress,
+    ) -> Result<TaskRun, StudyError> {
+        upu(self, task, twists, progress)
+    }
+}
+
 /// Runs a task study: the multistart, the report at the best start, the starts as a table and
 /// a chart, and the drawing of the robot at the optimal pose with the task twists' axes.
 ///
 /// # Errors
 /// [`StudyError::Invalid`] at its key path for a setting that cannot be used (every one checked
-/// before the first start); [`StudyError::Optimize`] when no start succeeds;
-/// [`StudyError::Cancelled`] when `progress` asks to stop.
-pub fn task(study: &TaskStudy, progress: &dyn Progress) -> Result<Outcome<TaskResult>, StudyError> {
+/// before the first start) or at `mechanism` for a mechanism without a wrench system;
+/// [`StudyError::Optimize`] when no start succeeds; [`StudyError::Cancelled`] when `progress`
+/// asks to stop.
+pub fn task<M: TaskMechanism>(
+    study: &TaskStudy<M>,
+    progress: &dyn Progress,
+) -> Result<Outcome<TaskResult>, StudyError> {
     let twists = weighted_twists(&study.task)?;
-    let found = match &study.mechanism {
-        MechanismSpec::StewartGough(spec) => stewart(study, spec, &twists, progress)?,
-        MechanismSpec::ThreeUpu(spec) => upu(study, spec, &twists, progress)?,
-        other => {
-            return Err(StudyError::invalid(
-                "mechanism",
-                format!(
-                    "{} has no wrench system for a task study: expected [mechanism.stewart_gough] \
-                     or [mechanism.three_upu]",
-                    other.kind()
-                ),
-            ));
-        }
-    };
+    let mut found = study.mechanism.task_run(&study.task, &twists, progress)?;
+    found.result.title.clone_from(&study.title);
     let mut outcome = Outcome::new(found.result);
     summarise(&mut outcome);
     let artifacts = starts_artifacts(&found.names, &outcome.result, &found.run);
@@ -71,12 +134,16 @@ pub fn task(study: &TaskStudy, progress: &dyn Progress) -> Result<Outcome<TaskRe
 }
 
 /// What one mechanism's run found, before the common report.
-struct Found {
-    names: Vec<String>,
-    run: MultistartRun<LocalOptimum>,
-    result: TaskResult,
+#[derive(Debug)]
+pub struct TaskRun {
+    /// The optimised variables, in design-vector order.
+    pub names: Vec<String>,
+    /// Every start's outcome.
+    pub run: MultistartRun<LocalOptimum>,
+    /// The result (its title is the study's, set by [`task`]).
+    pub result: TaskResult,
     /// The robot at the optimal pose with the task twists' axes.
-    scene: Result<Scene, String>,
+    pub scene: Result<Scene, String>,
 }
 
 /// The study's weighted twists, each checked at its `task.twists[k]` entry, and their presence
@@ -220,12 +287,11 @@ fn named<'a>(
 }
 
 fn stewart(
-    study: &TaskStudy,
     spec: &StewartSpec,
+    task: &TaskSection,
     twists: &[(f64, Twist)],
     progress: &dyn Progress,
-) -> Result<Found, StudyError> {
-    let task = &study.task;
+) -> Result<TaskRun, StudyError> {
     if spec.rotation_deg.iter().any(|w| w.0.abs() > 0.0) {
         return Err(StudyError::invalid(
             "mechanism.stewart_gough.rotation_deg",
@@ -261,7 +327,7 @@ fn stewart(
         names.extend(["u_x", "u_y", "u_z"].map(str::to_owned));
     }
     let result = TaskResult {
-        title: study.title.clone(),
+        title: None,
         mechanism: "stewart_gough".into(),
         goal: task.goal,
         objective: best.value,
@@ -289,7 +355,7 @@ fn stewart(
         twists,
         None,
     );
-    Ok(Found {
+    Ok(TaskRun {
         names,
         run,
         result,
@@ -323,12 +389,11 @@ fn leg_lengths(mechanism: &StewartGough, pose: &Isometry3<f64>) -> [f64; 6] {
 }
 
 fn upu(
-    study: &TaskStudy,
     spec: &ThreeUpuSpec,
+    task: &TaskSection,
     twists: &[(f64, Twist)],
     progress: &dyn Progress,
-) -> Result<Found, StudyError> {
-    let task = &study.task;
+) -> Result<TaskRun, StudyError> {
     if task.max_angle_deg.is_some() {
         return Err(StudyError::invalid(
             "task.max_angle_deg",
@@ -349,7 +414,7 @@ fn upu(
         .collect();
     let all = problem.full(&best.design);
     let result = TaskResult {
-        title: study.title.clone(),
+        title: None,
         mechanism: "three_upu".into(),
         goal: task.goal,
         objective: best.value,
@@ -373,7 +438,7 @@ fn upu(
         twists,
         reciprocal,
     );
-    Ok(Found {
+    Ok(TaskRun {
         names,
         run,
         result,

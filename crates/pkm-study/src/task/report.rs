@@ -4,8 +4,8 @@
 use super::problem::smallest_singular_value;
 use super::schema::Goal;
 use crate::StudyError;
-use crate::outcome::{Artifact, Outcome};
-use crate::starts::{self, Reached, ranked_chart, start_row};
+use crate::outcome::{Artifact, Outcome, short};
+use crate::starts::{self, Reached, ranked_chart};
 use nalgebra::{Isometry3, Matrix6, Vector3, Vector6};
 use pkm_optimizers::{ActiveBound, LocalOptimum, MultistartRun};
 use pkm_screw_theory::{ScrewError, Twist, line_set_rank};
@@ -162,15 +162,22 @@ pub fn most_reciprocal_twist(rows: &Matrix6<f64>) -> Option<Twist> {
 }
 
 /// The four summary lines: the optimum, the variables, the pose with the rows' rank, and the
-/// first- and second-order report.
+/// first- and second-order report (numbers in [`short`] form).
 pub(super) fn summarise(outcome: &mut Outcome<TaskResult>) {
     let r = &outcome.result;
+    let list = |values: &[f64]| {
+        values
+            .iter()
+            .map(|v| short(*v))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let lines = [
         format!(
-            "{} {}: objective {:.6e} from start {} of {} ({})",
+            "{} {}: objective {} from start {} of {} ({})",
             r.mechanism,
             r.goal.name(),
-            r.objective,
+            short(r.objective),
             r.best_start,
             r.starts,
             r.optimality.termination
@@ -179,33 +186,23 @@ pub(super) fn summarise(outcome: &mut Outcome<TaskResult>) {
             "optimum: {}",
             r.optimum
                 .iter()
-                .map(|(n, v)| format!("{n} = {v:.6}"))
+                .map(|(n, v)| format!("{n} = {}", short(*v)))
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
         format!(
-            "pose: p = [{:.6}, {:.6}, {:.6}] m, rotation {:.4}° about [{:.4}, {:.4}, {:.4}]; \
-             wrench rows rank {}, sigma_min {:.3e}",
-            r.pose.position[0],
-            r.pose.position[1],
-            r.pose.position[2],
-            r.pose.angle_deg,
-            r.pose.axis[0],
-            r.pose.axis[1],
-            r.pose.axis[2],
+            "pose: p = [{}] m, rotation {}° about [{}]; wrench rows rank {}, sigma_min {}",
+            list(&r.pose.position),
+            short(r.pose.angle_deg),
+            list(&r.pose.axis),
             r.wrench_matrix.rank,
-            r.wrench_matrix.sigma_min
+            short(r.wrench_matrix.sigma_min)
         ),
         format!(
-            "free gradient {:.2e}, {} active bounds, reduced Hessian eigenvalues [{}]",
-            r.optimality.free_gradient_max,
+            "free gradient {}, {} active bounds, reduced Hessian eigenvalues [{}]",
+            short(r.optimality.free_gradient_max),
             r.optimality.active_bounds,
-            r.optimality
-                .reduced_hessian_eigenvalues
-                .iter()
-                .map(|v| format!("{v:.3e}"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            list(&r.optimality.reduced_hessian_eigenvalues)
         ),
     ];
     outcome.summary.extend(lines);
@@ -218,20 +215,11 @@ pub(super) fn starts_artifacts(
     run: &MultistartRun<LocalOptimum>,
 ) -> [Artifact; 2] {
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
-    let rows = run
-        .starts
-        .iter()
-        .zip(&run.outcomes)
-        .enumerate()
-        .map(|(k, (start, o))| {
-            let reached = o.as_ref().map(|r| Reached {
-                design: &r.design,
-                numbers: vec![r.value],
-                termination: &r.termination,
-            });
-            start_row(k, start, reached, names.len() + 1)
-        })
-        .collect();
+    let rows = starts::start_rows(run, names.len() + 1, |r| Reached {
+        design: &r.design,
+        numbers: vec![r.value],
+        termination: &r.termination,
+    });
     let values = run
         .outcomes
         .iter()

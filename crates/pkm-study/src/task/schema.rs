@@ -8,15 +8,15 @@ use pkm_screw_theory::{ScrewError, Twist};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// A task study.
+/// A task study of a mechanism of the registry `M` (the papers' mechanisms by default).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct TaskStudy {
+pub struct TaskStudy<M = MechanismSpec> {
     /// Free text.
     pub title: Option<String>,
     /// The nominal design (its values hold for the variables that are not optimised): the
     /// same `[mechanism.<kind>]` table as every other study.
-    pub mechanism: MechanismSpec,
+    pub mechanism: M,
     /// What is sought and how.
     pub task: TaskSection,
 }
