@@ -128,3 +128,56 @@ fn a_bad_robot_file_is_reported_at_its_line_and_column() {
     assert!(stderr.contains("study.toml:2:8:"), "{stderr}");
     assert!(stderr.contains("cannot read"), "{stderr}");
 }
+
+/// The path of `examples/robots/<name>`.
+fn robot_path(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/robots")
+        .join(name)
+}
+
+#[test]
+fn a_robot_file_study_draws_the_robot_and_needs_no_region() {
+    let dir = tempfile::tempdir().unwrap();
+    // The Linear Delta's carriages have no limits: the study gives its region.
+    let delta = format!(
+        "[mechanism.robot_file]\nfile = {:?}\n[sampling]\npoints = 2048\n\
+         region = {{ box = {{ lower = [-0.3, -0.25, -0.35], upper = [0.3, 0.25, 0.0] }} }}\n",
+        robot_path("linear_delta.toml").to_str().unwrap()
+    );
+    // The Tsai platform's reach region is the robot file's own bound.
+    let tsai = format!(
+        "[mechanism.robot_file]\nfile = {:?}\n[sampling]\npoints = 2048\n",
+        robot_path("tsai.toml").to_str().unwrap()
+    );
+    for (name, study) in [("delta", delta), ("tsai", tsai)] {
+        let file = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&file, study).unwrap();
+        let out = dir.path().join(name);
+        let run = pkm(&[
+            "workspace",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(run.ok, "{name}: {}", run.stderr);
+        let report = format!("{}{}", run.stdout, run.stderr);
+        assert!(!report.contains("no drawing"), "{name}: {report}");
+        let svg = std::fs::read_to_string(out.join("robot.svg")).unwrap();
+        assert!(svg.contains("<svg"), "{name}");
+        let results: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap())
+                .unwrap();
+        assert!(
+            results["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|f| f == "robot.svg")
+        );
+        assert!(
+            results["result"]["estimate"]["n_inside"].as_u64().unwrap() > 0,
+            "{name}"
+        );
+    }
+}

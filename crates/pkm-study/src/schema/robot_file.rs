@@ -16,10 +16,12 @@ use super::constraints::ConstraintsSpec;
 use crate::StudyError;
 use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
 use crate::registry::{BuildError, WorkspaceVisitor, visit};
+use crate::scene::first_drawable;
 use nalgebra::Vector3;
-use pkm_mechanisms::Skeleton;
-use pkm_robot_file::{Robot, RobotFile, RobotFileError, RobotModel};
+use pkm_mechanisms::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
+use pkm_robot_file::{Configuration, LegPointKind, Robot, RobotFile, RobotFileError, RobotModel};
 use pkm_traits::WorkspaceConstraint;
+use pkm_workspace_indices::Region;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use toml::{Table, Value};
@@ -238,9 +240,32 @@ impl StudyMechanism for RobotFileSpec {
         visit(&robot, &[mode], constraints, visitor)
     }
 
-    /// No drawing yet: a study of a robot file reports it and writes no robot picture.
-    fn skeleton_at(&self, _p: &Vector3<f64>) -> Result<Skeleton, String> {
-        Err("a robot file is not drawn (no skeleton from its joints yet)".into())
+    /// The box of [`RobotModel::reach_box`]: the intersection of the legs' reach balls, each
+    /// the chain's length from its first joint point (prismatic travel within the file's
+    /// `limits` included), so it holds every reachable position. None when a prismatic joint
+    /// has no limits (its reach is unbounded) or the boxes do not overlap; the study then needs
+    /// `[sampling.region]`.
+    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
+        let robot = self
+            .translational_robot()
+            .map_err(|e| BuildError::Design(e.to_string()))?;
+        Ok(robot
+            .model()
+            .reach_box()
+            .filter(|[lower, upper]| (0..3).all(|a| lower[a] < upper[a]))
+            .map(|[lower, upper]| Region::Box { lower, upper }))
+    }
+
+    /// The robot drawn from its joints ([`robot_skeleton`]) in the first working mode of the
+    /// study that reaches `p`.
+    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
+        let robot = self.translational_robot().map_err(|e| e.to_string())?;
+        let model = robot.model();
+        let mode = model.home_mode();
+        let tries = [model
+            .inverse_kinematics_configuration(p.as_slice(), mode)
+            .map(|c| robot_skeleton(model, &c))];
+        first_drawable(p, tries)
     }
 
     /// As for every mechanism, with joint ranges refused for a robot whose actuators are both
@@ -260,5 +285,90 @@ impl StudyMechanism for RobotFileSpec {
             );
         }
         spec.to_library(self.kind(), self.actuation())
+    }
+}
+
+/// The skeleton of `model` at `config`, drawn from its joints: the platform origin `p`, for leg
+/// $n$ its stations ([`RobotModel::leg_points`]: the rail origin `On` of leading prismatic
+/// joints, then the joint points `An`, `Bn`, ... from the base, the last one the platform
+/// anchor) and the segments between them (actuated when the actuator moves them, passive
+/// otherwise), and the polygons of the legs' first stations (base) and platform anchors
+/// (platform), coincident corners drawn once.
+pub fn robot_skeleton(model: &RobotModel, config: &Configuration) -> Skeleton {
+    let mut s = Skeleton::default();
+    let centre = model.platform_pose_of(config).translation.vector;
+    s.points.push(point("p".into(), PointKind::Centre, centre));
+    let (mut base, mut plate) = (Vec::new(), Vec::new());
+    for leg in 0..model.legs().len() {
+        let Some(stations) = model.leg_points(leg, config) else {
+            continue;
+        };
+        let n = leg + 1;
+        let first = s.points.len();
+        let mut letters = ('A'..='Z').cycle();
+        for station in &stations.points {
+            let (label, kind) = match station.kind {
+                LegPointKind::RailOrigin => (format!("O{n}"), PointKind::Base),
+                LegPointKind::BaseJoint => (letter(&mut letters, n), PointKind::BaseJoint),
+                LegPointKind::Actuator => (letter(&mut letters, n), PointKind::Actuator),
+                LegPointKind::Joint => (letter(&mut letters, n), PointKind::Passive),
+                LegPointKind::Platform => (letter(&mut letters, n), PointKind::Platform),
+            };
+            s.points.push(point(label, kind, station.position));
+        }
+        s.links.extend(stations.segments.iter().map(|seg| Link {
+            from: first + seg.from,
+            to: first + seg.to,
+            kind: if seg.actuated {
+                LinkKind::Actuated
+            } else {
+                LinkKind::Passive
+            },
+        }));
+        base.push(first);
+        plate.push(s.points.len() - 1);
+    }
+    polygon(&mut s, &base, LinkKind::Base, model);
+    polygon(&mut s, &plate, LinkKind::Platform, model);
+    s
+}
+
+fn point(label: String, kind: PointKind, position: Vector3<f64>) -> SkeletonPoint {
+    SkeletonPoint {
+        label,
+        kind,
+        position,
+    }
+}
+
+fn letter(letters: &mut impl Iterator<Item = char>, leg: usize) -> String {
+    format!("{}{leg}", letters.next().unwrap_or('Z'))
+}
+
+/// The closed polygon through the points `corners` of `s`, each position once (a point
+/// platform, where every leg ends at one point, has no polygon): a link for two corners.
+fn polygon(s: &mut Skeleton, corners: &[usize], kind: LinkKind, model: &RobotModel) {
+    let tolerance = 1e-9 * model.characteristic_length();
+    let mut ring: Vec<usize> = Vec::new();
+    for &k in corners {
+        let at = s.points[k].position;
+        if ring
+            .iter()
+            .all(|&r| (s.points[r].position - at).norm() > tolerance)
+        {
+            ring.push(k);
+        }
+    }
+    let links = match ring.len() {
+        0 | 1 => 0,
+        2 => 1,
+        n => n,
+    };
+    for k in 0..links {
+        s.links.push(Link {
+            from: ring[k],
+            to: ring[(k + 1) % ring.len()],
+            kind,
+        });
     }
 }
