@@ -181,3 +181,36 @@ fn a_robot_file_study_draws_the_robot_and_needs_no_region() {
         );
     }
 }
+
+#[test]
+fn working_modes_go_beside_a_named_robot_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = |modes: &str| {
+        format!(
+            "[mechanism.robot_file]\nfile = {:?}\nmodes = {modes}\n[sampling]\npoints = 1024\n",
+            robot_path("tsai.toml").to_str().unwrap()
+        )
+    };
+    let run = |name: &str, modes: &str| {
+        let file = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&file, study(modes)).unwrap();
+        let out = dir.path().join(name);
+        pkm(&[
+            "workspace",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let all = run("all", r#"["home", "all"]"#);
+    assert!(all.ok, "{}", all.stderr);
+    // A bad label: at its place in the study file (line 3), not in the robot file.
+    let bad = run("bad", r#"["home", "+-"]"#);
+    assert!(!bad.ok);
+    assert!(bad.stderr.contains("bad.toml:3:"), "{}", bad.stderr);
+    assert!(
+        bad.stderr.contains("mechanism.robot_file.modes[1]"),
+        "{}",
+        bad.stderr
+    );
+}

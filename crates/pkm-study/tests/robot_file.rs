@@ -568,3 +568,150 @@ fn the_reach_region_of_a_robot_file_holds_its_workspace() {
             .is_none()
     );
 }
+
+/// Membership at every point of the hand-written study `hand` and of the same study on `robot`
+/// agrees; returns the members.
+fn membership_agrees(hand: &str, robot: toml::Table) -> usize {
+    let hand: WorkspaceStudy = from_toml_str(hand).unwrap();
+    let mut file = hand.clone();
+    file.mechanism = robot_spec(robot);
+    let points = {
+        let domain = hand.sampling.domain(None).unwrap();
+        hand.sampling.point_set(domain).unwrap()
+    };
+    let inside = |study: &WorkspaceStudy| -> Vec<bool> {
+        let constraints = constraints_of(&study.mechanism, study.constraints.as_ref()).unwrap();
+        let values = study
+            .mechanism
+            .with_workspace(&constraints, PerPoint(points.points()));
+        values.unwrap().iter().map(Option::is_some).collect()
+    };
+    let (a, b) = (inside(&hand), inside(&file));
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        differ,
+        0,
+        "membership differs at {differ} of {} points",
+        a.len()
+    );
+    let (ea, eb) = (
+        workspace(&hand, &Silent).unwrap().result.estimate,
+        workspace(&file, &Silent).unwrap().result.estimate,
+    );
+    assert_eq!(ea.n_inside, eb.n_inside);
+    a.iter().filter(|m| **m).count()
+}
+
+/// `robot_table(file)` with `modes` in its table.
+fn with_modes(file: &str, modes: &[&str]) -> toml::Table {
+    let mut table = robot_table(file);
+    let modes = modes
+        .iter()
+        .map(|m| toml::Value::String((*m).into()))
+        .collect();
+    table.insert("modes".into(), toml::Value::Array(modes));
+    table
+}
+
+/// The label of the mode with every leg on the other branch than at home.
+fn flipped_home(file: &str) -> String {
+    let model = RobotFileSpec::inline(robot_table(file)).model().unwrap();
+    let home = model.mode_label(model.home_mode());
+    home.chars()
+        .map(|c| if c == '+' { '-' } else { '+' })
+        .collect()
+}
+
+#[test]
+fn working_modes_of_a_robot_file_match_the_rotary_delta_elbows() {
+    // Miller 2004's §3.5 Delta in its canonical placement (examples/robots/rotary_delta.toml);
+    // the joint range makes the elbows differ (without it, both branches exist wherever one
+    // does).
+    let study = |elbows: &str| {
+        format!(
+            "[mechanism.rotary_delta]\nbase_radius = 0.194\nplate_offset = 0.03\narm = 0.26\n\
+             forearm = 0.48\nmotor_plane_z = -0.2928\nazimuth_motor_1_deg = 300.0\n\
+             elbow = {elbows}\n[constraints]\njoint_range_deg = [-30.0, 60.0]\n[sampling]\n\
+             seed = 3\npoints = 4096\n\
+             region = {{ box = {{ lower = [-0.6, -0.6, -1.1], upper = [0.6, 0.6, 0.0] }} }}\n"
+        )
+    };
+    let file = "rotary_delta.toml";
+    let other = flipped_home(file);
+    // The default is the home mode alone: the elbows out.
+    let out = membership_agrees(&study(r#"["out"]"#), robot_table(file));
+    let inward = membership_agrees(&study(r#"["in"]"#), with_modes(file, &[&other]));
+    let both = membership_agrees(
+        &study(r#"["out", "in"]"#),
+        with_modes(file, &["home", &other]),
+    );
+    println!("rotary Delta members: out {out}, in {inward}, both {both}");
+    assert!(
+        out < both && inward < both && out > 100 && inward > 10,
+        "{out} {inward} {both}"
+    );
+    let spec = RobotFileSpec::inline(robot_table(file));
+    let model = spec.model().unwrap();
+    assert_eq!(spec.working_modes(&model).unwrap(), [model.home_mode()]);
+    let both = RobotFileSpec::inline(with_modes(file, &["home", &other, "home"]));
+    assert_eq!(
+        both.working_modes(&model).unwrap().len(),
+        2,
+        "each mode once"
+    );
+}
+
+#[test]
+fn all_working_modes_are_the_union_of_the_modes() {
+    // Every combination of the rotary Delta's elbows, leg by leg, under a joint range.
+    let region = r#"{ box = { lower = [-0.6, -0.6, -1.1], upper = [0.6, 0.6, 0.0] } }"#;
+    let text = format!(
+        "[mechanism.tsai]\na = 0.44\nb = 0.56\n[constraints]\njoint_range_deg = [-30.0, 60.0]\n\
+         [sampling]\nseed = 4\npoints = 8192\nregion = {region}\n"
+    );
+    let study: WorkspaceStudy = from_toml_str(&text).unwrap();
+    let points = study
+        .sampling
+        .point_set(study.sampling.domain(None).unwrap())
+        .unwrap();
+    let inside = |modes: &[&str]| -> Vec<bool> {
+        let spec = robot_spec(with_modes("rotary_delta.toml", modes));
+        let constraints = constraints_of(&spec, study.constraints.as_ref()).unwrap();
+        let values = spec.with_workspace(&constraints, PerPoint(points.points()));
+        values.unwrap().iter().map(Option::is_some).collect()
+    };
+    let all = inside(&["all"]);
+    let mut union = vec![false; all.len()];
+    for label in ["---", "--+", "-+-", "-++", "+--", "+-+", "++-", "+++"] {
+        for (u, m) in union.iter_mut().zip(inside(&[label])) {
+            *u |= m;
+        }
+    }
+    assert_eq!(all, union);
+    let (members, home) = (
+        all.iter().filter(|m| **m).count(),
+        inside(&["home"]).iter().filter(|m| **m).count(),
+    );
+    println!("rotary Delta: {members} members in every mode, {home} in the home mode");
+    assert!(members > home && home > 100, "{members} {home}");
+}
+
+#[test]
+fn a_bad_working_mode_is_reported_at_its_key() {
+    let mut table = robot_table("tsai.toml");
+    table.insert(
+        "modes".into(),
+        toml::Value::Array(vec!["home".into(), "+-".into()]),
+    );
+    let spec = RobotFileSpec::inline(table);
+    let e = spec.check().unwrap_err();
+    assert_eq!(
+        e.path().unwrap().to_string(),
+        "mechanism.robot_file.modes[1]"
+    );
+    assert!(e.to_string().contains("one `+` or `-` per leg"), "{e}");
+    let mut table = robot_table("tsai.toml");
+    table.insert("modes".into(), toml::Value::Array(vec![]));
+    let e = RobotFileSpec::inline(table).check().unwrap_err();
+    assert_eq!(e.path().unwrap().to_string(), "mechanism.robot_file.modes");
+}

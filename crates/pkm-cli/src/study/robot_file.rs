@@ -4,6 +4,7 @@
 
 use super::{error_at, locate, study_error};
 use crate::CliError;
+use pkm_study::schema::robot_file::MODES;
 use pkm_study::{Key, KeyPath, StudyError};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
@@ -41,9 +42,15 @@ impl StudySource {
     }
 }
 
-/// The path inside the robot file of a key under `mechanism.robot_file`.
+/// The path inside the robot file of a key under `mechanism.robot_file` (not the study's own
+/// `modes`, which is in the study file).
 fn inside_robot_file(key: &KeyPath) -> Option<KeyPath> {
     match key.keys() {
+        [Key::Field(m), Key::Field(r), Key::Field(k), ..]
+            if m == "mechanism" && r == "robot_file" && k == MODES =>
+        {
+            None
+        }
         [Key::Field(m), Key::Field(r), rest @ ..] if m == "mechanism" && r == "robot_file" => {
             Some(rest.iter().fold(KeyPath::root(), |path, k| match k {
                 Key::Field(name) => path.field(name.clone()),
@@ -90,7 +97,26 @@ pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySourc
         let span = e.span().unwrap_or(0..0);
         error_at(&robot_path, &robot_text, span, e.message().trim_end())
     })?;
+    if robot.contains_key(MODES) {
+        let key = KeyPath::root().field(MODES.to_owned());
+        let message =
+            format!("`{MODES}` is a key of the study's robot_file table, not of a robot file");
+        return Err(error_at(
+            &robot_path,
+            &robot_text,
+            locate(&robot_text, &key),
+            &message,
+        ));
+    }
     if let Some(mechanism) = document.get_mut("mechanism").and_then(Value::as_table_mut) {
+        let mut robot = robot;
+        let modes = mechanism
+            .get("robot_file")
+            .and_then(|t| t.get(MODES))
+            .cloned();
+        if let Some(modes) = modes {
+            robot.insert(MODES.into(), modes);
+        }
         mechanism.insert("robot_file".into(), Value::Table(robot));
     }
     source.robot = Some((robot_path, robot_text));
@@ -100,10 +126,11 @@ pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySourc
 }
 
 /// The study document and the path of its `[mechanism.robot_file] file`, when the table holds
-/// `file` alone (with other keys the study layer reports the mix).
+/// `file` alone or with the study's `modes` (with other keys the study layer reports the mix).
 fn named_robot_file(text: &str) -> Option<(Table, String)> {
     let document = toml::from_str::<Table>(text).ok()?;
     let table = document.get("mechanism")?.get("robot_file")?.as_table()?;
     let file = table.get("file")?.as_str()?.to_owned();
-    (table.len() == 1).then_some((document, file))
+    let only_file = table.keys().all(|k| k == "file" || k == MODES);
+    only_file.then_some((document, file))
 }

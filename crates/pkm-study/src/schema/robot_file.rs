@@ -7,10 +7,11 @@
 //! file; [`RobotFileSpec::resolve_file`] puts the text a library caller read in its place.
 //!
 //! Its design variables are the names of the robot file's `[parameters]` table (metres, or
-//! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in the
-//! reference working mode of the file (the mode of its home configuration), actuator `limits`
-//! of the file and the study's `[constraints]` included; the local index is 1/κ of the velocity
-//! Jacobian, so the task must be the platform position `["x", "y", "z"]`.
+//! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in one of
+//! the study's working modes (`modes`, a key of the study beside the robot file's; by default
+//! the reference working mode of the file, the mode of its home configuration), actuator
+//! `limits` of the file and the study's `[constraints]` included; the local index is 1/κ of the
+//! velocity Jacobian, so the task must be the platform position `["x", "y", "z"]`.
 
 use super::constraints::ConstraintsSpec;
 use crate::StudyError;
@@ -19,7 +20,9 @@ use crate::registry::{BuildError, WorkspaceVisitor, visit};
 use crate::scene::first_drawable;
 use nalgebra::Vector3;
 use pkm_mechanisms::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
-use pkm_robot_file::{Configuration, LegPointKind, Robot, RobotFile, RobotFileError, RobotModel};
+use pkm_robot_file::{
+    Configuration, LegPointKind, Robot, RobotFile, RobotFileError, RobotModel, WorkingMode,
+};
 use pkm_traits::WorkspaceConstraint;
 use pkm_workspace_indices::Region;
 use serde::{Deserialize, Serialize};
@@ -28,6 +31,9 @@ use toml::{Table, Value};
 
 /// The key path of the table in a study.
 pub const KEY_PATH: &str = "mechanism.robot_file";
+
+/// The study's own key of the table, beside the robot file's keys: the working modes.
+pub const MODES: &str = "modes";
 
 /// `[mechanism.robot_file]`: a robot file's keys (inline), or `file = "path"` before the caller
 /// resolves it.
@@ -66,21 +72,30 @@ impl RobotFileSpec {
         self.only_file()?;
         let at = |m: String| StudyError::invalid(format!("{KEY_PATH}.file").as_str(), m);
         let text = read(&file).map_err(|e| at(format!("cannot read {file}: {e}")))?;
-        let table = toml::from_str::<Table>(&text).map_err(|e| {
+        let mut table = toml::from_str::<Table>(&text).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
             at(format!("{file}:{line}: {}", e.message().trim_end()))
         })?;
+        if table.contains_key(MODES) {
+            return Err(at(format!(
+                "{file}: `{MODES}` is a key of the study's table, not of a robot file"
+            )));
+        }
+        if let Some(modes) = self.table.get(MODES) {
+            table.insert(MODES.into(), modes.clone());
+        }
         self.table = table;
         Ok(())
     }
 
-    /// `file` alone: the robot is either named or given, never both.
+    /// `file` (and the study's `modes`) alone: the robot is either named or given, never both.
     fn only_file(&self) -> Result<(), StudyError> {
-        match self.table.keys().find(|k| *k != "file") {
+        match self.table.keys().find(|k| *k != "file" && *k != MODES) {
             Some(other) => Err(StudyError::invalid(
                 format!("{KEY_PATH}.{other}").as_str(),
-                "a robot_file table gives either `file` or the robot file's keys, not both",
+                "a robot_file table gives either `file` or the robot file's keys, not both \
+                 (`modes` goes with either)",
             )),
             None => Ok(()),
         }
@@ -97,7 +112,48 @@ impl RobotFileSpec {
                  RobotFileSpec::resolve_file)",
             ));
         }
-        RobotFile::from_deserializer(Value::Table(self.table.clone())).map_err(located)
+        let mut keys = self.table.clone();
+        keys.remove(MODES);
+        RobotFile::from_deserializer(Value::Table(keys)).map_err(located)
+    }
+
+    /// The working modes of the study, `modes = [...]` in the table: `"home"` (the default,
+    /// alone), `"all"` (every combination of the legs' branches) or one `+` (branch 1) or `-`
+    /// (branch 0) per leg ([`RobotModel::working_mode`]), in order, each mode once.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] at `mechanism.robot_file.modes[k]` for another label, at
+    /// `mechanism.robot_file.modes` for an empty list or another value.
+    pub fn working_modes(&self, model: &RobotModel) -> Result<Vec<WorkingMode>, StudyError> {
+        let Some(value) = self.table.get(MODES) else {
+            return Ok(vec![model.home_mode()]);
+        };
+        let list = value.as_array().filter(|l| !l.is_empty()).ok_or_else(|| {
+            StudyError::invalid(
+                format!("{KEY_PATH}.{MODES}").as_str(),
+                "a non-empty list of working modes: \"home\", \"all\" or one `+` or `-` per leg",
+            )
+        })?;
+        let mut modes = Vec::new();
+        for (k, label) in list.iter().enumerate() {
+            let key = format!("{MODES}[{k}]");
+            let found = match label.as_str() {
+                Some("all") => model.working_modes(),
+                Some(label) => vec![model.working_mode(&key, label).map_err(located)?],
+                None => {
+                    return Err(StudyError::invalid(
+                        format!("{KEY_PATH}.{key}").as_str(),
+                        "a working mode is a string: \"home\", \"all\" or one `+` or `-` per leg",
+                    ));
+                }
+            };
+            for mode in found {
+                if !modes.contains(&mode) {
+                    modes.push(mode);
+                }
+            }
+        }
+        Ok(modes)
     }
 
     /// The validated robot model.
@@ -224,20 +280,22 @@ impl StudyMechanism for RobotFileSpec {
     }
 
     fn check(&self) -> Result<(), StudyError> {
-        self.translational_robot().map(|_| ())
+        let robot = self.translational_robot()?;
+        self.working_modes(robot.model()).map(|_| ())
     }
 
-    /// The reference working mode of the file (its home configuration's).
+    /// The study's working modes ([`RobotFileSpec::working_modes`]; by default the reference
+    /// mode of the file, its home configuration's): a position belongs to the workspace when
+    /// one of them assembles there.
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let robot = self
-            .translational_robot()
-            .map_err(|e| BuildError::Design(e.to_string()))?;
-        let mode = robot.model().home_mode();
-        visit(&robot, &[mode], constraints, visitor)
+        let design = |e: StudyError| BuildError::Design(e.to_string());
+        let robot = self.translational_robot().map_err(design)?;
+        let modes = self.working_modes(robot.model()).map_err(design)?;
+        visit(&robot, &modes, constraints, visitor)
     }
 
     /// The box of [`RobotModel::reach_box`]: the intersection of the legs' reach balls, each
@@ -261,10 +319,12 @@ impl StudyMechanism for RobotFileSpec {
     fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
         let robot = self.translational_robot().map_err(|e| e.to_string())?;
         let model = robot.model();
-        let mode = model.home_mode();
-        let tries = [model
-            .inverse_kinematics_configuration(p.as_slice(), mode)
-            .map(|c| robot_skeleton(model, &c))];
+        let modes = self.working_modes(model).map_err(|e| e.to_string())?;
+        let tries = modes.into_iter().map(|mode| {
+            model
+                .inverse_kinematics_configuration(p.as_slice(), mode)
+                .map(|c| robot_skeleton(model, &c))
+        });
         first_drawable(p, tries)
     }
 
