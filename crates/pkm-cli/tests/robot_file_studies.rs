@@ -214,3 +214,71 @@ fn working_modes_go_beside_a_named_robot_file() {
         bad.stderr
     );
 }
+
+#[test]
+fn results_json_echoes_the_robot_file_and_shards_merge_without_it() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("studies")).unwrap();
+    std::fs::create_dir_all(dir.path().join("robots")).unwrap();
+    // The Tsai platform with its arms' zero angle a design variable (the actuator offset).
+    let robot = std::fs::read_to_string(robot_path("tsai.toml"))
+        .unwrap()
+        .replace("offset = 0.0", "offset = \"arm_zero_deg\"")
+        .replace("[home]", "[parameters]\narm_zero_deg = 0.0\n\n[home]");
+    std::fs::write(dir.path().join("robots/robot.toml"), &robot).unwrap();
+    let study = "[mechanism.robot_file]\nfile = \"../robots/robot.toml\"\n\
+                 [constraints]\njoint_range_deg = [-20.0, 80.0]\n\
+                 [sampling]\nseed = 3\npoints = 1024\n\
+                 region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }\n\
+                 [[variables]]\nname = \"arm_zero_deg\"\nfrom = 0.0\nto = 20.0\nsteps = 3\n\
+                 [sweep]\nobjective = { gci = 1.0 }\n";
+    let file = dir.path().join("studies/sweep.toml");
+    std::fs::write(&file, study).unwrap();
+    let out = |name: &str| dir.path().join(name);
+    let whole = run_study("sweep", &file, &out("whole"), &[]);
+    let echo = &whole["study"]["robot_file"];
+    assert_eq!(echo["text"].as_str().unwrap(), robot);
+    assert!(
+        echo["file"].as_str().unwrap().ends_with("robot.toml"),
+        "{echo}"
+    );
+    for shard in ["1/2", "2/2"] {
+        let name = format!("shard{}", &shard[..1]);
+        run_study("sweep", &file, &out(&name), &["--shard", shard]);
+    }
+    // The merge reads the robot file from the shards' results.json, not from the disk.
+    std::fs::remove_file(dir.path().join("robots/robot.toml")).unwrap();
+    let merge = pkm(&[
+        "merge",
+        out("shard1").to_str().unwrap(),
+        out("shard2").to_str().unwrap(),
+        "--out",
+        out("merged").to_str().unwrap(),
+    ]);
+    assert!(merge.ok, "{}", merge.stderr);
+    let merged: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out("merged").join("results.json")).unwrap())
+            .unwrap();
+    assert_eq!(merged["result"], whole["result"]);
+    assert_eq!(merged["study"]["robot_file"], whole["study"]["robot_file"]);
+    // A study without a named robot file echoes none.
+    let plain = run_study(
+        "workspace",
+        &example("robot_file_workspace.toml"),
+        &out("plain"),
+        &[],
+    );
+    assert!(
+        plain["study"]["robot_file"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("3-RUU")
+    );
+    let tsai = run_study(
+        "workspace",
+        &common::study("three_upu_workspace_quick.toml"),
+        &out("upu"),
+        &[],
+    );
+    assert!(tsai["study"].get("robot_file").is_none());
+}
