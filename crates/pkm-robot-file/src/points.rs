@@ -94,6 +94,9 @@ struct Station {
     prismatic: Vec<usize>,
     /// Whether it holds the actuated revolute joint.
     actuator: bool,
+    /// Whether it is a ball or universal joint: a spherical joint, or two or more revolute
+    /// joints through its point.
+    ball: bool,
 }
 
 impl RobotModel {
@@ -113,6 +116,7 @@ impl RobotModel {
                 }
             };
             let actuator = j == chain.actuator;
+            let spherical = matches!(joint, Joint::Spherical { .. });
             if stations.is_empty() && !pending.is_empty() {
                 stations.push(self.rail_origin(leg, &pending, point));
             }
@@ -120,6 +124,7 @@ impl RobotModel {
             match stations.last_mut() {
                 Some(last) if pending.is_empty() && (last.home - point).norm() <= tolerance => {
                     last.actuator |= actuator;
+                    last.ball = true;
                     if actuator {
                         last.kind = LegPointKind::Actuator;
                     }
@@ -138,6 +143,7 @@ impl RobotModel {
                         home: point,
                         prismatic: std::mem::take(&mut pending),
                         actuator,
+                        ball: spherical,
                     });
                 }
             }
@@ -161,6 +167,7 @@ impl RobotModel {
             home: origin,
             prismatic: Vec::new(),
             actuator: false,
+            ball: false,
         }
     }
 
@@ -189,6 +196,7 @@ impl RobotModel {
                 home: anchor,
                 prismatic: pending,
                 actuator: false,
+                ball: false,
             });
         }
         stations
@@ -213,6 +221,27 @@ impl RobotModel {
     ///
     /// Returns `None` for a leg index out of range or a configuration of another robot.
     pub fn leg_points(&self, leg: usize, config: &Configuration) -> Option<LegPoints> {
+        let (layout, prefixes) = self.placed_layout(leg, config)?;
+        let points = layout
+            .iter()
+            .map(|s| LegPoint {
+                kind: s.kind,
+                position: position(s, &prefixes),
+            })
+            .collect();
+        Some(LegPoints {
+            points,
+            segments: segments(&layout, self.legs[leg].actuator),
+        })
+    }
+
+    /// The layout of leg `leg` and the products $g_{1..j-1}$ of its joint displacements at
+    /// `config`, $j = 1, \dots, n + 1$.
+    fn placed_layout(
+        &self,
+        leg: usize,
+        config: &Configuration,
+    ) -> Option<(Vec<Station>, Vec<Isometry3<f64>>)> {
         let values = config.joints.get(leg)?;
         let chain = self.legs.get(leg)?;
         if values.len() != chain.joints.len() {
@@ -225,22 +254,45 @@ impl RobotModel {
             g *= joint.displacement(value);
         }
         prefixes.push(g);
-        let layout = self.leg_layout(leg);
-        let points = layout
-            .iter()
-            .map(|s| LegPoint {
-                kind: s.kind,
-                position: match s.placement {
-                    Placement::Fixed(p) => p,
-                    Placement::Joint(j, h) => (prefixes[j] * Point3::from(h)).coords,
-                    Placement::End(h) => (g * Point3::from(h)).coords,
-                },
+        Some((self.leg_layout(leg), prefixes))
+    }
+
+    /// The bend (rad) of every leg at `config`: the largest over its ball and universal joints
+    /// (a spherical joint, or two or more revolute joints through one point) of the angle by
+    /// which the link leaving the joint has turned, seen from the body it leaves, since home:
+    /// $\angle(R_j^{\top} d,\ d_0)$ with $d$ the next segment, $d_0$ its home value and
+    /// $R_j$ the rotation of the displacements before the joint (the identity for a joint on
+    /// the base). At the platform anchor the link entering the joint is seen from the
+    /// platform: $\angle((R_X R_M^{\top})^{\top} d,\ d_0)$ with the previous segment. Each
+    /// angle is the cone angle of a socket whose axis is the link's direction at home; a leg
+    /// without such joints bends 0. `None` for a configuration of another robot or a segment
+    /// of zero length.
+    pub fn passive_bends(&self, config: &Configuration) -> Option<Vec<f64>> {
+        let turn = self.platform_pose_of(config).rotation * self.home_pose.rotation.inverse();
+        (0..self.legs.len())
+            .map(|leg| {
+                let (layout, prefixes) = self.placed_layout(leg, config)?;
+                let at: Vec<Vector3<f64>> = layout.iter().map(|s| position(s, &prefixes)).collect();
+                let last = layout.len() - 1;
+                let mut bend = 0.0_f64;
+                for (k, station) in layout.iter().enumerate().filter(|(_, s)| s.ball) {
+                    let angle = if k < last {
+                        let Placement::Joint(j, _) = station.placement else {
+                            continue;
+                        };
+                        let d = prefixes[j].rotation.inverse() * (at[k + 1] - at[k]);
+                        angle_between(&d, &(layout[k + 1].home - station.home))?
+                    } else if k > 0 {
+                        let d = turn.inverse() * (at[k] - at[k - 1]);
+                        angle_between(&d, &(station.home - layout[k - 1].home))?
+                    } else {
+                        0.0
+                    };
+                    bend = bend.max(angle);
+                }
+                Some(bend)
             })
-            .collect();
-        Some(LegPoints {
-            points,
-            segments: segments(&layout, chain.actuator),
-        })
+            .collect()
     }
 
     /// A ball, centre and radius (m), that holds the platform origin at every configuration
@@ -298,6 +350,22 @@ impl RobotModel {
     pub fn home_platform_pose(&self) -> Isometry3<f64> {
         self.home_pose
     }
+}
+
+/// Where station `s` is, given the displacement products `prefixes` of its leg.
+fn position(s: &Station, prefixes: &[Isometry3<f64>]) -> Vector3<f64> {
+    match s.placement {
+        Placement::Fixed(p) => p,
+        Placement::Joint(j, h) => (prefixes[j] * Point3::from(h)).coords,
+        Placement::End(h) => (prefixes[prefixes.len() - 1] * Point3::from(h)).coords,
+    }
+}
+
+/// The angle (rad) between `a` and `b`, `None` when one has zero length.
+fn angle_between(a: &Vector3<f64>, b: &Vector3<f64>) -> Option<f64> {
+    let (na, nb) = (a.norm(), b.norm());
+    (na > 0.0 && nb > 0.0 && na.is_finite() && nb.is_finite())
+        .then(|| a.cross(b).norm().atan2(a.dot(b)))
 }
 
 /// The segments between consecutive stations of a layout whose actuated joint is `actuator`.

@@ -180,3 +180,47 @@ fn a_prismatic_joint_without_limits_leaves_the_reach_unbounded() {
     assert!((centre - Vector3::new(0.1, 0.0, 0.0)).norm() < EXACT);
     assert!((radius - (0.44 + 0.56 + 0.1)).abs() < 1e-9, "{radius}");
 }
+
+#[test]
+fn passive_bends_are_zero_at_home_and_the_legs_turn_in_a_stewart_platform() {
+    for file in all_files() {
+        let model = robot(&file);
+        let c = model
+            .inverse_kinematics_configuration(&model.home_task(), model.home_mode())
+            .unwrap();
+        let bends = model.passive_bends(&c).unwrap();
+        assert!(bends.iter().all(|b| b.abs() < 1e-6), "{file}: {bends:?}");
+    }
+    // 6-UPS: the bend of leg i is the larger of the leg's turn from its home direction seen
+    // from the base (U) and seen from the platform (S), computed here from the pose alone.
+    let model = robot("stewart_gough.toml");
+    let mut x = model.home_task();
+    for (k, step) in [0.01, -0.02, 0.015, 0.05, -0.04, 0.03].iter().enumerate() {
+        x[k] += step;
+    }
+    let c = model
+        .inverse_kinematics_configuration(&x, model.home_mode())
+        .unwrap();
+    let bends = model.passive_bends(&c).unwrap();
+    let turn = model.platform_pose_of(&c) * model.home_platform_pose().inverse();
+    let anchors = platform_points(&model);
+    let angle = |a: Vector3<f64>, b: Vector3<f64>| a.angle(&b);
+    let mut largest = 0.0_f64;
+    for (i, leg) in model.legs().iter().enumerate() {
+        let Joint::Revolute { point: base, .. } = leg.joints[0] else {
+            panic!("a U joint first")
+        };
+        let home = anchors[i] - base;
+        let now = (turn * Point3::from(anchors[i])).coords - base;
+        let at_base = angle(now, home);
+        let at_platform = angle(turn.rotation.inverse() * now, home);
+        let expected = at_base.max(at_platform);
+        assert!(
+            (bends[i] - expected).abs() < 1e-12,
+            "leg {i}: {} vs {expected}",
+            bends[i]
+        );
+        largest = largest.max(expected);
+    }
+    assert!(largest > 0.01, "vacuous: {largest}");
+}

@@ -715,3 +715,35 @@ fn a_bad_working_mode_is_reported_at_its_key() {
     let e = RobotFileSpec::inline(table).check().unwrap_err();
     assert_eq!(e.path().unwrap().to_string(), "mechanism.robot_file.modes");
 }
+
+#[test]
+fn passive_cones_limit_a_robot_file_and_leg_clearance_is_refused() {
+    let study = |constraints: &str| {
+        let text = format!(
+            "[mechanism.tsai]\na = 0.44\nb = 0.56\n[constraints]\n{constraints}\n[sampling]\n\
+             seed = 6\npoints = 4096\n\
+             region = {{ hemisphere = {{ center = [0.0, 0.0, 0.0], radius = 1.0 }} }}\n"
+        );
+        let mut study: WorkspaceStudy = from_toml_str(&text).unwrap();
+        study.mechanism = robot_spec(robot_table("tsai.toml"));
+        study
+    };
+    let inside = |constraints: &str| {
+        workspace(&study(constraints), &Silent)
+            .unwrap()
+            .result
+            .estimate
+            .n_inside
+    };
+    let free = inside("below_z = 2.0");
+    let wide = inside("passive_cone_deg = 179.9");
+    let narrow = inside("passive_cone_deg = 30.0");
+    println!("members: free {free}, cone 179.9° {wide}, cone 30° {narrow}");
+    assert_eq!(free, wide);
+    assert!(0 < narrow && narrow < free, "{narrow} {free}");
+    let refused = workspace(&study("leg_clearance = 0.01"), &Silent).unwrap_err();
+    assert!(
+        refused.to_string().contains("a robot from a file"),
+        "{refused}"
+    );
+}
