@@ -17,7 +17,6 @@ use super::constraints::ConstraintsSpec;
 use crate::StudyError;
 use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
 use crate::registry::{BuildError, WorkspaceVisitor, visit};
-use crate::scene::first_drawable;
 use nalgebra::Vector3;
 use pkm_mechanisms::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
 use pkm_robot_file::{
@@ -320,12 +319,18 @@ impl StudyMechanism for RobotFileSpec {
         let robot = self.translational_robot().map_err(|e| e.to_string())?;
         let model = robot.model();
         let modes = self.working_modes(model).map_err(|e| e.to_string())?;
-        let tries = modes.into_iter().map(|mode| {
-            model
-                .inverse_kinematics_configuration(p.as_slice(), mode)
-                .map(|c| robot_skeleton(model, &c))
-        });
-        first_drawable(p, tries)
+        let mut last = None;
+        for mode in modes {
+            match model.inverse_kinematics_configuration(p.as_slice(), mode) {
+                Ok(c) => return Ok(robot_skeleton(model, &c)),
+                Err(e) => last = Some(e),
+            }
+        }
+        let at = format!("p = [{}, {}, {}] m", p.x, p.y, p.z);
+        Err(last.map_or_else(
+            || format!("no working mode of the study can be drawn at {at}"),
+            |e| format!("the skeleton at {at}: {e}"),
+        ))
     }
 
     /// As for every mechanism, with joint ranges refused for a robot whose actuators are both
