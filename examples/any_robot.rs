@@ -37,13 +37,14 @@ fn main() -> Result<()> {
     println!("leg solvers {:?}", robot.leg_solvers());
 
     println!(
-        "\nworking modes (bit i = branch of leg i; home mode {:#b}):",
-        robot.home_mode().0
+        "\nworking modes (leg i's branch, + or -, as a study's `modes` names it; home mode {}):",
+        robot.mode_label(robot.home_mode())
     );
     for mode in robot.working_modes() {
+        let label = robot.mode_label(mode);
         match robot.inverse_kinematics(&x, mode) {
-            Ok(q) => println!("  {:#08b}: q = {:?}", mode.0, q.as_slice()),
-            Err(e) => println!("  {:#08b}: {e}", mode.0),
+            Ok(q) => println!("  {label}: q = {:?}", q.as_slice()),
+            Err(e) => println!("  {label}: {e}"),
         }
     }
 

@@ -26,6 +26,19 @@ pub struct StudyEcho {
     pub file: String,
     /// Its full text.
     pub text: String,
+    /// The robot file named by the study's `[mechanism.robot_file] file`, so that
+    /// `results.json` holds everything the study read (absent for any other study).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub robot_file: Option<RobotFileEcho>,
+}
+
+/// A robot file read by a study, as echoed in `results.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RobotFileEcho {
+    /// The path it was read from (the study file's directory joined with `file`).
+    pub file: String,
+    /// Its full text.
+    pub text: String,
 }
 
 /// The envelope of every `results.json`.

@@ -128,3 +128,157 @@ fn a_bad_robot_file_is_reported_at_its_line_and_column() {
     assert!(stderr.contains("study.toml:2:8:"), "{stderr}");
     assert!(stderr.contains("cannot read"), "{stderr}");
 }
+
+/// The path of `examples/robots/<name>`.
+fn robot_path(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/robots")
+        .join(name)
+}
+
+#[test]
+fn a_robot_file_study_draws_the_robot_and_needs_no_region() {
+    let dir = tempfile::tempdir().unwrap();
+    // The Linear Delta's carriages have no limits: the study gives its region.
+    let delta = format!(
+        "[mechanism.robot_file]\nfile = {:?}\n[sampling]\npoints = 2048\n\
+         region = {{ box = {{ lower = [-0.3, -0.25, -0.35], upper = [0.3, 0.25, 0.0] }} }}\n",
+        robot_path("linear_delta.toml").to_str().unwrap()
+    );
+    // The Tsai platform's reach region is the robot file's own bound.
+    let tsai = format!(
+        "[mechanism.robot_file]\nfile = {:?}\n[sampling]\npoints = 2048\n",
+        robot_path("tsai.toml").to_str().unwrap()
+    );
+    for (name, study) in [("delta", delta), ("tsai", tsai)] {
+        let file = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&file, study).unwrap();
+        let out = dir.path().join(name);
+        let run = pkm(&[
+            "workspace",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(run.ok, "{name}: {}", run.stderr);
+        let report = format!("{}{}", run.stdout, run.stderr);
+        assert!(!report.contains("no drawing"), "{name}: {report}");
+        let svg = std::fs::read_to_string(out.join("robot.svg")).unwrap();
+        assert!(svg.contains("<svg"), "{name}");
+        let results: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap())
+                .unwrap();
+        assert!(
+            results["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|f| f == "robot.svg")
+        );
+        assert!(
+            results["result"]["estimate"]["n_inside"].as_u64().unwrap() > 0,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn working_modes_go_beside_a_named_robot_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = |modes: &str| {
+        format!(
+            "[mechanism.robot_file]\nfile = {:?}\nmodes = {modes}\n[sampling]\npoints = 1024\n",
+            robot_path("tsai.toml").to_str().unwrap()
+        )
+    };
+    let run = |name: &str, modes: &str| {
+        let file = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&file, study(modes)).unwrap();
+        let out = dir.path().join(name);
+        pkm(&[
+            "workspace",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let all = run("all", r#"["home", "all"]"#);
+    assert!(all.ok, "{}", all.stderr);
+    // A bad label: at its place in the study file (line 3), not in the robot file.
+    let bad = run("bad", r#"["home", "+-"]"#);
+    assert!(!bad.ok);
+    assert!(bad.stderr.contains("bad.toml:3:"), "{}", bad.stderr);
+    assert!(
+        bad.stderr.contains("mechanism.robot_file.modes[1]"),
+        "{}",
+        bad.stderr
+    );
+}
+
+#[test]
+fn results_json_echoes_the_robot_file_and_shards_merge_without_it() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("studies")).unwrap();
+    std::fs::create_dir_all(dir.path().join("robots")).unwrap();
+    // The Tsai platform with its arms' zero angle a design variable (the actuator offset).
+    let robot = std::fs::read_to_string(robot_path("tsai.toml"))
+        .unwrap()
+        .replace("offset = 0.0", "offset = \"arm_zero_deg\"")
+        .replace("[home]", "[parameters]\narm_zero_deg = 0.0\n\n[home]");
+    std::fs::write(dir.path().join("robots/robot.toml"), &robot).unwrap();
+    let study = "[mechanism.robot_file]\nfile = \"../robots/robot.toml\"\n\
+                 [constraints]\njoint_range_deg = [-20.0, 80.0]\n\
+                 [sampling]\nseed = 3\npoints = 1024\n\
+                 region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }\n\
+                 [[variables]]\nname = \"arm_zero_deg\"\nfrom = 0.0\nto = 20.0\nsteps = 3\n\
+                 [sweep]\nobjective = { gci = 1.0 }\n";
+    let file = dir.path().join("studies/sweep.toml");
+    std::fs::write(&file, study).unwrap();
+    let out = |name: &str| dir.path().join(name);
+    let whole = run_study("sweep", &file, &out("whole"), &[]);
+    let echo = &whole["study"]["robot_file"];
+    assert_eq!(echo["text"].as_str().unwrap(), robot);
+    assert!(
+        echo["file"].as_str().unwrap().ends_with("robot.toml"),
+        "{echo}"
+    );
+    for shard in ["1/2", "2/2"] {
+        let name = format!("shard{}", &shard[..1]);
+        run_study("sweep", &file, &out(&name), &["--shard", shard]);
+    }
+    // The merge reads the robot file from the shards' results.json, not from the disk.
+    std::fs::remove_file(dir.path().join("robots/robot.toml")).unwrap();
+    let merge = pkm(&[
+        "merge",
+        out("shard1").to_str().unwrap(),
+        out("shard2").to_str().unwrap(),
+        "--out",
+        out("merged").to_str().unwrap(),
+    ]);
+    assert!(merge.ok, "{}", merge.stderr);
+    let merged: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out("merged").join("results.json")).unwrap())
+            .unwrap();
+    assert_eq!(merged["result"], whole["result"]);
+    assert_eq!(merged["study"]["robot_file"], whole["study"]["robot_file"]);
+    // A study without a named robot file echoes none.
+    let plain = run_study(
+        "workspace",
+        &example("robot_file_workspace.toml"),
+        &out("plain"),
+        &[],
+    );
+    assert!(
+        plain["study"]["robot_file"]["text"]
+            .as_str()
+            .unwrap()
+            .contains("3-RUU")
+    );
+    let tsai = run_study(
+        "workspace",
+        &common::study("three_upu_workspace_quick.toml"),
+        &out("upu"),
+        &[],
+    );
+    assert!(tsai["study"].get("robot_file").is_none());
+}

@@ -146,11 +146,10 @@ pub(crate) fn forward(
              for 3 coordinates; its forward kinematics is over the 6-D pose"
                 .into(),
         ),
-        MechanismSpec::RobotFile(_) => Err(
-            "forward_kinematics: not available for robot files from Python yet (pkm_robot_file's \
-             forward kinematics enumerates assembly modes; use the Rust crate)"
-                .into(),
-        ),
+        MechanismSpec::RobotFile(s) => {
+            let robot = s.translational_robot().map_err(|e| e.to_string())?;
+            Ok(forward_rows(&robot, q, guess))
+        }
     }
 }
 

@@ -25,7 +25,9 @@ struct Design {
 }
 
 /// A parallel kinematic machine: `design` is a preset name (see `pkm.presets()`) or the
-/// study layer's `[mechanism]` table as a dict (`{"rotary_delta": {"arm": 0.2, ...}}`);
+/// study layer's `[mechanism]` table as a dict (`{"rotary_delta": {"arm": 0.2, ...}}`, or a
+/// robot file `{"robot_file": {"file": "robots/tsai.toml"}}` read from the working directory,
+/// or its keys inline);
 /// `constraints` is a `[constraints]` table (`{"joint_range_deg": [-40, 90]}`).
 ///
 /// Raises `pkm.InvalidInput` (with `.key_path`) for a design or constraint the study layer
@@ -159,8 +161,10 @@ impl Mechanism {
 
     /// Positions that close the loops for N × 3 `joints` (Newton from the N × 3 `guess`, which
     /// selects the assembly mode): the N × 3 positions and the mask of the rows where Newton
-    /// converged (the others are NaN). Not defined for the Stewart–Gough platform at a fixed
-    /// orientation (6 legs, 3 coordinates).
+    /// converged (the others are NaN). For a robot file, damped Newton on the closure of every
+    /// leg, its passive joints started from the inverse kinematics at `guess` on the branches
+    /// nearest `joints` (`pkm_robot_file::Robot`). Not defined for the Stewart–Gough platform
+    /// at a fixed orientation (6 legs, 3 coordinates).
     fn forward_kinematics<'py>(
         &self,
         py: Python<'py>,
@@ -207,7 +211,14 @@ impl Mechanism {
 
 impl Mechanism {
     fn build(py: Python<'_>, design: Design) -> PyResult<Self> {
-        let spec = design.mechanism;
+        let mut spec = design.mechanism;
+        // `{"robot_file": {"file": "robots/tsai.toml"}}`: relative to the working directory,
+        // as every file name of a study given as a dict.
+        if let MechanismSpec::RobotFile(robot) = &mut spec {
+            robot
+                .resolve_file(|file: &str| std::fs::read_to_string(file))
+                .map_err(|e| errors::study_error(py, &e))?;
+        }
         let constraints = constraints_of(&spec, design.constraints.as_ref())
             .map_err(|e| errors::study_error(py, &e))?;
         let joints = spec

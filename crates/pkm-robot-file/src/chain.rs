@@ -55,7 +55,7 @@ impl Joint {
     }
 
     /// The rigid displacement $e^{[\xi]\theta}$ of the joint at `value`.
-    fn displacement(&self, value: &JointValue) -> Isometry3<f64> {
+    pub(crate) fn displacement(&self, value: &JointValue) -> Isometry3<f64> {
         match (self, value) {
             (Self::Revolute { axis, point }, JointValue::Scalar(t)) => {
                 let r = Rotation3::from_axis_angle(&Unit::new_unchecked(*axis), *t);

@@ -12,6 +12,8 @@
 //! - Jacobians from screws, $J_a$, $J_c$, $D$, $T$ and $J = D^{-1}J_aT$
 //!   ([`RobotModel::screw_jacobians`]), and three singularity margins
 //!   ([`RobotModel::singularity_margins`]);
+//! - the joint points of every leg at a configuration ([`RobotModel::leg_points`], for
+//!   drawings) and a bound on the reachable platform positions ([`RobotModel::reach_box`]);
 //! - the shared kinematics traits through [`Robot`].
 //!
 //! # Example
@@ -50,6 +52,7 @@ mod mobility;
 mod model;
 mod name;
 mod parameters;
+mod points;
 mod pose;
 mod robot;
 mod workspace;
@@ -62,5 +65,6 @@ pub use fk::{AssemblyMode, EnumerationSettings};
 pub use jacobian::{ScrewJacobians, SingularityMargins};
 pub use lm::SolverSettings;
 pub use model::{CoordinateRole, MAX_JOINTS_PER_LEG, MAX_LEGS, RobotModel, WorkingMode};
+pub use points::{LegPoint, LegPointKind, LegPoints, LegSegment};
 pub use pose::{OrientationKind, PoseCoordinates, platform_pose};
 pub use robot::{Robot, task_of};

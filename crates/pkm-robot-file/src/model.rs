@@ -239,6 +239,46 @@ impl RobotModel {
         modes
     }
 
+    /// The label of `mode`: one character per leg, `+` for branch 1 and `-` for branch 0 (a
+    /// leg with one branch is `-` unless its bit is set).
+    pub fn mode_label(&self, mode: WorkingMode) -> String {
+        (0..self.legs.len())
+            .map(|i| if mode.branch(i) == 1 { '+' } else { '-' })
+            .collect()
+    }
+
+    /// The working mode of `label`: `home` ([`RobotModel::home_mode`]) or one character per
+    /// leg, `+` (branch 1) or `-` (branch 0), as [`RobotModel::mode_label`] writes it; a leg
+    /// with one branch ignores its character.
+    ///
+    /// # Errors
+    /// [`RobotFileError::Invalid`] at `key` for another label.
+    pub fn working_mode(&self, key: &str, label: &str) -> Result<WorkingMode, RobotFileError> {
+        if label == "home" {
+            return Ok(self.home_mode);
+        }
+        let legs = self.legs.len();
+        let valid = label.chars().count() == legs && label.chars().all(|c| c == '+' || c == '-');
+        if !valid {
+            return Err(RobotFileError::invalid(
+                key,
+                label,
+                format!(
+                    "a working mode is \"home\" or one `+` or `-` per leg ({legs} legs; the \
+                     home mode is \"{}\")",
+                    self.mode_label(self.home_mode)
+                ),
+            ));
+        }
+        let mode = label
+            .chars()
+            .enumerate()
+            .fold(WorkingMode::default(), |m, (i, c)| {
+                m.with_branch(i, u8::from(c == '+'))
+            });
+        Ok(mode)
+    }
+
     /// An orthonormal basis `[ω; v_O]` of the platform twist system at home.
     pub fn home_twist_system(&self) -> &[[f64; 6]] {
         &self.twist_system

@@ -10,6 +10,10 @@
     clippy::print_stdout
 )]
 
+use nalgebra::Vector3;
+use pkm_mechanisms::{LinkKind, PointKind, Skeleton};
+use pkm_robot_file::Joint;
+use pkm_study::Actuation;
 use pkm_study::outcome::{Artifact, Cell, Table};
 use pkm_study::schema::mechanism::{MechanismSpec, WorkspaceVisitor};
 use pkm_study::schema::robot_file::RobotFileSpec;
@@ -19,7 +23,7 @@ use pkm_study::{
     pareto, sweep, workspace,
 };
 use pkm_traits::{ConstrainedWorkspace, Silent};
-use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
+use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 
 /// Relative agreement of the study numbers (W, η, GCI, 1/κ at a point).
 const AGREE: f64 = 1e-9;
@@ -41,7 +45,7 @@ fn robot_spec(table: toml::Table) -> MechanismSpec {
 }
 
 /// 1/κ at every sample point, `None` outside the workspace.
-struct PerPoint<'a>(&'a [nalgebra::Vector3<f64>]);
+struct PerPoint<'a>(&'a [Vector3<f64>]);
 
 impl WorkspaceVisitor for PerPoint<'_> {
     type Output = Vec<Option<f64>>;
@@ -398,4 +402,348 @@ region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
     spec.resolve_file(|file| std::fs::read_to_string(studies.join(file)))
         .unwrap();
     assert!(workspace(&study, &Silent).unwrap().result.estimate.n_inside > 0);
+}
+
+/// The file's platform point of every leg (its last joint point), read from the model's legs.
+fn platform_points(model: &pkm_robot_file::RobotModel) -> Vec<Vector3<f64>> {
+    model
+        .legs()
+        .iter()
+        .map(|leg| {
+            leg.joints
+                .iter()
+                .rev()
+                .find_map(|j| match j {
+                    Joint::Revolute { point, .. } => Some(*point),
+                    Joint::Spherical { center } => Some(*center),
+                    Joint::Prismatic { .. } => None,
+                })
+                .unwrap()
+        })
+        .collect()
+}
+
+/// The length of every link of `kind` in `s`, in order.
+fn lengths(s: &Skeleton, kind: LinkKind) -> Vec<f64> {
+    (0..s.links.len())
+        .filter(|&k| s.links[k].kind == kind)
+        .map(|k| s.link_length(k).unwrap())
+        .collect()
+}
+
+#[test]
+fn a_robot_file_is_drawn_from_its_joints() {
+    let cases = [
+        ("tsai.toml", [[0.1, 0.2, 0.6], [-0.2, 0.1, 0.5]], 3, 3),
+        (
+            "linear_delta.toml",
+            [[0.02, -0.01, -0.21], [-0.03, 0.0, -0.19]],
+            3,
+            // Every arm ends at the end effector: a point platform has no polygon.
+            0,
+        ),
+    ];
+    let mut worst = 0.0_f64;
+    for (file, poses, base_links, plate_links) in cases {
+        let spec = RobotFileSpec::inline(robot_table(file));
+        let model = spec.model().unwrap();
+        let home = Vector3::from_column_slice(&model.home()[..3]);
+        let at_home = spec.skeleton_at(&home).unwrap();
+        let anchors = platform_points(&model);
+        for p in poses.map(Vector3::from) {
+            let s = spec.skeleton_at(&p).unwrap();
+            assert_eq!(s.links, at_home.links, "{file}: one topology");
+            assert_eq!(s.links_of(LinkKind::Base).count(), base_links, "{file}");
+            assert_eq!(
+                s.links_of(LinkKind::Platform).count(),
+                plate_links,
+                "{file}"
+            );
+            let plate = s.points.iter().filter(|q| q.kind == PointKind::Platform);
+            let plate: Vec<_> = plate.collect();
+            assert_eq!(plate.len(), anchors.len(), "{file}");
+            // A translational platform: the pose applied to a platform point is a shift.
+            for (q, c) in plate.iter().zip(&anchors) {
+                let error = (q.position - (p + c - home)).norm();
+                assert!(error < 1e-12, "{file} {}: anchor off by {error:e}", q.label);
+                worst = worst.max(error);
+            }
+            for (a, b) in lengths(&s, LinkKind::Passive)
+                .iter()
+                .zip(lengths(&at_home, LinkKind::Passive))
+            {
+                assert!(
+                    (a - b).abs() < 1e-12,
+                    "{file}: passive link {a} vs {b} at home"
+                );
+                worst = worst.max((a - b).abs());
+            }
+            // The actuated links: a motor arm keeps its length, a rail is the carriage travel.
+            let q = model
+                .inverse_kinematics(p.as_slice(), model.home_mode())
+                .unwrap();
+            let actuated = lengths(&s, LinkKind::Actuated);
+            assert_eq!(actuated.len(), 3);
+            for (i, (a, b)) in actuated
+                .iter()
+                .zip(lengths(&at_home, LinkKind::Actuated))
+                .enumerate()
+            {
+                let expected = match spec.actuation() {
+                    Actuation::Revolute => b,
+                    Actuation::Prismatic => q[i].abs(),
+                };
+                assert!(
+                    (a - expected).abs() < 1e-12,
+                    "{file}: actuated {a} vs {expected}"
+                );
+            }
+        }
+    }
+    println!("anchors and link lengths within {worst:.1e} m");
+}
+
+#[test]
+fn the_reach_region_of_a_robot_file_holds_its_workspace() {
+    let path = format!(
+        "{}/../../examples/robots/linear_delta.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let limited = std::fs::read_to_string(path)
+        .unwrap()
+        .replace("actuated = true,", "actuated = true, limits = [-0.6, 0.6],");
+    let cases = [
+        (
+            robot_table("tsai.toml"),
+            "{ ball = { center = [0.0, 0.0, 0.0], radius = 2.0 } }",
+        ),
+        (
+            toml::from_str(&limited).unwrap(),
+            "{ box = { lower = [-1.5, -1.5, -1.5], upper = [1.5, 1.5, 1.5] } }",
+        ),
+    ];
+    for (robot, larger) in cases {
+        let spec = robot_spec(robot);
+        let Some(Region::Box { lower, upper }) = spec.reach_region().unwrap() else {
+            panic!("a box")
+        };
+        assert!(lower.iter().chain(upper.iter()).all(|v| v.is_finite()));
+        let text = format!(
+            "[mechanism.tsai]\na = 0.44\nb = 0.56\n[sampling]\nseed = 2\npoints = 16384\nregion = {larger}\n"
+        );
+        let mut study: WorkspaceStudy = from_toml_str(&text).unwrap();
+        study.mechanism = spec.clone();
+        let points = {
+            let domain = study.sampling.domain(None).unwrap();
+            study.sampling.point_set(domain).unwrap()
+        };
+        let values = spec.with_workspace(&[], PerPoint(points.points())).unwrap();
+        let inside: Vec<_> = points
+            .points()
+            .iter()
+            .zip(&values)
+            .filter(|(_, v)| v.is_some())
+            .collect();
+        let outside_the_bound = inside
+            .iter()
+            .filter(|(p, _)| (0..3).any(|a| p[a] < lower[a] || p[a] > upper[a]));
+        assert_eq!(outside_the_bound.count(), 0);
+        assert!(inside.len() > 100, "vacuous: {}", inside.len());
+        // Without [sampling.region], the study samples the reach region.
+        study.sampling.region = None;
+        let estimate = workspace(&study, &Silent).unwrap().result.estimate;
+        println!(
+            "{} inside of {} in the larger region; {} in the reach box",
+            inside.len(),
+            values.len(),
+            estimate.n_inside
+        );
+        assert!(estimate.n_inside > 0);
+    }
+    // Without limits the Linear Delta's carriages run without end: no reach region.
+    assert!(
+        robot_spec(robot_table("linear_delta.toml"))
+            .reach_region()
+            .unwrap()
+            .is_none()
+    );
+}
+
+/// Membership at every point of the hand-written study `hand` and of the same study on `robot`
+/// agrees; returns the members.
+fn membership_agrees(hand: &str, robot: toml::Table) -> usize {
+    let hand: WorkspaceStudy = from_toml_str(hand).unwrap();
+    let mut file = hand.clone();
+    file.mechanism = robot_spec(robot);
+    let points = {
+        let domain = hand.sampling.domain(None).unwrap();
+        hand.sampling.point_set(domain).unwrap()
+    };
+    let inside = |study: &WorkspaceStudy| -> Vec<bool> {
+        let constraints = constraints_of(&study.mechanism, study.constraints.as_ref()).unwrap();
+        let values = study
+            .mechanism
+            .with_workspace(&constraints, PerPoint(points.points()));
+        values.unwrap().iter().map(Option::is_some).collect()
+    };
+    let (a, b) = (inside(&hand), inside(&file));
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        differ,
+        0,
+        "membership differs at {differ} of {} points",
+        a.len()
+    );
+    let (ea, eb) = (
+        workspace(&hand, &Silent).unwrap().result.estimate,
+        workspace(&file, &Silent).unwrap().result.estimate,
+    );
+    assert_eq!(ea.n_inside, eb.n_inside);
+    a.iter().filter(|m| **m).count()
+}
+
+/// `robot_table(file)` with `modes` in its table.
+fn with_modes(file: &str, modes: &[&str]) -> toml::Table {
+    let mut table = robot_table(file);
+    let modes = modes
+        .iter()
+        .map(|m| toml::Value::String((*m).into()))
+        .collect();
+    table.insert("modes".into(), toml::Value::Array(modes));
+    table
+}
+
+/// The label of the mode with every leg on the other branch than at home.
+fn flipped_home(file: &str) -> String {
+    let model = RobotFileSpec::inline(robot_table(file)).model().unwrap();
+    let home = model.mode_label(model.home_mode());
+    home.chars()
+        .map(|c| if c == '+' { '-' } else { '+' })
+        .collect()
+}
+
+#[test]
+fn working_modes_of_a_robot_file_match_the_rotary_delta_elbows() {
+    // Miller 2004's §3.5 Delta in its canonical placement (examples/robots/rotary_delta.toml);
+    // the joint range makes the elbows differ (without it, both branches exist wherever one
+    // does).
+    let study = |elbows: &str| {
+        format!(
+            "[mechanism.rotary_delta]\nbase_radius = 0.194\nplate_offset = 0.03\narm = 0.26\n\
+             forearm = 0.48\nmotor_plane_z = -0.2928\nazimuth_motor_1_deg = 300.0\n\
+             elbow = {elbows}\n[constraints]\njoint_range_deg = [-30.0, 60.0]\n[sampling]\n\
+             seed = 3\npoints = 4096\n\
+             region = {{ box = {{ lower = [-0.6, -0.6, -1.1], upper = [0.6, 0.6, 0.0] }} }}\n"
+        )
+    };
+    let file = "rotary_delta.toml";
+    let other = flipped_home(file);
+    // The default is the home mode alone: the elbows out.
+    let out = membership_agrees(&study(r#"["out"]"#), robot_table(file));
+    let inward = membership_agrees(&study(r#"["in"]"#), with_modes(file, &[&other]));
+    let both = membership_agrees(
+        &study(r#"["out", "in"]"#),
+        with_modes(file, &["home", &other]),
+    );
+    println!("rotary Delta members: out {out}, in {inward}, both {both}");
+    assert!(
+        out < both && inward < both && out > 100 && inward > 10,
+        "{out} {inward} {both}"
+    );
+    let spec = RobotFileSpec::inline(robot_table(file));
+    let model = spec.model().unwrap();
+    assert_eq!(spec.working_modes(&model).unwrap(), [model.home_mode()]);
+    let both = RobotFileSpec::inline(with_modes(file, &["home", &other, "home"]));
+    assert_eq!(
+        both.working_modes(&model).unwrap().len(),
+        2,
+        "each mode once"
+    );
+}
+
+#[test]
+fn all_working_modes_are_the_union_of_the_modes() {
+    // Every combination of the rotary Delta's elbows, leg by leg, under a joint range.
+    let region = r#"{ box = { lower = [-0.6, -0.6, -1.1], upper = [0.6, 0.6, 0.0] } }"#;
+    let text = format!(
+        "[mechanism.tsai]\na = 0.44\nb = 0.56\n[constraints]\njoint_range_deg = [-30.0, 60.0]\n\
+         [sampling]\nseed = 4\npoints = 8192\nregion = {region}\n"
+    );
+    let study: WorkspaceStudy = from_toml_str(&text).unwrap();
+    let points = study
+        .sampling
+        .point_set(study.sampling.domain(None).unwrap())
+        .unwrap();
+    let inside = |modes: &[&str]| -> Vec<bool> {
+        let spec = robot_spec(with_modes("rotary_delta.toml", modes));
+        let constraints = constraints_of(&spec, study.constraints.as_ref()).unwrap();
+        let values = spec.with_workspace(&constraints, PerPoint(points.points()));
+        values.unwrap().iter().map(Option::is_some).collect()
+    };
+    let all = inside(&["all"]);
+    let mut union = vec![false; all.len()];
+    for label in ["---", "--+", "-+-", "-++", "+--", "+-+", "++-", "+++"] {
+        for (u, m) in union.iter_mut().zip(inside(&[label])) {
+            *u |= m;
+        }
+    }
+    assert_eq!(all, union);
+    let (members, home) = (
+        all.iter().filter(|m| **m).count(),
+        inside(&["home"]).iter().filter(|m| **m).count(),
+    );
+    println!("rotary Delta: {members} members in every mode, {home} in the home mode");
+    assert!(members > home && home > 100, "{members} {home}");
+}
+
+#[test]
+fn a_bad_working_mode_is_reported_at_its_key() {
+    let mut table = robot_table("tsai.toml");
+    table.insert(
+        "modes".into(),
+        toml::Value::Array(vec!["home".into(), "+-".into()]),
+    );
+    let spec = RobotFileSpec::inline(table);
+    let e = spec.check().unwrap_err();
+    assert_eq!(
+        e.path().unwrap().to_string(),
+        "mechanism.robot_file.modes[1]"
+    );
+    assert!(e.to_string().contains("one `+` or `-` per leg"), "{e}");
+    let mut table = robot_table("tsai.toml");
+    table.insert("modes".into(), toml::Value::Array(vec![]));
+    let e = RobotFileSpec::inline(table).check().unwrap_err();
+    assert_eq!(e.path().unwrap().to_string(), "mechanism.robot_file.modes");
+}
+
+#[test]
+fn passive_cones_limit_a_robot_file_and_leg_clearance_is_refused() {
+    let study = |constraints: &str| {
+        let text = format!(
+            "[mechanism.tsai]\na = 0.44\nb = 0.56\n[constraints]\n{constraints}\n[sampling]\n\
+             seed = 6\npoints = 4096\n\
+             region = {{ hemisphere = {{ center = [0.0, 0.0, 0.0], radius = 1.0 }} }}\n"
+        );
+        let mut study: WorkspaceStudy = from_toml_str(&text).unwrap();
+        study.mechanism = robot_spec(robot_table("tsai.toml"));
+        study
+    };
+    let inside = |constraints: &str| {
+        workspace(&study(constraints), &Silent)
+            .unwrap()
+            .result
+            .estimate
+            .n_inside
+    };
+    let free = inside("below_z = 2.0");
+    let wide = inside("passive_cone_deg = 179.9");
+    let narrow = inside("passive_cone_deg = 30.0");
+    println!("members: free {free}, cone 179.9° {wide}, cone 30° {narrow}");
+    assert_eq!(free, wide);
+    assert!(0 < narrow && narrow < free, "{narrow} {free}");
+    let refused = workspace(&study("leg_clearance = 0.01"), &Silent).unwrap_err();
+    assert!(
+        refused.to_string().contains("a robot from a file"),
+        "{refused}"
+    );
 }

@@ -66,7 +66,8 @@ fn read_shards(dirs: &[PathBuf]) -> Result<Vec<Results<ShardResult>>, CliError> 
         if s.command != first.command {
             return Err(differs("commands"));
         }
-        if s.study.text != first.study.text {
+        let robot_text = |r: &Results<ShardResult>| r.study.robot_file.as_ref().map(|f| f.text.clone());
+        if s.study.text != first.study.text || robot_text(s) != robot_text(first) {
             return Err(differs("study files"));
         }
     }
@@ -91,7 +92,7 @@ impl Run for Args {
         };
         let path = Path::new(&echo.file);
         let located = |e| study::study_error(path, &echo.text, e);
-        let grid: GridStudy = pkm_study::from_toml_str(&echo.text).map_err(located)?;
+        let grid: GridStudy = study::study_from_echo(&echo)?;
         let outcome =
             pkm_study::merge(&grid, kind, parts, &context.progress).map_err(located)?;
         let mut report = Report {

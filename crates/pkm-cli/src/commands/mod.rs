@@ -115,6 +115,7 @@ pub fn run_library_study<S: DeserializeOwned, R: Serialize>(
     out.write_artifacts(&outcome.artifacts, &mut report)?;
     let echo = StudyEcho {
         file: path.display().to_string(),
+        robot_file: source.robot_echo(),
         text: source.text,
     };
     let written = out.finish(command, echo, outcome.result)?;

@@ -8,7 +8,7 @@
 pub use pkm_study::schema::{mechanism, sampling, units};
 
 mod robot_file;
-pub use robot_file::{StudySource, load_study, load_study_source};
+pub use robot_file::{StudySource, load_study, load_study_source, study_from_echo};
 
 use crate::CliError;
 use pkm_study::{Key, KeyPath, StudyError};

@@ -4,6 +4,8 @@
 
 use super::{error_at, locate, study_error};
 use crate::CliError;
+use crate::output::{RobotFileEcho, StudyEcho};
+use pkm_study::schema::robot_file::MODES;
 use pkm_study::{Key, KeyPath, StudyError};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
@@ -21,6 +23,14 @@ pub struct StudySource {
 }
 
 impl StudySource {
+    /// The robot file the study read, for `results.json`.
+    pub fn robot_echo(&self) -> Option<RobotFileEcho> {
+        self.robot.as_ref().map(|(path, text)| RobotFileEcho {
+            file: path.display().to_string(),
+            text: text.clone(),
+        })
+    }
+
     /// The command's error for a study layer's error: a key under `mechanism.robot_file` of a
     /// named robot file at its line and column in that file, any other at its place in the
     /// study file.
@@ -41,9 +51,15 @@ impl StudySource {
     }
 }
 
-/// The path inside the robot file of a key under `mechanism.robot_file`.
+/// The path inside the robot file of a key under `mechanism.robot_file` (not the study's own
+/// `modes`, which is in the study file).
 fn inside_robot_file(key: &KeyPath) -> Option<KeyPath> {
     match key.keys() {
+        [Key::Field(m), Key::Field(r), Key::Field(k), ..]
+            if m == "mechanism" && r == "robot_file" && k == MODES =>
+        {
+            None
+        }
         [Key::Field(m), Key::Field(r), rest @ ..] if m == "mechanism" && r == "robot_file" => {
             Some(rest.iter().fold(KeyPath::root(), |path, k| match k {
                 Key::Field(name) => path.field(name.clone()),
@@ -70,6 +86,33 @@ pub fn load_study<T: DeserializeOwned>(path: &Path) -> Result<(String, T), CliEr
 /// of the study or of the robot file.
 pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySource, T), CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+    parse_study_source(path, text, |robot_path| std::fs::read_to_string(robot_path))
+}
+
+/// The study of a `results.json` echo: its text, with the echoed robot file (if any) in place
+/// of the one on disk, so a study's output is read back without the files it came from.
+///
+/// # Errors
+/// As [`load_study_source`].
+pub fn study_from_echo<T: DeserializeOwned>(echo: &StudyEcho) -> Result<T, CliError> {
+    let robot = echo.robot_file.clone();
+    let read = |_: &Path| match robot {
+        Some(robot) => Ok(robot.text),
+        None => Err(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            "results.json echoes no robot file",
+        )),
+    };
+    parse_study_source(Path::new(&echo.file), echo.text.clone(), read).map(|(_, study)| study)
+}
+
+/// The study in `text` (read from `path`), its named robot file (if any) read by `read` from
+/// its path relative to `path` and put in place of `file`.
+fn parse_study_source<T: DeserializeOwned>(
+    path: &Path,
+    text: String,
+    read: impl FnOnce(&Path) -> std::io::Result<String>,
+) -> Result<(StudySource, T), CliError> {
     let mut source = StudySource {
         path: path.to_path_buf(),
         text,
@@ -81,7 +124,7 @@ pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySourc
         return Ok((source, study));
     };
     let robot_path = path.parent().unwrap_or(Path::new("")).join(&file);
-    let robot_text = std::fs::read_to_string(&robot_path).map_err(|e| {
+    let robot_text = read(&robot_path).map_err(|e| {
         let key = KeyPath::parse("mechanism.robot_file.file");
         let message = format!("{key}: cannot read {}: {e}", robot_path.display());
         error_at(path, &source.text, locate(&source.text, &key), &message)
@@ -90,7 +133,26 @@ pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySourc
         let span = e.span().unwrap_or(0..0);
         error_at(&robot_path, &robot_text, span, e.message().trim_end())
     })?;
+    if robot.contains_key(MODES) {
+        let key = KeyPath::root().field(MODES.to_owned());
+        let message =
+            format!("`{MODES}` is a key of the study's robot_file table, not of a robot file");
+        return Err(error_at(
+            &robot_path,
+            &robot_text,
+            locate(&robot_text, &key),
+            &message,
+        ));
+    }
     if let Some(mechanism) = document.get_mut("mechanism").and_then(Value::as_table_mut) {
+        let mut robot = robot;
+        let modes = mechanism
+            .get("robot_file")
+            .and_then(|t| t.get(MODES))
+            .cloned();
+        if let Some(modes) = modes {
+            robot.insert(MODES.into(), modes);
+        }
         mechanism.insert("robot_file".into(), Value::Table(robot));
     }
     source.robot = Some((robot_path, robot_text));
@@ -100,10 +162,11 @@ pub fn load_study_source<T: DeserializeOwned>(path: &Path) -> Result<(StudySourc
 }
 
 /// The study document and the path of its `[mechanism.robot_file] file`, when the table holds
-/// `file` alone (with other keys the study layer reports the mix).
+/// `file` alone or with the study's `modes` (with other keys the study layer reports the mix).
 fn named_robot_file(text: &str) -> Option<(Table, String)> {
     let document = toml::from_str::<Table>(text).ok()?;
     let table = document.get("mechanism")?.get("robot_file")?.as_table()?;
     let file = table.get("file")?.as_str()?.to_owned();
-    (table.len() == 1).then_some((document, file))
+    let only_file = table.keys().all(|k| k == "file" || k == MODES);
+    only_file.then_some((document, file))
 }

@@ -35,8 +35,9 @@ class Cancelled(Error):
     """The computation was cancelled."""
 
 class Mechanism:
-    """A parallel kinematic machine from a preset name or a ``[mechanism]`` dict, under a
-    ``[constraints]`` dict."""
+    """A parallel kinematic machine from a preset name or a ``[mechanism]`` dict (a robot file
+    as ``{"robot_file": {"file": "robots/tsai.toml"}}``, read from the working directory, or
+    its keys inline), under a ``[constraints]`` dict."""
 
     def __init__(self, design: Union[str, Dict[str, Any]], constraints: Optional[Dict[str, Any]] = None) -> None: ...
     @property
@@ -59,7 +60,9 @@ class Mechanism:
     def contains(self, points: Points) -> npt.NDArray[np.bool_]:
         """Whether each point belongs to the workspace."""
     def forward_kinematics(self, joints: Points, guess: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-        """Positions (N × 3) closing the loops from ``guess`` and the converged mask."""
+        """Positions (N × 3) closing the loops from ``guess`` and the converged mask (NaN rows
+        where Newton does not converge). For a robot file (``{"robot_file": {"file": ...}}``),
+        damped Newton on the closure of every leg from the assembly at ``guess``."""
 
 def presets() -> Dict[str, Dict[str, Any]]:
     """The preset designs by name: ``{"description": str, "mechanism": dict}``."""

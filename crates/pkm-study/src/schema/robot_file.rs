@@ -7,25 +7,32 @@
 //! file; [`RobotFileSpec::resolve_file`] puts the text a library caller read in its place.
 //!
 //! Its design variables are the names of the robot file's `[parameters]` table (metres, or
-//! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in the
-//! reference working mode of the file (the mode of its home configuration), actuator `limits`
-//! of the file and the study's `[constraints]` included; the local index is 1/κ of the velocity
-//! Jacobian, so the task must be the platform position `["x", "y", "z"]`.
+//! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in one of
+//! the study's working modes (`modes`, a key of the study beside the robot file's; by default
+//! the reference working mode of the file, the mode of its home configuration), actuator
+//! `limits` of the file and the study's `[constraints]` included; the local index is 1/κ of the
+//! velocity Jacobian, so the task must be the platform position `["x", "y", "z"]`.
 
 use super::constraints::ConstraintsSpec;
 use crate::StudyError;
 use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
 use crate::registry::{BuildError, WorkspaceVisitor, visit};
 use nalgebra::Vector3;
-use pkm_mechanisms::Skeleton;
-use pkm_robot_file::{Robot, RobotFile, RobotFileError, RobotModel};
+use pkm_mechanisms::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
+use pkm_robot_file::{
+    Configuration, LegPointKind, Robot, RobotFile, RobotFileError, RobotModel, WorkingMode,
+};
 use pkm_traits::WorkspaceConstraint;
+use pkm_workspace_indices::Region;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use toml::{Table, Value};
 
 /// The key path of the table in a study.
 pub const KEY_PATH: &str = "mechanism.robot_file";
+
+/// The study's own key of the table, beside the robot file's keys: the working modes.
+pub const MODES: &str = "modes";
 
 /// `[mechanism.robot_file]`: a robot file's keys (inline), or `file = "path"` before the caller
 /// resolves it.
@@ -64,21 +71,30 @@ impl RobotFileSpec {
         self.only_file()?;
         let at = |m: String| StudyError::invalid(format!("{KEY_PATH}.file").as_str(), m);
         let text = read(&file).map_err(|e| at(format!("cannot read {file}: {e}")))?;
-        let table = toml::from_str::<Table>(&text).map_err(|e| {
+        let mut table = toml::from_str::<Table>(&text).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
             at(format!("{file}:{line}: {}", e.message().trim_end()))
         })?;
+        if table.contains_key(MODES) {
+            return Err(at(format!(
+                "{file}: `{MODES}` is a key of the study's table, not of a robot file"
+            )));
+        }
+        if let Some(modes) = self.table.get(MODES) {
+            table.insert(MODES.into(), modes.clone());
+        }
         self.table = table;
         Ok(())
     }
 
-    /// `file` alone: the robot is either named or given, never both.
+    /// `file` (and the study's `modes`) alone: the robot is either named or given, never both.
     fn only_file(&self) -> Result<(), StudyError> {
-        match self.table.keys().find(|k| *k != "file") {
+        match self.table.keys().find(|k| *k != "file" && *k != MODES) {
             Some(other) => Err(StudyError::invalid(
                 format!("{KEY_PATH}.{other}").as_str(),
-                "a robot_file table gives either `file` or the robot file's keys, not both",
+                "a robot_file table gives either `file` or the robot file's keys, not both \
+                 (`modes` goes with either)",
             )),
             None => Ok(()),
         }
@@ -95,7 +111,48 @@ impl RobotFileSpec {
                  RobotFileSpec::resolve_file)",
             ));
         }
-        RobotFile::from_deserializer(Value::Table(self.table.clone())).map_err(located)
+        let mut keys = self.table.clone();
+        keys.remove(MODES);
+        RobotFile::from_deserializer(Value::Table(keys)).map_err(located)
+    }
+
+    /// The working modes of the study, `modes = [...]` in the table: `"home"` (the default,
+    /// alone), `"all"` (every combination of the legs' branches) or one `+` (branch 1) or `-`
+    /// (branch 0) per leg ([`RobotModel::working_mode`]), in order, each mode once.
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] at `mechanism.robot_file.modes[k]` for another label, at
+    /// `mechanism.robot_file.modes` for an empty list or another value.
+    pub fn working_modes(&self, model: &RobotModel) -> Result<Vec<WorkingMode>, StudyError> {
+        let Some(value) = self.table.get(MODES) else {
+            return Ok(vec![model.home_mode()]);
+        };
+        let list = value.as_array().filter(|l| !l.is_empty()).ok_or_else(|| {
+            StudyError::invalid(
+                format!("{KEY_PATH}.{MODES}").as_str(),
+                "a non-empty list of working modes: \"home\", \"all\" or one `+` or `-` per leg",
+            )
+        })?;
+        let mut modes = Vec::new();
+        for (k, label) in list.iter().enumerate() {
+            let key = format!("{MODES}[{k}]");
+            let found = match label.as_str() {
+                Some("all") => model.working_modes(),
+                Some(label) => vec![model.working_mode(&key, label).map_err(located)?],
+                None => {
+                    return Err(StudyError::invalid(
+                        format!("{KEY_PATH}.{key}").as_str(),
+                        "a working mode is a string: \"home\", \"all\" or one `+` or `-` per leg",
+                    ));
+                }
+            };
+            for mode in found {
+                if !modes.contains(&mode) {
+                    modes.push(mode);
+                }
+            }
+        }
+        Ok(modes)
     }
 
     /// The validated robot model.
@@ -222,25 +279,58 @@ impl StudyMechanism for RobotFileSpec {
     }
 
     fn check(&self) -> Result<(), StudyError> {
-        self.translational_robot().map(|_| ())
+        let robot = self.translational_robot()?;
+        self.working_modes(robot.model()).map(|_| ())
     }
 
-    /// The reference working mode of the file (its home configuration's).
+    /// The study's working modes ([`RobotFileSpec::working_modes`]; by default the reference
+    /// mode of the file, its home configuration's): a position belongs to the workspace when
+    /// one of them assembles there.
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
+        let design = |e: StudyError| BuildError::Design(e.to_string());
+        let robot = self.translational_robot().map_err(design)?;
+        let modes = self.working_modes(robot.model()).map_err(design)?;
+        visit(&robot, &modes, constraints, visitor)
+    }
+
+    /// The box of [`RobotModel::reach_box`]: the intersection of the legs' reach balls, each
+    /// the chain's length from its first joint point (prismatic travel within the file's
+    /// `limits` included), so it holds every reachable position. None when a prismatic joint
+    /// has no limits (its reach is unbounded) or the boxes do not overlap; the study then needs
+    /// `[sampling.region]`.
+    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
         let robot = self
             .translational_robot()
             .map_err(|e| BuildError::Design(e.to_string()))?;
-        let mode = robot.model().home_mode();
-        visit(&robot, &[mode], constraints, visitor)
+        Ok(robot
+            .model()
+            .reach_box()
+            .filter(|[lower, upper]| (0..3).all(|a| lower[a] < upper[a]))
+            .map(|[lower, upper]| Region::Box { lower, upper }))
     }
 
-    /// No drawing yet: a study of a robot file reports it and writes no robot picture.
-    fn skeleton_at(&self, _p: &Vector3<f64>) -> Result<Skeleton, String> {
-        Err("a robot file is not drawn (no skeleton from its joints yet)".into())
+    /// The robot drawn from its joints ([`robot_skeleton`]) in the first working mode of the
+    /// study that reaches `p`.
+    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
+        let robot = self.translational_robot().map_err(|e| e.to_string())?;
+        let model = robot.model();
+        let modes = self.working_modes(model).map_err(|e| e.to_string())?;
+        let mut last = None;
+        for mode in modes {
+            match model.inverse_kinematics_configuration(p.as_slice(), mode) {
+                Ok(c) => return Ok(robot_skeleton(model, &c)),
+                Err(e) => last = Some(e),
+            }
+        }
+        let at = format!("p = [{}, {}, {}] m", p.x, p.y, p.z);
+        Err(last.map_or_else(
+            || format!("no working mode of the study can be drawn at {at}"),
+            |e| format!("the skeleton at {at}: {e}"),
+        ))
     }
 
     /// As for every mechanism, with joint ranges refused for a robot whose actuators are both
@@ -260,5 +350,90 @@ impl StudyMechanism for RobotFileSpec {
             );
         }
         spec.to_library(self.kind(), self.actuation())
+    }
+}
+
+/// The skeleton of `model` at `config`, drawn from its joints: the platform origin `p`, for leg
+/// $n$ its stations ([`RobotModel::leg_points`]: the rail origin `On` of leading prismatic
+/// joints, then the joint points `An`, `Bn`, ... from the base, the last one the platform
+/// anchor) and the segments between them (actuated when the actuator moves them, passive
+/// otherwise), and the polygons of the legs' first stations (base) and platform anchors
+/// (platform), coincident corners drawn once.
+pub fn robot_skeleton(model: &RobotModel, config: &Configuration) -> Skeleton {
+    let mut s = Skeleton::default();
+    let centre = model.platform_pose_of(config).translation.vector;
+    s.points.push(point("p".into(), PointKind::Centre, centre));
+    let (mut base, mut plate) = (Vec::new(), Vec::new());
+    for leg in 0..model.legs().len() {
+        let Some(stations) = model.leg_points(leg, config) else {
+            continue;
+        };
+        let n = leg + 1;
+        let first = s.points.len();
+        let mut letters = ('A'..='Z').cycle();
+        for station in &stations.points {
+            let (label, kind) = match station.kind {
+                LegPointKind::RailOrigin => (format!("O{n}"), PointKind::Base),
+                LegPointKind::BaseJoint => (letter(&mut letters, n), PointKind::BaseJoint),
+                LegPointKind::Actuator => (letter(&mut letters, n), PointKind::Actuator),
+                LegPointKind::Joint => (letter(&mut letters, n), PointKind::Passive),
+                LegPointKind::Platform => (letter(&mut letters, n), PointKind::Platform),
+            };
+            s.points.push(point(label, kind, station.position));
+        }
+        s.links.extend(stations.segments.iter().map(|seg| Link {
+            from: first + seg.from,
+            to: first + seg.to,
+            kind: if seg.actuated {
+                LinkKind::Actuated
+            } else {
+                LinkKind::Passive
+            },
+        }));
+        base.push(first);
+        plate.push(s.points.len() - 1);
+    }
+    polygon(&mut s, &base, LinkKind::Base, model);
+    polygon(&mut s, &plate, LinkKind::Platform, model);
+    s
+}
+
+fn point(label: String, kind: PointKind, position: Vector3<f64>) -> SkeletonPoint {
+    SkeletonPoint {
+        label,
+        kind,
+        position,
+    }
+}
+
+fn letter(letters: &mut impl Iterator<Item = char>, leg: usize) -> String {
+    format!("{}{leg}", letters.next().unwrap_or('Z'))
+}
+
+/// The closed polygon through the points `corners` of `s`, each position once (a point
+/// platform, where every leg ends at one point, has no polygon): a link for two corners.
+fn polygon(s: &mut Skeleton, corners: &[usize], kind: LinkKind, model: &RobotModel) {
+    let tolerance = 1e-9 * model.characteristic_length();
+    let mut ring: Vec<usize> = Vec::new();
+    for &k in corners {
+        let at = s.points[k].position;
+        if ring
+            .iter()
+            .all(|&r| (s.points[r].position - at).norm() > tolerance)
+        {
+            ring.push(k);
+        }
+    }
+    let links = match ring.len() {
+        0 | 1 => 0,
+        2 => 1,
+        n => n,
+    };
+    for k in 0..links {
+        s.links.push(Link {
+            from: ring[k],
+            to: ring[(k + 1) % ring.len()],
+            kind,
+        });
     }
 }
