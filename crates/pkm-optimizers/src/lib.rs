@@ -27,7 +27,7 @@
 //!   [`scaling`], $s_j$ the width of variable $j$'s box side or a user-given
 //!   [`CharacteristicScale`] (the settings' `scale`); their stopping tolerances are in scaled
 //!   units and their results in the user's variables. Variables that differ by $10^6$ in scale
-//!   then converge alike (tests `tests/scaling.rs`).
+//!   then converge alike (tests `tests/it/scaling.rs`).
 //!
 //! The solvers and tools:
 //! - [`grid_search`] and [`refined_grid_search`]: exhaustive N-dimensional grid search, parallel

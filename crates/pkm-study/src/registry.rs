@@ -254,7 +254,7 @@ macro_rules! design_variables {
 /// Declares a registry: an enum with one variant per mechanism table (externally tagged, the
 /// tag is the kind: `[mechanism.<kind>]`) that implements [`StudyMechanism`] by delegation.
 /// The calling crate depends on `serde` (its tables derive its traits too);
-/// `crates/pkm-study/tests/adding_a_mechanism.rs` declares one.
+/// `crates/pkm-study/tests/it/adding_a_mechanism.rs` declares one.
 ///
 /// ```text
 /// pkm_study::mechanisms! {

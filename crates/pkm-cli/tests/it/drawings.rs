@@ -4,7 +4,7 @@
 //! threads.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{example, pkm, run_study, study};
 use nalgebra::Vector3;

@@ -2,7 +2,7 @@
 //! constraints checked); the studies themselves run in `studies.rs` in their quick versions.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::example;
 use pkm_cli::study;

@@ -3,7 +3,7 @@
 //! robot file are placed at its line and column.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{example, pkm, run_study};
 use std::path::Path;

@@ -8,7 +8,7 @@
     clippy::print_stdout
 )]
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix2, Rotation3, Vector2, Vector3};
 use pkm_robot_file::{EnumerationSettings, Robot, WorkingMode};

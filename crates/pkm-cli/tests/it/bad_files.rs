@@ -2,7 +2,7 @@
 //! units), and the command fails without writing results.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::pkm;
 

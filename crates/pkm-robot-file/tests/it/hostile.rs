@@ -7,7 +7,7 @@
     clippy::print_stdout
 )]
 
-mod common;
+use crate::common;
 
 use pkm_robot_file::{EnumerationSettings, Robot, RobotFileError, RobotModel, WorkingMode};
 use pkm_traits::{

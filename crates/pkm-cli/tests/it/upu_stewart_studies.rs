@@ -4,7 +4,7 @@
 //! $|p + R r_i - b_i|$; and bad files rejected at their line.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{close, csv, pkm, run_study, study};
 use nalgebra::{Rotation3, Vector3};

@@ -8,7 +8,7 @@
     clippy::print_stdout
 )]
 
-mod common;
+use crate::common;
 
 #[test]
 fn every_example_file_loads_and_reproduces_home() {

@@ -2,7 +2,7 @@
 //! thread counts; Ctrl-C stops a run without writing results.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{pkm, run_study, study};
 use pkm_cli::progress::{CancelFlag, Spinner};

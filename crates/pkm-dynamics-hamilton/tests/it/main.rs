@@ -1,0 +1,6 @@
+//! The integration tests of `pkm-dynamics-hamilton`, one test binary: each file is a module (one link
+//! and one build of the shared code instead of one per file).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod fast_paths;
+mod properties;

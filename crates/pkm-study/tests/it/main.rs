@@ -1,0 +1,12 @@
+//! The integration tests of `pkm-study`, one test binary: each file is a module (one link
+//! and one build of the shared code instead of one per file).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+mod adding_a_mechanism;
+mod dynamics;
+mod grid_studies;
+mod module_graph;
+mod optimize;
+mod robot_file;
+mod task;
+mod workspace;
