@@ -9,3 +9,5 @@ mod common;
 mod conformance;
 mod files;
 mod hostile;
+mod mode_labels;
+mod points;

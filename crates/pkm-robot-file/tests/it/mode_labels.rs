@@ -3,7 +3,7 @@
 //! home mode; anything else is refused at its key.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{all_files, robot};
 use pkm_robot_file::RobotFileError;

@@ -5,7 +5,7 @@
 //! solved pose lies outside the bound.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-mod common;
+use crate::common;
 
 use common::{all_files, robot, robot_text};
 use nalgebra::{Point3, Vector3};
