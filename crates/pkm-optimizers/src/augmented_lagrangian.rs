@@ -106,7 +106,10 @@ pub struct ConstrainedResult {
     /// Why the outer iteration stopped: [`Termination::Converged`] (criterion
     /// `"feasible with settled multipliers"`) or [`Termination::MaxIterations`] after
     /// [`AugmentedLagrangianSettings::max_outer`] outer iterations with a feasible but
-    /// possibly unsettled design (an infeasible one is an error instead).
+    /// possibly unsettled design. When the last outer iterate is infeasible, the design is the
+    /// last feasible outer iterate (with its constraints and multipliers), as NLopt's AUGLAG
+    /// keeps its best feasible point; a run that never reached a feasible outer iterate is an
+    /// error instead.
     pub termination: Termination,
     /// Outer (multiplier) iterations spent.
     pub outer_iterations: usize,
@@ -137,8 +140,9 @@ impl LocalResult for ConstrainedResult {
 /// # Errors
 /// [`OptimizeError::Invalid`] for a start of the wrong length, settings that fail
 /// [`AugmentedLagrangianSettings::validate`] or a `scale` without one value per variable;
-/// [`OptimizeError::NoFeasibleDesign`] when the final design still violates a constraint by
-/// more than `settings.feasibility` (an infeasible constraint set: no design is returned);
+/// [`OptimizeError::NoFeasibleDesign`] when no outer iterate met every constraint within
+/// `settings.feasibility` (an infeasible constraint set, or too few outer iterations: no
+/// design is returned);
 /// [`OptimizeError::Objective`] for an objective failure other than infeasibility, and for a
 /// constraint or final value that is NaN or infinite; [`OptimizeError::Cancelled`] once
 /// `progress` is cancelled.
@@ -200,6 +204,7 @@ fn solve<P: Constraints>(
     let mut g = vec![0.0; m];
     let mut violation = f64::INFINITY;
     let mut termination = Termination::MaxIterations;
+    let mut last_feasible: Option<FeasibleIterate> = None;
     let evaluations = Cell::new(0_usize);
     let objective = |p: &[f64]| -> Result<f64, ObjectiveError> {
         evaluations.set(evaluations.get() + 1);
@@ -245,6 +250,13 @@ fn solve<P: Constraints>(
                 change
             })
             .fold(0.0, f64::max);
+        if new_violation <= settings.feasibility {
+            last_feasible = Some(FeasibleIterate {
+                design: x.clone(),
+                constraints: g.clone(),
+                multipliers: mu.clone(),
+            });
+        }
         if new_violation <= settings.feasibility
             && step <= MULTIPLIER_TOLERANCE * (1.0 + mu.iter().fold(0.0, |a: f64, b| a.max(*b)))
         {
@@ -264,12 +276,15 @@ fn solve<P: Constraints>(
         violation = new_violation;
     }
     if !(violation <= settings.feasibility) {
-        return Err(OptimizeError::NoFeasibleDesign {
-            evaluations: settings.max_outer,
-            last_reason: format!(
-                "largest constraint violation {violation:.3e} after the last outer iteration"
-            ),
-        });
+        let Some(feasible) = last_feasible else {
+            return Err(OptimizeError::NoFeasibleDesign {
+                evaluations: settings.max_outer,
+                last_reason: format!(
+                    "largest constraint violation {violation:.3e} after the last outer iteration"
+                ),
+            });
+        };
+        (x, g, mu) = (feasible.design, feasible.constraints, feasible.multipliers);
     }
     let value = problem.value(&x)?;
     if !value.is_finite() {
@@ -285,6 +300,14 @@ fn solve<P: Constraints>(
         inner_iterations,
         evaluations: evaluations.get() + 1,
     })
+}
+
+/// An outer iterate within the feasibility tolerance: the fallback result when a later one
+/// is not ([`ConstrainedResult::termination`]).
+struct FeasibleIterate {
+    design: Vec<f64>,
+    constraints: Vec<f64>,
+    multipliers: Vec<f64>,
 }
 
 /// The penalty of the first outer iteration at the start `x` (multipliers 0): $\rho_0$ of the

@@ -265,3 +265,23 @@ fn any_check_step_gives_a_typed_error_at_its_key_or_a_finite_check() {
         }
     }
 }
+
+#[test]
+fn a_run_stopped_on_an_infeasible_outer_iterate_returns_its_last_feasible_one() {
+    // Two variables, a coarse quadrature and six outer iterations (the Python suite's study):
+    // both starts end their last outer iteration outside a + b <= 1 (by 2.5e-3 and 4.4e-5),
+    // and both had been within the feasibility tolerance before.
+    let text = "[mechanism.tsai]\na = 0.4\nb = 0.6\nd_plus_e = 0.0\nc_minus_r = 0.0\n\
+        phi2_deg = 120.0\nphi3_deg = 240.0\n\n[optimize]\nobjective = \"volume\"\ncolumns = 24\n\
+        check_step = 1e-2\nconstraints = [{ name = \"reach\", coefficients = { a = 1.0, b = 1.0 }, \
+        at_most = 1.0 }]\n[optimize.variables]\na = [0.02, 1.0]\nb = [0.02, 1.0]\n\
+        [optimize.starts]\ncount = 2\nseed = 2024\n[optimize.solver]\nfd_step = 1e-4\n\
+        tolerance = 1e-6\nfeasibility = 1e-6\nmax_outer = 6\nmax_inner = 40\n";
+    let study: OptimizeStudy = from_toml_str(text).unwrap();
+    let r = optimize(&study, &Silent).unwrap().result;
+    assert_eq!(r.starts.failed, 0, "{:?}", r.starts);
+    assert_eq!(r.starts.at_iteration_limit, 2, "{:?}", r.starts);
+    let reach = r.design["a"] + r.design["b"] - 1.0;
+    assert!(reach <= 1e-6, "a + b - 1 = {reach:e}");
+    assert!(r.maximum.is_finite() && r.maximum > 0.9, "{}", r.maximum);
+}
