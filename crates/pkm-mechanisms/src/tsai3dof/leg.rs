@@ -5,6 +5,7 @@
 use super::Tsai3Dof;
 use nalgebra::Vector3;
 use pkm_traits::KinematicsError;
+use std::f64::consts::{PI, TAU};
 
 /// Which root of the half-angle quadratic (eq. 2) gives $\theta_1$.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -51,10 +52,23 @@ impl LegBranch {
     ];
 }
 
+/// `angle` $\in (-2\pi, 2\pi]$ (twice an `atan2`) as its principal value in $(-\pi, \pi]$, the
+/// range of every other angle pkm reports, so that a joint range means the same on this model
+/// as on the same robot from a file.
+fn principal_angle(angle: f64) -> f64 {
+    if angle > PI {
+        angle - TAU
+    } else if angle <= -PI {
+        angle + TAU
+    } else {
+        angle
+    }
+}
+
 /// Joint angles $(\theta_1, \theta_2, \theta_3)$ of one leg, radians.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LegAngles {
-    /// Actuated angle of the lower arm, from $u_i$ towards $w_i$.
+    /// Actuated angle of the lower arm, from $u_i$ towards $w_i$, in $(-\pi, \pi]$.
     pub theta1: f64,
     /// Absolute angle of the offsets' direction $n_i$, from $u_i$ towards $w_i$.
     pub theta2: f64,
@@ -115,6 +129,7 @@ impl Tsai3Dof {
         let root = disc.sqrt();
         let t_plus = 2.0 * (-l1 + root).atan2(2.0 * l2);
         let t_minus = 2.0 * (-l1 - root).atan2(2.0 * l2);
+        let (t_plus, t_minus) = (principal_angle(t_plus), principal_angle(t_minus));
         let (out, inward) = if t_minus.cos() >= t_plus.cos() {
             (t_minus, t_plus)
         } else {

@@ -133,6 +133,25 @@ region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
 }
 
 #[test]
+fn tsai_robot_file_and_tsai_table_agree_under_a_joint_range() {
+    // The lower arms' θ1 near 0 rad: the hand-written model reported 2π − 0.11 rad where the
+    // file reports −0.11 rad, so a range across 0 kept different members.
+    let hand = r#"
+[mechanism.tsai]
+a = 0.44
+b = 0.56
+[constraints]
+joint_range_deg = [-30.0, 60.0]
+[sampling]
+seed = 5
+points = 8192
+region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
+"#;
+    let members = workspace_agrees(hand, robot_table("tsai.toml"));
+    assert!(members > 1000, "{members}");
+}
+
+#[test]
 fn linear_delta_robot_file_workspace_agrees_with_its_table_under_joint_ranges() {
     let hand = r#"
 [mechanism.linear_delta]
