@@ -1,5 +1,6 @@
-//! The acceptance set of issue 18, items 3, 4, 7 and 8: assembly modes by multistart, working
-//! modes, and actuation wrenches (sources and tolerances in `docs/conventions.md`).
+//! The acceptance set of issue 18, items 3, 4, 7 and 8 (with Dietmaier's 40 real postures):
+//! assembly modes by multistart, working modes, and actuation wrenches (sources and tolerances
+//! in `docs/conventions.md`).
 
 #![allow(
     clippy::unwrap_used,
@@ -209,4 +210,26 @@ fn stewart_gough_at_most_forty_assembly_modes() {
     assert!((1..=40).contains(&modes.len()), "{}", modes.len());
     assert_genuine(&model, &q, &modes);
     assert_eq!(modes[0].home_label, Some(0));
+}
+
+#[test]
+fn dietmaier_stewart_gough_has_forty_real_assembly_modes() {
+    // Dietmaier 1998, "The Stewart-Gough platform of general geometry can have 40 real
+    // postures": base and platform points and leg lengths as transcribed in
+    // martyushev/fkSGP, python/test1_fkSGP.py (commit a7baed0).
+    let model = common::robot("dietmaier_40.toml");
+    let q = [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071];
+    let settings = EnumerationSettings {
+        starts: 1500,
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let modes = model.assembly_modes(&q, &settings).unwrap();
+    println!(
+        "Dietmaier: {} assembly modes in {:.1} s",
+        modes.len(),
+        start.elapsed().as_secs_f64()
+    );
+    assert_genuine(&model, &q, &modes);
+    assert_eq!(modes.len(), 40);
 }
