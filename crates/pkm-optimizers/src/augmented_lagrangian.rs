@@ -56,7 +56,7 @@ pub const MULTIPLIER_TOLERANCE: f64 = 1e-6;
 
 /// Settings of [`augmented_lagrangian`]. In a study file (e.g. `[optimize.solver]`) every key
 /// is optional, with the defaults below.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields, default)]
 pub struct AugmentedLagrangianSettings {
     /// Relative finite-difference step (times each box width). Default

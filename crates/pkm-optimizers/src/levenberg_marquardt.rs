@@ -68,7 +68,7 @@ pub enum ActiveBound {
 /// Settings of [`levenberg_marquardt`]. In a study file (e.g. `[task.solver]`) every key is
 /// optional, with the defaults below: `max_iterations = 200`, `tolerance = 1e-12`,
 /// `gradient_tolerance = 1e-6`, `fd_step = 1e-6`, no `scale` (the box widths).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields, default)]
 pub struct LmSettings {
     /// Largest number of iterations (at least 1).

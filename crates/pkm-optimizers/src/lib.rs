@@ -90,7 +90,7 @@ pub use multistart::{
     LocalResult, MAX_STARTS, Multistart, MultistartRun, multistart, uniform_start_points,
 };
 pub use pareto::{ParetoFront, pareto_front};
-pub use scaling::{CharacteristicScale, MAX_SCALED_VARIABLES, variable_scales};
+pub use scaling::{CharacteristicScale, variable_scales};
 pub use sense::Sense;
 pub use termination::Termination;
 pub use weighted_combination::weighted_combination;

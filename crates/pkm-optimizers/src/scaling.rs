@@ -23,27 +23,21 @@ use crate::OptimizeError;
 use pkm_traits::{Bounds, InvalidInput};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
+use std::sync::Arc;
 
-/// Most variables a user-given [`CharacteristicScale`] holds (it is stored inline, so that the
-/// settings that carry it stay `Copy`); the default scaling by the bounds has no limit.
-pub const MAX_SCALED_VARIABLES: usize = 32;
-
-/// A user-given characteristic scale $s_j$ per variable (finite and $> 0$; at most
-/// [`MAX_SCALED_VARIABLES`]), in the user's units: e.g. `[1e-3, 1e3]` for a parameter
+/// A user-given characteristic scale $s_j$ per variable (finite and $> 0$, any number of
+/// variables; cloned by reference count), in the user's units: e.g. `[1e-3, 1e3]` for a parameter
 /// expected near $10^{-3}$ and one near $10^3$. In a study file it is a list,
 /// `scale = [1e-3, 1e3]`.
-#[derive(Clone, Copy, PartialEq)]
-pub struct CharacteristicScale {
-    len: usize,
-    values: [f64; MAX_SCALED_VARIABLES],
-}
+#[derive(Clone, PartialEq)]
+pub struct CharacteristicScale(Arc<[f64]>);
 
 impl CharacteristicScale {
     /// The scale `values`.
     ///
     /// # Errors
-    /// [`OptimizeError::Invalid`] for no value, more than [`MAX_SCALED_VARIABLES`], or a value
-    /// that is not finite and $> 0$ (named `scale`).
+    /// [`OptimizeError::Invalid`] for no value or a value that is not finite and $> 0$ (named
+    /// `scale`).
     ///
     /// # Example
     /// ```
@@ -53,27 +47,19 @@ impl CharacteristicScale {
     /// assert!(CharacteristicScale::new(&[]).is_err());
     /// ```
     pub fn new(values: &[f64]) -> Result<Self, OptimizeError> {
-        if values.is_empty() || values.len() > MAX_SCALED_VARIABLES {
-            return Err(InvalidInput::new(
-                "scale.len()",
-                values.len() as f64,
-                "must be from 1 to MAX_SCALED_VARIABLES (32)",
-            )
-            .into());
+        if values.is_empty() {
+            return Err(InvalidInput::new("scale.len()", 0.0, "must be at least 1").into());
         }
-        let mut stored = [1.0; MAX_SCALED_VARIABLES];
-        for (slot, &v) in stored.iter_mut().zip(values) {
-            *slot = InvalidInput::require_positive("scale", v)?;
-        }
-        Ok(Self {
-            len: values.len(),
-            values: stored,
-        })
+        let checked = values
+            .iter()
+            .map(|&v| InvalidInput::require_positive("scale", v))
+            .collect::<Result<Vec<f64>, _>>()?;
+        Ok(Self(checked.into()))
     }
 
     /// The scales, one per variable.
     pub fn values(&self) -> &[f64] {
-        &self.values[..self.len]
+        &self.0
     }
 }
 

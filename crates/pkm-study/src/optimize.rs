@@ -334,9 +334,9 @@ pub fn optimize<M: StudyMechanism>(
 ) -> Result<Outcome<OptimizeResult>, StudyError> {
     let c = check(study)?;
     let problem = TsaiProblem::new(c.nominal, c.free, c.criterion, &c.points, c.inequalities);
-    let settings = study.optimize.solver;
+    let settings = &study.optimize.solver;
     let run = multistart(c.starts, progress, |s, cancel| {
-        augmented_lagrangian(&problem, Sense::Maximise, s, &settings, cancel)
+        augmented_lagrangian(&problem, Sense::Maximise, s, settings, cancel)
     })?;
     let (best_start, best) = run.best(Sense::Maximise).map_err(|_| no_feasible(&run))?;
     progress.phase("optimality checks");

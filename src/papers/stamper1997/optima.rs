@@ -292,7 +292,7 @@ fn screened_starts(
         max_outer,
         max_inner,
         feasibility: SCREENING_FEASIBILITY,
-        ..*settings
+        ..settings.clone()
     };
     let run = multistart(starts, cancel, |s, cancel| {
         augmented_lagrangian(&screening, Sense::Maximise, s, &short, cancel)

@@ -115,7 +115,7 @@ fn a_cancelled_levenberg_marquardt_stops_within_its_iteration() {
     let three = Counted::new();
     let limited = LmSettings {
         max_iterations: 3,
-        ..settings
+        ..settings.clone()
     };
     let bound = levenberg_marquardt(&three, Sense::Minimise, &START, &limited, &Silent).unwrap();
     let cancelled = Counted::new();
@@ -179,7 +179,7 @@ fn a_cancelled_augmented_lagrangian_stops_within_its_outer_iteration() {
     let one = AugmentedLagrangianSettings {
         max_outer: 1,
         feasibility: 10.0,
-        ..settings
+        ..settings.clone()
     };
     let bound = augmented_lagrangian(&once, Sense::Minimise, &START, &one, &Silent).unwrap();
     // Cancelled once the first outer iteration has begun: it stops at its first inner check.

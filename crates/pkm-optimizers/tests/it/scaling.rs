@@ -316,7 +316,7 @@ fn augmented_lagrangian_without_scaling_misses_the_optima() {
 fn a_scale_of_the_wrong_length_is_refused() {
     let three = Some(CharacteristicScale::new(&[1.0, 1.0, 1.0]).unwrap());
     let lm = LmSettings {
-        scale: three,
+        scale: three.clone(),
         ..LmSettings::default()
     };
     let e = levenberg_marquardt(&fit(), Sense::Minimise, &[1e-3, 1e3], &lm, &Silent).unwrap_err();
@@ -401,7 +401,7 @@ fn augmented_lagrangian_keeps_the_basin_of_its_start_beyond_a_cubic_reach_limit(
     ];
     for (settings, (start, basin)) in [precise, stamper]
         .into_iter()
-        .flat_map(|s| starts.map(|st| (s, st)))
+        .flat_map(|s| starts.map(|st| (s.clone(), st)))
     {
         let r = augmented_lagrangian(&problem, Sense::Maximise, &[1.0, start], &settings, &Silent)
             .unwrap();
@@ -414,4 +414,60 @@ fn augmented_lagrangian_keeps_the_basin_of_its_start_beyond_a_cubic_reach_limit(
             "from θ = {start}: {r:?}"
         );
     }
+}
+
+/// Forty residuals $r_j = x_j / c_j - 1$ with $c_j$ alternating between $10^{-3}$ and $10^3$,
+/// in a box $[c_j / 2, 2 c_j]$: optimum $x = c$ with $f = 0$.
+struct ManyScales(Vec<Bounds>, Vec<f64>);
+
+impl ManyScales {
+    fn new(n: usize) -> Self {
+        let c: Vec<f64> = (0..n)
+            .map(|j| if j % 2 == 0 { 1e-3 } else { 1e3 })
+            .collect();
+        let b = c.iter().map(|c| Bounds::new(c / 2.0, 2.0 * c).unwrap());
+        Self(b.collect(), c)
+    }
+}
+
+impl Objective for ManyScales {
+    fn dimension(&self) -> usize {
+        self.1.len()
+    }
+    fn bounds(&self) -> &[Bounds] {
+        &self.0
+    }
+    fn value(&self, p: &[f64]) -> Result<f64, ObjectiveError> {
+        let mut r = vec![0.0; self.1.len()];
+        self.residuals(p, &mut r)?;
+        Ok(r.iter().map(|v| v * v).sum())
+    }
+}
+
+impl Residuals for ManyScales {
+    fn n_residuals(&self) -> usize {
+        self.1.len()
+    }
+    fn residuals(&self, p: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
+        for ((r, x), c) in r.iter_mut().zip(p).zip(&self.1) {
+            *r = x / c - 1.0;
+        }
+        Ok(())
+    }
+}
+
+#[test]
+fn a_user_scale_holds_any_number_of_variables() {
+    // 40 variables, past the 32 of the scale's former inline storage.
+    let problem = ManyScales::new(40);
+    let settings = LmSettings {
+        scale: Some(CharacteristicScale::new(&problem.1).unwrap()),
+        ..LmSettings::default()
+    };
+    let start: Vec<f64> = problem.1.iter().map(|c| 1.7 * c).collect();
+    let r = levenberg_marquardt(&problem, Sense::Minimise, &start, &settings, &Silent).unwrap();
+    // The projected-gradient stop: in units of the scale, ∂f/∂z_j = 2 r_j ≤ 1e-6, so each
+    // relative error is at most 5e-7.
+    assert!(relative_error(&r.design, &problem.1) <= 5e-7, "{r:?}");
+    assert!(r.termination.converged(), "{:?}", r.termination);
 }

@@ -241,9 +241,9 @@ fn run_starts<P: Residuals>(
     starts: Vec<Vec<f64>>,
     progress: &dyn Progress,
 ) -> Result<(MultistartRun<LocalOptimum>, usize, LocalOptimum), StudyError> {
-    let settings = task.solver;
+    let settings = &task.solver;
     let run = multistart(starts, progress, |s, cancel| {
-        levenberg_marquardt(problem, sense, s, &settings, cancel)
+        levenberg_marquardt(problem, sense, s, settings, cancel)
     })?;
     let (best_start, best) = run.best(sense)?;
     let best = best.clone();
