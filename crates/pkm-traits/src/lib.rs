@@ -62,4 +62,7 @@ pub use lanes::{JacobianLanes, Lanes};
 pub use objective::{Bounds, Constraints, Objective, Residuals};
 pub use progress::{CancelOnly, Cancelled, Progress, Silent};
 pub use region::{CrossSectionWorkspace, Extents, SlicedRegion};
-pub use workspace::{ConstrainedWorkspace, ConstraintError, ConstraintKind, WorkspaceConstraint};
+pub use workspace::{
+    ConstrainedWorkspace, ConstraintError, ConstraintKind, PLATFORM_LINK_CLEARANCE_SPAN,
+    WorkspaceConstraint, segment_distance,
+};

@@ -2,12 +2,13 @@
 //! bend of its ball joints, and the clearance between neighbouring legs.
 
 use super::{ElbowMode, RotaryDelta};
-use nalgebra::Vector3;
 use pkm_traits::checked::{all_finite, min_propagating_nan};
+use pkm_traits::workspace::{PLATFORM_LINK_CLEARANCE_SPAN, segment_distance};
 use pkm_traits::{ConstrainedWorkspace, ConstraintKind, InverseKinematics, Joints, Task};
 
-/// The part of a forearm, from the elbow, on which leg clearance is measured.
-pub const FOREARM_CLEARANCE_SPAN: f64 = 0.75;
+/// The part of a forearm, from the elbow, on which leg clearance is measured (the span every
+/// mechanism uses for the link that ends on the platform).
+pub const FOREARM_CLEARANCE_SPAN: f64 = PLATFORM_LINK_CLEARANCE_SPAN;
 
 impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     fn name(&self) -> &'static str {
@@ -100,84 +101,20 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     }
 }
 
-/// The distance between segments $[p_0, p_1]$ and $[q_0, q_1]$ (Ericson, *Real-Time Collision
-/// Detection*, §5.1.9: the closest points by clamped parameters).
-fn segment_distance(
-    (p0, p1): (Vector3<f64>, Vector3<f64>),
-    (q0, q1): (Vector3<f64>, Vector3<f64>),
-) -> f64 {
-    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
-    let (a, e, f) = (d1.norm_squared(), d2.norm_squared(), d2.dot(&r));
-    const TINY: f64 = 1e-30;
-    let (s, t) = if a <= TINY && e <= TINY {
-        (0.0, 0.0)
-    } else if a <= TINY {
-        (0.0, (f / e).clamp(0.0, 1.0))
-    } else {
-        let c = d1.dot(&r);
-        if e <= TINY {
-            ((-c / a).clamp(0.0, 1.0), 0.0)
-        } else {
-            let b = d1.dot(&d2);
-            let denom = a * e - b * b;
-            let mut s = if denom > TINY * a * e {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let mut t = (b * s + f) / e;
-            if t < 0.0 {
-                t = 0.0;
-                s = (-c / a).clamp(0.0, 1.0);
-            } else if t > 1.0 {
-                t = 1.0;
-                s = ((b - c) / a).clamp(0.0, 1.0);
-            }
-            (s, t)
-        }
-    };
-    ((p0 + d1 * s) - (q0 + d2 * t)).norm()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::presets;
     use crate::rotary_delta::Placement;
+    use nalgebra::Vector3;
     use proptest::prelude::*;
 
     fn nuwar() -> RotaryDelta {
         RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap()
     }
 
-    /// Brute force: the minimum over a fine grid of both parameters.
-    fn brute(a: (Vector3<f64>, Vector3<f64>), b: (Vector3<f64>, Vector3<f64>)) -> f64 {
-        let n = 400;
-        let mut best = f64::INFINITY;
-        for i in 0..=n {
-            for j in 0..=n {
-                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-                let d = (a.0 + (a.1 - a.0) * s) - (b.0 + (b.1 - b.0) * t);
-                best = best.min(d.norm());
-            }
-        }
-        best
-    }
-
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(24))]
-        #[test]
-        fn segment_distance_matches_brute_force(
-            c in proptest::array::uniform12(-1.0f64..1.0)
-        ) {
-            let v = |k: usize| Vector3::new(c[k], c[k + 1], c[k + 2]);
-            let (a, b) = ((v(0), v(3)), (v(6), v(9)));
-            let exact = segment_distance(a, b);
-            // The grid step is 1/400 of segments of length < 3.5.
-            prop_assert!(exact <= brute(a, b) + 1e-12);
-            prop_assert!(brute(a, b) - exact < 0.01);
-        }
-
         #[test]
         fn reachability_agrees_with_inverse_kinematics(
             x in -0.8f64..0.8, y in -0.8f64..0.8, z in -1.2f64..0.6
@@ -187,16 +124,6 @@ mod tests {
             let ik = m.inverse_kinematics(&p, ElbowMode::Out).is_ok();
             prop_assert_eq!(m.reachable(&p, ElbowMode::In), ik);
         }
-    }
-
-    #[test]
-    fn parallel_segments_and_points() {
-        let o = Vector3::zeros();
-        let x = Vector3::x();
-        let up = Vector3::new(0.0, 0.0, 2.0);
-        assert!((segment_distance((o, x), (up, up + x)) - 2.0).abs() < 1e-15);
-        assert!((segment_distance((o, o), (up, up)) - 2.0).abs() < 1e-15);
-        assert!((segment_distance((o, o), (up, up + x)) - 2.0).abs() < 1e-15);
     }
 
     #[test]

@@ -197,3 +197,44 @@ fn three_upu() {
     let n = agree(&hand, (), &robot, &xs, false);
     println!("3-UPU: {n} poses agree");
 }
+
+#[test]
+fn leg_clearance_of_the_delta_files_is_the_hand_written_one() {
+    // The RUU-equivalent legs' segments are the hand-written links: motor → elbow and the
+    // forearm mid-line from the elbow over 75 % of the way to the plate joint.
+    use pkm_traits::{ConstrainedWorkspace, ConstraintKind};
+    for (file, design) in [
+        (
+            "rotary_delta.toml",
+            presets::miller_delta(Placement::canonical()),
+        ),
+        ("nuwar.toml", presets::nuwar(Placement::canonical())),
+    ] {
+        let hand = RotaryDelta::new(design).unwrap();
+        let robot = Robot::<3>::new(common::robot(file)).unwrap();
+        assert!(robot.supports(ConstraintKind::LegClearance));
+        let (mut compared, mut worst) = (0, 0.0_f64);
+        for x in poses([-0.2, -0.2, -0.85], [0.2, 0.2, -0.45], 40) {
+            for mode in [ElbowMode::Out, ElbowMode::In] {
+                let Ok(q) = hand.inverse_kinematics(&x, mode) else {
+                    continue;
+                };
+                let expected = hand.leg_clearance(&x, &q).unwrap();
+                let from_file = robot.leg_clearance(&x, &q).unwrap();
+                assert!(
+                    (expected - from_file).abs() <= 1e-12,
+                    "{file} at {x:?} {mode:?}: {expected} vs {from_file}"
+                );
+                worst = worst.max((expected - from_file).abs());
+                compared += 1;
+            }
+        }
+        println!("{file}: leg clearance agrees at {compared} configurations, worst {worst:.1e} m");
+        assert!(compared >= 40, "vacuous: {compared}");
+        let q = hand
+            .inverse_kinematics(&SVector::from([0.0, 0.0, -0.7]), ElbowMode::Out)
+            .unwrap();
+        let nan = SVector::from([f64::NAN, 0.0, -0.7]);
+        assert_eq!(robot.leg_clearance(&nan, &q), None);
+    }
+}
