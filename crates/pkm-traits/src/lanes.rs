@@ -35,6 +35,17 @@ impl<const N: usize> Lanes<N> {
         Self::from_fn(|l| f(self.0[l], other.0[l]))
     }
 
+    /// The coordinates $(x, y, z)$ of the `N` points, each as lanes (lane `l` of the first is
+    /// `points[l].x`).
+    #[inline(always)]
+    pub fn coordinates(points: &[nalgebra::Vector3<f64>; N]) -> [Self; 3] {
+        [
+            Self::from_fn(|l| points[l].x),
+            Self::from_fn(|l| points[l].y),
+            Self::from_fn(|l| points[l].z),
+        ]
+    }
+
     /// Square root per lane.
     #[inline(always)]
     pub fn sqrt(self) -> Self {
@@ -57,6 +68,12 @@ impl<const N: usize> Lanes<N> {
     #[inline(always)]
     pub fn max(self, value: f64) -> Self {
         self.map(|v| v.max(value))
+    }
+
+    /// [`f64::max`] lane by lane (a NaN lane takes the other's value).
+    #[inline(always)]
+    pub fn max_lanes(self, other: Self) -> Self {
+        self.zip(other, f64::max)
     }
 
     /// [`f64::min`] with `value` per lane (a NaN lane becomes `value`).
@@ -189,6 +206,17 @@ mod tests {
         assert_eq!(a.abs().sqrt().0[3], 3.0);
         assert_eq!(a.max(0.0).0, [1.0, 4.0, 0.0, 0.0]);
         assert_eq!(a.min(2.0).0, [1.0, 2.0, 2.0, -9.0]);
+        let m = a.max_lanes(-a).0;
+        assert!(m[..2] == [1.0, 4.0] && m[2].is_nan() && m[3] == 9.0);
+        assert_eq!(a.max_lanes(b).0, [2.0, 4.0, 2.0, 2.0]);
+        let points = [
+            nalgebra::Vector3::new(1.0, 2.0, 3.0),
+            nalgebra::Vector3::new(4.0, 5.0, 6.0),
+        ];
+        assert_eq!(
+            Lanes::coordinates(&points).map(|c| c.0),
+            [[1.0, 4.0], [2.0, 5.0], [3.0, 6.0]]
+        );
         assert!(a.clamp(0.0, 2.0).0[2].is_nan());
         assert_eq!(a.signum().0[3], -1.0);
         assert_eq!((-a).recip().0[0], -1.0);
