@@ -19,6 +19,10 @@
 //! \lambda_{\max} - \lambda_{\mathrm{low}}$ and
 //! $\lambda_{\min} = \det(J)^2/(\lambda_{\max}\lambda_{\mathrm{mid}})$, exactly as in the scalar
 //! routine, so both agree to rounding wherever the problem is well conditioned.
+//!
+//! `#[inline(always)]`, so that [`crate::evaluate`] compiles it into each vector path
+//! ([`crate::VectorPath`]); only basic IEEE operations, no fused multiply-add, so every path
+//! gives the same bits.
 
 #[cfg(doc)]
 use crate::inverse_condition_number_3x3;

@@ -15,6 +15,11 @@
 //! $$ J_i = \frac{v_i^\top}{\pm L_a S}. $$
 //! A leg is reachable when $S^2 = \rho^2 - K^2 > 0$ (the scalar test $|K/\rho| \le 1$ without
 //! its boundary, where $J_q$ is singular); a non-finite point fails that test in every leg.
+//!
+//! The kernel writes each row of $J$ in place (no lane row is copied) and is `#[inline(always)]`,
+//! so that a caller compiled for a wider vector unit (`pkm_workspace_indices::evaluate`, which
+//! picks AVX2 at run time where the processor has it) compiles the whole kernel for that unit;
+//! it uses no fused multiply-add, so every unit gives the same bits.
 
 use super::{ElbowMode, Leg, RotaryDelta};
 use crate::JacobianLanes;

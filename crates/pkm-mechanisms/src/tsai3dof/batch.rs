@@ -3,6 +3,11 @@
 //! vectorises it: the same trigonometry-free formulas, with every early return replaced by a
 //! mask bit and $\rho = \sqrt{p_u^2 + p_w^2}$ instead of `hypot` (a library call, which would
 //! not vectorise). Lanes are independent: NaN or infinity in one lane stays in that lane.
+//!
+//! The kernel writes each row of $J$ in place (no lane row is copied) and is `#[inline(always)]`,
+//! so that a caller compiled for a wider vector unit (`pkm_workspace_indices::evaluate`, which
+//! picks AVX2 at run time where the processor has it) compiles the whole kernel for that unit;
+//! it uses no fused multiply-add, so every unit gives the same bits.
 
 use super::Tsai3Dof;
 use crate::JacobianLanes;

@@ -1,15 +1,18 @@
 //! The lane kernels of the rotary Delta and the Tsai 3-DOF followed by the lane $1/\kappa$,
 //! pinned bit for bit: a hash of every output (Jacobian entries and reachability of every lane,
 //! $1/\kappa$ of the reachable ones) and the sums of the estimate over seeded points, hostile
-//! points (NaN, ±inf, huge) and points within one ulp of the workspace boundary. The pinned
-//! values were computed by these kernels before the lane-row copies were removed and the
-//! run-time dispatch was added (commit d9f1450); a change of any output bit fails here.
+//! points (NaN, ±inf, huge) and points within one ulp of the workspace boundary, on every
+//! vector path this processor runs. The pinned values were computed by these kernels on the
+//! baseline before the lane-row copies were removed and the run-time dispatch was added
+//! (commit d9f1450); a change of any output bit on any path fails here.
 #![allow(clippy::unwrap_used, clippy::float_cmp)]
 
 use nalgebra::Vector3;
 use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, Tsai3Dof, presets};
 use pkm_traits::JacobianLanes;
-use pkm_workspace_indices::{LANES, Sampler, inverse_condition_number_3x3_lanes};
+use pkm_workspace_indices::{
+    LANES, LaneKernel, Sampler, VectorPath, evaluate_on, inverse_condition_number_3x3_lanes,
+};
 
 fn delta() -> RotaryDelta {
     RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap()
@@ -126,17 +129,47 @@ impl Fingerprint {
     }
 }
 
+/// The Jacobian and $1/\kappa$ of every lane.
+type Outputs = (JacobianLanes<LANES>, [f64; LANES]);
+
+/// The rotary Delta's design-index kernel, elbow out.
+struct DeltaIndex(RotaryDelta);
+
+impl LaneKernel for DeltaIndex {
+    type Output = Outputs;
+    #[inline(always)]
+    fn evaluate(&self, p: &[Vector3<f64>; LANES]) -> Outputs {
+        let j = self.0.jacobian_lanes(p, ElbowMode::Out);
+        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
+        (j, r)
+    }
+}
+
+/// The Tsai 3-DOF's design-index kernel, elbow out.
+struct TsaiIndex(Tsai3Dof);
+
+impl LaneKernel for TsaiIndex {
+    type Output = Outputs;
+    #[inline(always)]
+    fn evaluate(&self, p: &[Vector3<f64>; LANES]) -> Outputs {
+        let j = self.0.velocity_jacobian_elbow_out_lanes(p);
+        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
+        (j, r)
+    }
+}
+
 /// Hash of the reachable lanes' Jacobians and $1/\kappa$ and of every lane's reachability,
 /// with the count, sum and sum of squares of $1/\kappa$ over the reachable points, summed in
 /// point order.
 fn pin(
     points: &[Vector3<f64>],
-    kernel: impl Fn(&[Vector3<f64>; LANES]) -> (JacobianLanes<LANES>, [f64; LANES]),
+    kernel: &impl LaneKernel<Output = Outputs>,
+    path: VectorPath,
 ) -> (u64, u64, u64, u64) {
     let mut hash = Fingerprint::new();
     let (mut inside, mut sum, mut sum2) = (0_u64, 0.0_f64, 0.0_f64);
     for (g, group) in groups(points).iter().enumerate() {
-        let (j, r) = kernel(group);
+        let (j, r) = evaluate_on(path, kernel, group);
         for l in 0..LANES.min(points.len() - g * LANES) {
             hash.add(u64::from(j.reachable[l]));
             if j.reachable[l] {
@@ -153,46 +186,82 @@ fn pin(
     (hash.0, inside, sum.to_bits(), sum2.to_bits())
 }
 
-fn delta_kernel(p: &[Vector3<f64>; LANES]) -> (JacobianLanes<LANES>, [f64; LANES]) {
-    let j = delta().jacobian_lanes(p, ElbowMode::Out);
-    let r = inverse_condition_number_3x3_lanes(&j.jacobian);
-    (j, r)
+/// Every output bit of every lane (unreachable ones included) on `path`, with every NaN as
+/// one value: which NaN an operation on two NaNs returns is left open by IEEE-754, and the
+/// compiler may swap the operands of an addition or a multiplication (SSE2 and AVX then
+/// return NaNs of different sign in a lane that is not reachable).
+fn all_bits(
+    points: &[Vector3<f64>],
+    kernel: &impl LaneKernel<Output = Outputs>,
+    path: VectorPath,
+) -> Vec<u64> {
+    let mut bits = Vec::new();
+    for group in groups(points) {
+        let (j, r) = evaluate_on(path, kernel, &group);
+        for l in 0..LANES {
+            bits.push(u64::from(j.reachable[l]));
+            bits.extend(j.jacobian.iter().map(|e| canonical_bits(e[l])));
+            bits.push(canonical_bits(r[l]));
+        }
+    }
+    bits
 }
 
-fn tsai_kernel(p: &[Vector3<f64>; LANES]) -> (JacobianLanes<LANES>, [f64; LANES]) {
-    let j = tsai().velocity_jacobian_elbow_out_lanes(p);
-    let r = inverse_condition_number_3x3_lanes(&j.jacobian);
-    (j, r)
+/// The bits of `x`, one pattern for every NaN.
+fn canonical_bits(x: f64) -> u64 {
+    if x.is_nan() { f64::NAN } else { x }.to_bits()
+}
+
+#[test]
+fn every_vector_path_gives_the_same_bits_in_every_lane() {
+    let (delta, tsai) = (DeltaIndex(delta()), TsaiIndex(tsai()));
+    let (delta_points, tsai_points) = (delta_points(), tsai_points());
+    let delta_baseline = all_bits(&delta_points, &delta, VectorPath::Baseline);
+    let tsai_baseline = all_bits(&tsai_points, &tsai, VectorPath::Baseline);
+    for path in VectorPath::available() {
+        assert!(
+            all_bits(&delta_points, &delta, path) == delta_baseline,
+            "Delta on {path:?}"
+        );
+        assert!(
+            all_bits(&tsai_points, &tsai, path) == tsai_baseline,
+            "Tsai on {path:?}"
+        );
+    }
 }
 
 #[test]
 fn delta_kernel_outputs_are_pinned_bit_for_bit() {
-    let points = delta_points();
-    let got = pin(&points, delta_kernel);
-    assert_eq!(
-        got,
-        (
-            0xd7e6_0153_8c35_982b,
-            1776,
-            0x4082_ec0f_bec4_3885,
-            0x4071_f0d8_7745_e8c3
-        ),
-        "{got:#x?}"
-    );
+    let (kernel, points) = (DeltaIndex(delta()), delta_points());
+    for path in VectorPath::available() {
+        let got = pin(&points, &kernel, path);
+        assert_eq!(
+            got,
+            (
+                0xd7e6_0153_8c35_982b,
+                1776,
+                0x4082_ec0f_bec4_3885,
+                0x4071_f0d8_7745_e8c3
+            ),
+            "{path:?}: {got:#x?}"
+        );
+    }
 }
 
 #[test]
 fn tsai_kernel_outputs_are_pinned_bit_for_bit() {
-    let points = tsai_points();
-    let got = pin(&points, tsai_kernel);
-    assert_eq!(
-        got,
-        (
-            0xd543_4ad2_127f_d600,
-            1590,
-            0x4080_d2ec_0f95_fc50,
-            0x4070_7770_8dd4_839c
-        ),
-        "{got:#x?}"
-    );
+    let (kernel, points) = (TsaiIndex(tsai()), tsai_points());
+    for path in VectorPath::available() {
+        let got = pin(&points, &kernel, path);
+        assert_eq!(
+            got,
+            (
+                0xd543_4ad2_127f_d600,
+                1590,
+                0x4080_d2ec_0f95_fc50,
+                0x4070_7770_8dd4_839c
+            ),
+            "{path:?}: {got:#x?}"
+        );
+    }
 }
