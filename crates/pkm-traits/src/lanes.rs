@@ -87,21 +87,28 @@ impl<const N: usize> Lanes<N> {
     /// `hi`; for valid limits the bits are [`f64::clamp`]'s.
     #[inline(always)]
     pub fn clamp(self, lo: f64, hi: f64) -> Self {
-        self.map(|v| {
-            if v < lo {
-                lo
-            } else if v > hi {
-                hi
-            } else {
-                v
-            }
+        let below = std::array::from_fn(|l| self.0[l] < lo);
+        let above = std::array::from_fn(|l| self.0[l] > hi);
+        Self::splat(lo).select(below, Self::splat(hi).select(above, self))
+    }
+
+    /// Per lane: `self` where `mask` is true, else `otherwise`; by bit masks, so that it stays
+    /// vectorised where a branch per lane would not (the compiler turned the branches of
+    /// [`Lanes::clamp`] into scalar code in the AVX2 kernels).
+    #[inline(always)]
+    pub fn select(self, mask: [bool; N], otherwise: Self) -> Self {
+        Self::from_fn(|l| {
+            let keep = u64::from(mask[l]).wrapping_neg();
+            f64::from_bits((self.0[l].to_bits() & keep) | (otherwise.0[l].to_bits() & !keep))
         })
     }
 
     /// $1/x$ per lane.
     #[inline(always)]
     pub fn recip(self) -> Self {
-        self.map(f64::recip)
+        // `1.0 / v` is what `f64::recip` computes; spelt out, the compiler vectorises it
+        // (through `f64::recip` it divided lane by lane in the AVX2 kernels).
+        self.map(|v| 1.0 / v)
     }
 
     /// Per lane: `if_true` where `self > bound`, else `if_false` (NaN compares false).
@@ -222,6 +229,14 @@ mod tests {
         assert_eq!((-a).recip().0[0], -1.0);
         assert_eq!(a.gt(1.5), [false, true, false, false]);
         assert_eq!(a.le(1.5), [true, false, false, true]);
+        let m = Lanes([1.0, -0.0, f64::NAN, 2.0]).select([true, true, false, false], a);
+        assert!(m.0[..2] == [1.0, -0.0] && m.0[1].is_sign_negative() && m.0[2].is_nan());
+        assert_eq!(m.0[3], -9.0);
+        assert_eq!(
+            Lanes([-2.0, 0.5, 3.0, -1.0]).clamp(-1.0, 1.0).0,
+            [-1.0, 0.5, 1.0, -1.0]
+        );
+        assert_eq!(Lanes([-2.0, 0.5, 3.0]).clamp(1.0, -1.0).0, [1.0, 1.0, -1.0]);
         let picked = a.select_gt(b, Lanes::splat(1.0), Lanes::splat(0.0));
         assert_eq!(picked.0, [0.0, 1.0, 0.0, 0.0]);
         assert!((a + b).0[2].is_nan() && (a + b).0[3] == -7.0);
