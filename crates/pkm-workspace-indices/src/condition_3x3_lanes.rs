@@ -116,11 +116,12 @@ fn scaled_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> [Lanes<N>; 9] {
         largest = largest.max_lanes(Lanes(*row).abs());
     }
     let (mut first, mut second) = (Lanes::splat(1.0), Lanes::splat(1.0));
-    // `unit_scale(x, 40)` is `None` for x in [2^-40, 2^41): decided here without its call.
+    // `unit_scale(x, 40)` is `None` for x in [2^-40, 2^41) and for x that is not finite and
+    // positive: decided here without its call (unreachable lanes are often infinite).
     let (low, high) = (1.0 / (1_u64 << 40) as f64, (1_u64 << 41) as f64);
     for l in 0..N {
         let x = largest.0[l];
-        if x >= low && x < high {
+        if (x >= low && x < high) || !(x > 0.0 && x.is_finite()) {
             continue;
         }
         if let Some((f, s)) = crate::condition::unit_scale(x, 40) {
