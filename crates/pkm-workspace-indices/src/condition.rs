@@ -200,6 +200,9 @@ mod tests {
             assert_eq!(power_of_two(n).to_bits(), 2f64.powi(n).to_bits(), "2^{n}");
         }
         assert_eq!(power_of_two(-5000).to_bits(), power_of_two(-1022).to_bits());
-        assert_eq!(power_of_two(i32::MAX).to_bits(), power_of_two(1023).to_bits());
+        assert_eq!(
+            power_of_two(i32::MAX).to_bits(),
+            power_of_two(1023).to_bits()
+        );
     }
 }
