@@ -106,8 +106,7 @@ impl<const N: usize> Lanes<N> {
     /// $1/x$ per lane.
     #[inline(always)]
     pub fn recip(self) -> Self {
-        // `1.0 / v` is what `f64::recip` computes; spelt out, the compiler vectorises it
-        // (through `f64::recip` it divided lane by lane in the AVX2 kernels).
+        // `1.0 / v`: what `f64::recip` computes, bit for bit.
         self.map(|v| 1.0 / v)
     }
 
