@@ -5,14 +5,18 @@
 //! plane $z = 0$ and motor 1 at azimuth 0 (the peer's frame). Sums go through
 //! `chunked_reduce`, so the result is the same for any thread count.
 //!
+//! The batch kernel runs on the vector path selected at run time (`batch/*`, AVX2 where the
+//! processor has it) and, for comparison, on the baseline (`batch_baseline/*`); both give the
+//! same sums bit for bit.
+//!
 //! Also the shared drivers of the batch benches: [`scalar_sums`] and [`lane_sums`].
 
 use criterion::{Criterion, Throughput};
 use nalgebra::Vector3;
 use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 use pkm::workspace_indices::{
-    Accumulator, LANES, Sampler, chunked_reduce, inverse_condition_number_3x3,
-    inverse_condition_number_3x3_lanes,
+    Accumulator, LANES, LaneKernel, Sampler, VectorPath, chunked_reduce, evaluate_on,
+    inverse_condition_number_3x3, inverse_condition_number_3x3_lanes,
 };
 use pkm_traits::{ClosedChain, InverseKinematics, Silent};
 
@@ -55,18 +59,25 @@ where
     .ok()
 }
 
-/// [`Sums`] of a batch kernel over `points`, [`LANES`] points at a time (the last group padded
-/// with its last point, whose extra lanes are not counted), deterministic chunks of groups.
-pub(crate) fn lane_sums<F>(points: &[Vector3<f64>], kernel: F) -> Option<Sums>
+/// [`Sums`] of a batch kernel over `points` on the vector path `path`, [`LANES`] points at a
+/// time (the last group padded with its last point, whose extra lanes are not counted),
+/// deterministic chunks of groups. Full groups are borrowed from `points`, not copied.
+pub(crate) fn lane_sums<K>(points: &[Vector3<f64>], kernel: &K, path: VectorPath) -> Option<Sums>
 where
-    F: Fn(&[Vector3<f64>; LANES]) -> [Option<f64>; LANES] + Sync,
+    K: LaneKernel<Output = [Option<f64>; LANES]>,
 {
     let groups = points.len().div_ceil(LANES) as u64;
     chunked_reduce(groups, &Silent, |acc: &mut Sums, g| {
         let start = g as usize * LANES;
         let valid = (points.len() - start).min(LANES);
-        let lanes = std::array::from_fn(|l| points[start + l.min(valid - 1)]);
-        for f in &kernel(&lanes)[..valid] {
+        let values = match points[start..start + valid].try_into() {
+            Ok(group) => evaluate_on(path, kernel, group),
+            Err(_) => {
+                let padded = std::array::from_fn(|l| points[start + l.min(valid - 1)]);
+                evaluate_on(path, kernel, &padded)
+            }
+        };
+        for f in &values[..valid] {
             acc.add(*f);
         }
     })
@@ -99,14 +110,17 @@ pub(crate) fn delta_scalar(delta: &RotaryDelta, p: &Vector3<f64>) -> Option<f64>
     Some(inverse_condition_number_3x3(&j))
 }
 
-/// The batch kernel on [`LANES`] points.
-pub(crate) fn delta_lanes(
-    delta: &RotaryDelta,
-    points: &[Vector3<f64>; LANES],
-) -> [Option<f64>; LANES] {
-    let j = delta.jacobian_lanes(points, ElbowMode::Out);
-    let r = inverse_condition_number_3x3_lanes(&j.jacobian);
-    std::array::from_fn(|l| j.reachable[l].then_some(r[l]))
+/// The batch kernel: $1/\kappa$ where the point is reachable (elbow out).
+struct DeltaIndex(RotaryDelta);
+
+impl LaneKernel for DeltaIndex {
+    type Output = [Option<f64>; LANES];
+    #[inline(always)]
+    fn evaluate(&self, points: &[Vector3<f64>; LANES]) -> [Option<f64>; LANES] {
+        let j = self.0.jacobian_lanes(points, ElbowMode::Out);
+        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
+        std::array::from_fn(|l| j.reachable[l].then_some(r[l]))
+    }
 }
 
 pub(crate) fn delta_kernel(c: &mut Criterion) {
@@ -114,6 +128,7 @@ pub(crate) fn delta_kernel(c: &mut Criterion) {
         return;
     };
     let points = peer_points();
+    let kernel = DeltaIndex(delta.clone());
     let mut group = c.benchmark_group("delta_kernel");
     group.sample_size(10);
     group.throughput(Throughput::Elements(points.len() as u64));
@@ -124,9 +139,15 @@ pub(crate) fn delta_kernel(c: &mut Criterion) {
         group.bench_function(format!("scalar/{threads}_threads"), |b| {
             b.iter(|| pool.install(|| scalar_sums(&points, |p| delta_scalar(&delta, p))))
         });
+        let selected = VectorPath::selected();
         group.bench_function(format!("batch/{threads}_threads"), |b| {
-            b.iter(|| pool.install(|| lane_sums(&points, |p| delta_lanes(&delta, p))))
+            b.iter(|| pool.install(|| lane_sums(&points, &kernel, selected)))
         });
+        if threads == 1 {
+            group.bench_function("batch_baseline/1_threads", |b| {
+                b.iter(|| pool.install(|| lane_sums(&points, &kernel, VectorPath::Baseline)))
+            });
+        }
     }
     group.finish();
 }

@@ -4,8 +4,11 @@
 
 use crate::delta_kernel::lane_sums;
 use criterion::{Criterion, Throughput};
+use nalgebra::Vector3;
 use pkm::mechanisms::{Elbow, Tsai3Dof, presets};
-use pkm::workspace_indices::{Sampler, Workspace, inverse_condition_number_3x3_lanes};
+use pkm::workspace_indices::{
+    LANES, LaneKernel, Sampler, VectorPath, Workspace, inverse_condition_number_3x3_lanes,
+};
 use pkm_traits::Silent;
 
 pub(crate) fn gci_kernel(c: &mut Criterion) {
@@ -35,7 +38,26 @@ pub(crate) fn gci_kernel(c: &mut Criterion) {
 }
 
 /// The same kernel lane-parallel ([`Tsai3Dof::velocity_jacobian_elbow_out_lanes`] and
-/// `inverse_condition_number_3x3_lanes`), same points, same sums.
+/// `inverse_condition_number_3x3_lanes`) on unit-hemisphere points scaled by `radius`.
+struct TsaiIndex {
+    design: Tsai3Dof,
+    radius: f64,
+}
+
+impl LaneKernel for TsaiIndex {
+    type Output = [Option<f64>; LANES];
+    #[inline(always)]
+    fn evaluate(&self, unit: &[Vector3<f64>; LANES]) -> [Option<f64>; LANES] {
+        let j = self
+            .design
+            .velocity_jacobian_elbow_out_lanes(&unit.map(|p| p * self.radius));
+        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
+        std::array::from_fn(|l| j.reachable[l].then_some(r[l]))
+    }
+}
+
+/// [`TsaiIndex`] over the same points as [`gci_kernel`], same sums, on the vector path
+/// selected at run time (`*_threads`) and on the baseline (`baseline_1_threads`).
 pub(crate) fn gci_kernel_batch(c: &mut Criterion) {
     let Ok(design) = Tsai3Dof::new(presets::stamper_max_gci()) else {
         return;
@@ -44,6 +66,7 @@ pub(crate) fn gci_kernel_batch(c: &mut Criterion) {
         return;
     };
     let radius = design.reach();
+    let kernel = TsaiIndex { design, radius };
     let mut group = c.benchmark_group("stamper/gci_kernel_batch");
     group.sample_size(10);
     group.throughput(Throughput::Elements(points.len() as u64));
@@ -51,17 +74,15 @@ pub(crate) fn gci_kernel_batch(c: &mut Criterion) {
         let Ok(pool) = rayon::ThreadPoolBuilder::new().num_threads(threads).build() else {
             return;
         };
+        let selected = VectorPath::selected();
         group.bench_function(format!("{threads}_threads"), |b| {
-            b.iter(|| {
-                pool.install(|| {
-                    lane_sums(&points, |unit| {
-                        let j = design.velocity_jacobian_elbow_out_lanes(&unit.map(|p| p * radius));
-                        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
-                        std::array::from_fn(|l| j.reachable[l].then_some(r[l]))
-                    })
-                })
-            })
+            b.iter(|| pool.install(|| lane_sums(&points, &kernel, selected)))
         });
+        if threads == 1 {
+            group.bench_function("baseline_1_threads", |b| {
+                b.iter(|| pool.install(|| lane_sums(&points, &kernel, VectorPath::Baseline)))
+            });
+        }
     }
     group.finish();
 }

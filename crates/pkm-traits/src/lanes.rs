@@ -2,7 +2,7 @@
 //! kernels. Every operation is a fixed-length loop over the lanes with no branch and no call,
 //! which the compiler turns into SIMD instructions (SSE2 on the baseline target, AVX where
 //! enabled), so a kernel written once in `Lanes<N>` is vectorised without `unsafe` or a SIMD
-//! crate. Conditions are selects ([`Lanes::select_gt`]); lanes never interact, so NaN or
+//! crate. Conditions are selects ([`Lanes::select`], [`Lanes::select_gt`]); lanes never interact, so NaN or
 //! infinity in one lane cannot reach another. [`JacobianLanes`] is what the batch Jacobian
 //! kernels of the mechanisms return.
 
@@ -35,6 +35,17 @@ impl<const N: usize> Lanes<N> {
         Self::from_fn(|l| f(self.0[l], other.0[l]))
     }
 
+    /// The coordinates $(x, y, z)$ of the `N` points, each as lanes (lane `l` of the first is
+    /// `points[l].x`).
+    #[inline(always)]
+    pub fn coordinates(points: &[nalgebra::Vector3<f64>; N]) -> [Self; 3] {
+        [
+            Self::from_fn(|l| points[l].x),
+            Self::from_fn(|l| points[l].y),
+            Self::from_fn(|l| points[l].z),
+        ]
+    }
+
     /// Square root per lane.
     #[inline(always)]
     pub fn sqrt(self) -> Self {
@@ -59,6 +70,12 @@ impl<const N: usize> Lanes<N> {
         self.map(|v| v.max(value))
     }
 
+    /// [`f64::max`] lane by lane (a NaN lane takes the other's value).
+    #[inline(always)]
+    pub fn max_lanes(self, other: Self) -> Self {
+        self.zip(other, f64::max)
+    }
+
     /// [`f64::min`] with `value` per lane (a NaN lane becomes `value`).
     #[inline(always)]
     pub fn min(self, value: f64) -> Self {
@@ -70,21 +87,27 @@ impl<const N: usize> Lanes<N> {
     /// `hi`; for valid limits the bits are [`f64::clamp`]'s.
     #[inline(always)]
     pub fn clamp(self, lo: f64, hi: f64) -> Self {
-        self.map(|v| {
-            if v < lo {
-                lo
-            } else if v > hi {
-                hi
-            } else {
-                v
-            }
+        let below = std::array::from_fn(|l| self.0[l] < lo);
+        let above = std::array::from_fn(|l| self.0[l] > hi);
+        Self::splat(lo).select(below, Self::splat(hi).select(above, self))
+    }
+
+    /// Per lane: `self` where `mask` is true, else `otherwise`; by bit masks, so that it stays
+    /// vectorised where a branch per lane would not (the compiler turned the branches of
+    /// [`Lanes::clamp`] into scalar code in the AVX2 kernels).
+    #[inline(always)]
+    pub fn select(self, mask: [bool; N], otherwise: Self) -> Self {
+        Self::from_fn(|l| {
+            let keep = u64::from(mask[l]).wrapping_neg();
+            f64::from_bits((self.0[l].to_bits() & keep) | (otherwise.0[l].to_bits() & !keep))
         })
     }
 
     /// $1/x$ per lane.
     #[inline(always)]
     pub fn recip(self) -> Self {
-        self.map(f64::recip)
+        // `1.0 / v`: what `f64::recip` computes, bit for bit.
+        self.map(|v| 1.0 / v)
     }
 
     /// Per lane: `if_true` where `self > bound`, else `if_false` (NaN compares false).
@@ -189,11 +212,30 @@ mod tests {
         assert_eq!(a.abs().sqrt().0[3], 3.0);
         assert_eq!(a.max(0.0).0, [1.0, 4.0, 0.0, 0.0]);
         assert_eq!(a.min(2.0).0, [1.0, 2.0, 2.0, -9.0]);
+        let m = a.max_lanes(-a).0;
+        assert!(m[..2] == [1.0, 4.0] && m[2].is_nan() && m[3] == 9.0);
+        assert_eq!(a.max_lanes(b).0, [2.0, 4.0, 2.0, 2.0]);
+        let points = [
+            nalgebra::Vector3::new(1.0, 2.0, 3.0),
+            nalgebra::Vector3::new(4.0, 5.0, 6.0),
+        ];
+        assert_eq!(
+            Lanes::coordinates(&points).map(|c| c.0),
+            [[1.0, 4.0], [2.0, 5.0], [3.0, 6.0]]
+        );
         assert!(a.clamp(0.0, 2.0).0[2].is_nan());
         assert_eq!(a.signum().0[3], -1.0);
         assert_eq!((-a).recip().0[0], -1.0);
         assert_eq!(a.gt(1.5), [false, true, false, false]);
         assert_eq!(a.le(1.5), [true, false, false, true]);
+        let m = Lanes([1.0, -0.0, f64::NAN, 2.0]).select([true, true, false, false], a);
+        assert!(m.0[..2] == [1.0, -0.0] && m.0[1].is_sign_negative() && m.0[2].is_nan());
+        assert_eq!(m.0[3], -9.0);
+        assert_eq!(
+            Lanes([-2.0, 0.5, 3.0, -1.0]).clamp(-1.0, 1.0).0,
+            [-1.0, 0.5, 1.0, -1.0]
+        );
+        assert_eq!(Lanes([-2.0, 0.5, 3.0]).clamp(1.0, -1.0).0, [1.0, 1.0, -1.0]);
         let picked = a.select_gt(b, Lanes::splat(1.0), Lanes::splat(0.0));
         assert_eq!(picked.0, [0.0, 1.0, 0.0, 0.0]);
         assert!((a + b).0[2].is_nan() && (a + b).0[3] == -7.0);

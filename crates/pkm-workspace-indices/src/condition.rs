@@ -119,7 +119,7 @@ pub(crate) fn unit_scale(largest: f64, k: i32) -> Option<(f64, f64)> {
     // |floor(log2 x)| <= k exactly when 2^-k <= x < 2^(k+1): decided without the logarithm
     // on the common path (the hot 1/κ kernels call this per matrix).
     if !(largest > 0.0 && largest.is_finite())
-        || (largest >= 2f64.powi(-k) && largest < 2f64.powi(k + 1))
+        || (largest >= power_of_two(-k) && largest < power_of_two(k + 1))
     {
         return None;
     }
@@ -128,7 +128,14 @@ pub(crate) fn unit_scale(largest: f64, k: i32) -> Option<(f64, f64)> {
     // applied in two halves so that neither factor overflows or is subnormal.
     let e = exponent as i32;
     let (first, second) = (e / 2, e - e / 2);
-    Some((2f64.powi(-first), 2f64.powi(-second)))
+    Some((power_of_two(-first), power_of_two(-second)))
+}
+
+/// $2^n$ exactly for $-1022 \le n \le 1023$ (the normal range, where it is `2f64.powi(n)` bit
+/// for bit; `n` outside is clamped to it), built from the exponent bits rather than by
+/// `powi`'s library call: the lane $1/\kappa$ kernel scales many lanes of unreachable points.
+fn power_of_two(n: i32) -> f64 {
+    f64::from_bits(u64::from((n.clamp(-1022, 1023) + 1023).unsigned_abs()) << 52)
 }
 
 /// $1/\kappa$ of the velocity Jacobian $J$ ($NQ \times 3$, $\dot q = J \dot p$) of a
@@ -180,5 +187,22 @@ pub fn inverse_condition_number_tall(j: &SMatrix<f64, 6, 3>) -> f64 {
         (sigma_min / sigma_max).clamp(0.0, 1.0)
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_of_two_is_powi_bit_for_bit_on_the_normal_range() {
+        for n in -1022..=1023 {
+            assert_eq!(power_of_two(n).to_bits(), 2f64.powi(n).to_bits(), "2^{n}");
+        }
+        assert_eq!(power_of_two(-5000).to_bits(), power_of_two(-1022).to_bits());
+        assert_eq!(
+            power_of_two(i32::MAX).to_bits(),
+            power_of_two(1023).to_bits()
+        );
     }
 }

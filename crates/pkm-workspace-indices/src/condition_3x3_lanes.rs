@@ -19,6 +19,10 @@
 //! \lambda_{\max} - \lambda_{\mathrm{low}}$ and
 //! $\lambda_{\min} = \det(J)^2/(\lambda_{\max}\lambda_{\mathrm{mid}})$, exactly as in the scalar
 //! routine, so both agree to rounding wherever the problem is well conditioned.
+//!
+//! `#[inline(always)]`, so that [`crate::evaluate`] compiles it into each vector path
+//! ([`crate::VectorPath`]); only basic IEEE operations, no fused multiply-add, so every path
+//! gives the same bits.
 
 #[cfg(doc)]
 use crate::inverse_condition_number_3x3;
@@ -61,9 +65,11 @@ const CUBE_ROOT_STEPS: usize = 4;
 /// assert!((r[0] - 0.25).abs() < 1e-14 && (r[1] - 0.125).abs() < 1e-14);
 /// assert!((r[2] - 0.5).abs() < 1e-14 && r[3] == 0.0);
 /// ```
+#[inline(always)]
 pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> [f64; N] {
-    let j = scaled_lanes(j).map(Lanes);
-    let finite: [bool; N] = std::array::from_fn(|l| j.iter().all(|v| v.0[l].is_finite()));
+    let j = scaled_lanes(j);
+    let finite: [bool; N] =
+        std::array::from_fn(|l| j.iter().fold(true, |all, v| all & v.0[l].is_finite()));
     let gram = |a: usize, b: usize| j[a] * j[b] + j[3 + a] * j[3 + b] + j[6 + a] * j[6 + b];
     let (m00, m11, m22) = (gram(0, 0), gram(1, 1), gram(2, 2));
     let (m01, m02, m12) = (gram(0, 1), gram(0, 2), gram(1, 2));
@@ -100,18 +106,40 @@ pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -
 
 /// Each lane scaled by the power of two of the scalar routine (`det(J)²` grows like the sixth
 /// power of the entries), so that huge or tiny matrices neither overflow nor underflow; lanes
-/// already near 1 are left as they are, bit for bit.
-fn scaled_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> Matrix3Lanes<N> {
-    let mut out = *j;
+/// already near 1 are left as they are, bit for bit (their factors are 1). Computed entry by
+/// entry into lanes rather than by copying the rows and scaling them in place, so that no lane
+/// row is copied.
+#[inline(always)]
+fn scaled_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> [Lanes<N>; 9] {
+    let mut largest = Lanes::splat(0.0);
+    for row in j {
+        largest = largest.max_lanes(Lanes(*row).abs());
+    }
+    let (mut first, mut second) = (Lanes::splat(1.0), Lanes::splat(1.0));
+    // `unit_scale(x, 40)` is `None` for x in [2^-40, 2^41) and for x that is not finite and
+    // positive: decided here without its call (unreachable lanes are often infinite).
+    let (low, high) = (1.0 / (1_u64 << 40) as f64, (1_u64 << 41) as f64);
     for l in 0..N {
-        let largest = j.iter().map(|e| e[l].abs()).fold(0.0, f64::max);
-        if let Some((first, second)) = crate::condition::unit_scale(largest, 40) {
-            for e in &mut out {
-                e[l] = e[l] * first * second;
-            }
+        let x = largest.0[l];
+        if (x >= low && x < high) || !(x > 0.0 && x.is_finite()) {
+            continue;
+        }
+        if let Some((f, s)) = crate::condition::unit_scale(x, 40) {
+            (first.0[l], second.0[l]) = (f, s);
         }
     }
-    out
+    let entry = |k: usize| Lanes(j[k]) * first * second;
+    [
+        entry(0),
+        entry(1),
+        entry(2),
+        entry(3),
+        entry(4),
+        entry(5),
+        entry(6),
+        entry(7),
+        entry(8),
+    ]
 }
 
 /// $(\cos\varphi, \sin\varphi)$ with $\varphi = \tfrac13\arccos r$, $r \in [-1, 1]$, by Newton's

@@ -45,7 +45,10 @@
 //!
 //! Every estimator is deterministic: sample $i$ is a pure function of `(seed, i)` and parallel
 //! sums use fixed-size chunks reduced serially in order ([`chunked_reduce`]), so results are
-//! bit-for-bit identical whatever the number of rayon threads.
+//! bit-for-bit identical whatever the number of rayon threads. The lane kernels (a batch
+//! Jacobian and [`inverse_condition_number_3x3_lanes`] on [`LANES`] points) run through
+//! [`evaluate`], compiled for the widest vector unit the processor offers ([`VectorPath`]), with
+//! the same bits on every path.
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -71,6 +74,7 @@ mod slice;
 mod sobol;
 mod space_utilization;
 mod sweep;
+mod vector_path;
 mod volume;
 mod workspace;
 
@@ -97,5 +101,6 @@ pub use section_indices::{Eta1Rule, SectionIndex, SectionIndices};
 pub use slice::{Plane, Slice};
 pub use space_utilization::space_utilization;
 pub use sweep::{ratio_standard_error, sweep_volumes};
+pub use vector_path::{LaneKernel, VECTOR_PATH_VARIABLE, VectorPath, evaluate, evaluate_on};
 pub use volume::{HemisphereEstimate, hemisphere_estimate};
 pub use workspace::Workspace;

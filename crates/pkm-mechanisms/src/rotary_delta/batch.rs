@@ -15,6 +15,11 @@
 //! $$ J_i = \frac{v_i^\top}{\pm L_a S}. $$
 //! A leg is reachable when $S^2 = \rho^2 - K^2 > 0$ (the scalar test $|K/\rho| \le 1$ without
 //! its boundary, where $J_q$ is singular); a non-finite point fails that test in every leg.
+//!
+//! The kernel writes each row of $J$ in place (no lane row is copied) and is `#[inline(always)]`,
+//! so that a caller compiled for a wider vector unit (`pkm_workspace_indices::evaluate`, which
+//! picks AVX2 at run time where the processor has it) compiles the whole kernel for that unit;
+//! it uses no fused multiply-add, so every unit gives the same bits.
 
 use super::{ElbowMode, Leg, RotaryDelta};
 use crate::JacobianLanes;
@@ -43,6 +48,7 @@ impl RotaryDelta {
     /// assert!((lanes.matrix(0).unwrap() - scalar).norm() < 1e-12 * scalar.norm());
     /// assert_eq!(lanes.reachable, [true, false]);
     /// ```
+    #[inline(always)]
     pub fn jacobian_lanes<const N: usize>(
         &self,
         points: &[Vector3<f64>; N],
@@ -52,36 +58,33 @@ impl RotaryDelta {
             ElbowMode::Out => 1.0,
             ElbowMode::In => -1.0,
         };
-        let p = [0, 1, 2].map(|k| Lanes::from_fn(|l| points[l][k]));
+        let p = Lanes::coordinates(points);
         let mut out = JacobianLanes {
             jacobian: [[0.0; N]; 9],
             reachable: [true; N],
         };
         for (i, leg) in self.legs.iter().enumerate() {
-            let (row, reachable) = self.jacobian_row(leg, &p, sign);
-            for (k, value) in row.into_iter().enumerate() {
-                out.jacobian[3 * i + k] = value.0;
-            }
-            for (all, leg_ok) in out.reachable.iter_mut().zip(reachable) {
-                *all &= leg_ok;
-            }
+            self.write_jacobian_row(leg, &p, sign, i, &mut out);
         }
         out
     }
 
-    /// Row of $J$ for `leg` at the points `p` (coordinates in lanes) and which lanes that leg
-    /// reaches (module documentation); `sign` is $+1$ for [`ElbowMode::Out`], $-1$ for
-    /// [`ElbowMode::In`].
+    /// Writes row `i` of $J$ for `leg` at the points `p` (coordinates in lanes) into `out`
+    /// and clears the reachability of the lanes that leg does not reach (module
+    /// documentation); `sign` is $+1$ for [`ElbowMode::Out`], $-1$ for [`ElbowMode::In`].
+    /// In place and without array maps, so that no lane row is copied.
     #[inline(always)]
-    fn jacobian_row<const N: usize>(
+    fn write_jacobian_row<const N: usize>(
         &self,
         leg: &Leg,
         p: &[Lanes<N>; 3],
         sign: f64,
-    ) -> ([Lanes<N>; 3], [bool; N]) {
+        i: usize,
+        out: &mut JacobianLanes<N>,
+    ) {
         let (la, lb) = (self.design.arm, self.design.forearm);
         let offset = leg.plate_offset - leg.motor;
-        let d = [0, 1, 2].map(|k| p[k] + offset[k]);
+        let d = [p[0] + offset.x, p[1] + offset.y, p[2] + offset.z];
         let dot = |v: &Vector3<f64>| d[0] * v.x + d[1] * v.y + d[2] * v.z;
         let (a, b) = (dot(&leg.u), -dot(&leg.w));
         let rho2 = a * a + b * b;
@@ -91,8 +94,12 @@ impl RotaryDelta {
         let inv_rho2 = rho2.recip();
         let (cos_t, sin_t) = ((a * k + b * s) * inv_rho2, (b * k - a * s) * inv_rho2);
         let inv = (la * s).recip();
-        let row = [0, 1, 2].map(|c| (d[c] - (cos_t * leg.u[c] - sin_t * leg.w[c]) * la) * inv);
-        (row, s2.gt(0.0))
+        for (c, entry) in out.jacobian[3 * i..3 * i + 3].iter_mut().enumerate() {
+            *entry = ((d[c] - (cos_t * leg.u[c] - sin_t * leg.w[c]) * la) * inv).0;
+        }
+        for (all, s2) in out.reachable.iter_mut().zip(s2.0) {
+            *all &= s2 > 0.0;
+        }
     }
 }
 

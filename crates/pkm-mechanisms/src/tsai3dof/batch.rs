@@ -3,6 +3,11 @@
 //! vectorises it: the same trigonometry-free formulas, with every early return replaced by a
 //! mask bit and $\rho = \sqrt{p_u^2 + p_w^2}$ instead of `hypot` (a library call, which would
 //! not vectorise). Lanes are independent: NaN or infinity in one lane stays in that lane.
+//!
+//! The kernel writes each row of $J$ in place (no lane row is copied) and is `#[inline(always)]`,
+//! so that a caller compiled for a wider vector unit (`pkm_workspace_indices::evaluate`, which
+//! picks AVX2 at run time where the processor has it) compiles the whole kernel for that unit;
+//! it uses no fused multiply-add, so every unit gives the same bits.
 
 use super::Tsai3Dof;
 use crate::JacobianLanes;
@@ -30,36 +35,34 @@ impl Tsai3Dof {
     /// assert!((lanes.matrix(0).unwrap() - scalar).norm() < 1e-13 * scalar.norm());
     /// assert_eq!(lanes.reachable, [true, false]);
     /// ```
+    #[inline(always)]
     pub fn velocity_jacobian_elbow_out_lanes<const N: usize>(
         &self,
         points: &[Vector3<f64>; N],
     ) -> JacobianLanes<N> {
-        let p = [0, 1, 2].map(|k| Lanes::from_fn(|l| points[l][k]));
+        let p = Lanes::coordinates(points);
         let mut out = JacobianLanes {
             jacobian: [[0.0; N]; 9],
             reachable: [true; N],
         };
         for leg in 0..3 {
-            let (row, reachable) = self.elbow_out_row(leg, &p);
-            for (k, value) in row.into_iter().enumerate() {
-                out.jacobian[3 * leg + k] = value.0;
-            }
-            for (all, leg_ok) in out.reachable.iter_mut().zip(reachable) {
-                *all &= leg_ok;
-            }
+            self.write_elbow_out_row(leg, &p, &mut out);
         }
         out
     }
 
-    /// Row `leg` of eq. 7 at the points `p` (coordinates in lanes) and which lanes that leg
-    /// reaches: the scalar elbow-out kernel's formulas with divisions by $b$, $\rho$, $2a$ and
-    /// $L$ turned into products with reciprocals computed once (a lane division is slow).
+    /// Writes row `leg` of eq. 7 at the points `p` (coordinates in lanes) into `out` and clears
+    /// the reachability of the lanes that leg does not reach: the scalar elbow-out kernel's
+    /// formulas with divisions by $b$, $\rho$, $2a$ and $L$ turned into products with
+    /// reciprocals computed once (a lane division is slow). In place, so that no lane row is
+    /// copied.
     #[inline(always)]
-    fn elbow_out_row<const N: usize>(
+    fn write_elbow_out_row<const N: usize>(
         &self,
         leg: usize,
         p: &[Lanes<N>; 3],
-    ) -> ([Lanes<N>; 3], [bool; N]) {
+        out: &mut JacobianLanes<N>,
+    ) {
         let (cp, sp) = self.trig[leg];
         let a = self.a;
         let (pu, pv, pw) = (p[0] * cp + p[1] * sp + self.h, p[1] * cp - p[0] * sp, p[2]);
@@ -79,13 +82,13 @@ impl Tsai3Dof {
         let s2 = (pw - a * s1) * inv_l;
         let a_sin12 = a * (s1 * c2 - c1 * s2);
         let inv_den = (a_sin12 * s3).recip();
-        let row = [
-            (c3 * sp - c2 * cp * s3) * inv_den,
-            (-(c3 * cp) - c2 * sp * s3) * inv_den,
-            -s2 / a_sin12,
-        ];
-        let reachable = std::array::from_fn(|l| s3_sq.0[l] >= 0.0 && k.0[l].abs() <= 1.0);
-        (row, reachable)
+        let row = &mut out.jacobian[3 * leg..3 * leg + 3];
+        row[0] = ((c3 * sp - c2 * cp * s3) * inv_den).0;
+        row[1] = ((-(c3 * cp) - c2 * sp * s3) * inv_den).0;
+        row[2] = (-s2 / a_sin12).0;
+        for (l, all) in out.reachable.iter_mut().enumerate() {
+            *all &= s3_sq.0[l] >= 0.0 && k.0[l].abs() <= 1.0;
+        }
     }
 }
 

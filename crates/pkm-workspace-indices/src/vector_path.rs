@@ -1,0 +1,155 @@
+//! Run-time dispatch of the lane kernels to the widest vector unit of the processor.
+//!
+//! A lane kernel ([`LaneKernel`]) is written once in [`pkm_traits::Lanes`]; [`evaluate_on`]
+//! runs it compiled for one [`VectorPath`]: the target's baseline (SSE2 on x86-64, two `f64`
+//! per register) or, where the processor has it, AVX2 (four `f64` per register). The kernel's
+//! body is inlined into a copy of the caller compiled with `#[target_feature(enable = "avx2")]`,
+//! so the same source becomes 256-bit instructions there.
+//!
+//! Every path gives the same bits. The kernels use only IEEE-754 basic operations (add,
+//! subtract, multiply, divide, square root), comparisons and selects, which are correctly
+//! rounded whatever the register width, and no path enables FMA (Rust never contracts
+//! `a * b + c` by itself, and the kernels call no `mul_add`): a fused multiply-add would round
+//! once where the baseline rounds twice. The one exception is which NaN comes out of an
+//! operation on two NaNs, which IEEE-754 leaves open and the compiler may change by swapping
+//! the operands of a sum or a product: a NaN may differ in sign between paths, only in lanes
+//! that hold no result (a batch Jacobian's unreachable lanes). AVX-512 is not compiled (no machine of the project has
+//! it to test the path on).
+
+use crate::LANES;
+use nalgebra::Vector3;
+use std::sync::OnceLock;
+
+/// The environment variable that forces the baseline path when set to `baseline` (to compare
+/// paths, or to rule the wide path out when chasing a difference).
+pub const VECTOR_PATH_VARIABLE: &str = "PKM_VECTOR_PATH";
+
+/// An instruction set that a lane kernel is compiled for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VectorPath {
+    /// The compilation target's baseline (SSE2 on x86-64).
+    Baseline,
+    /// AVX2 on x86-64 (256-bit registers), without FMA.
+    Avx2,
+}
+
+impl VectorPath {
+    /// Whether this processor can run the path.
+    pub fn is_available(self) -> bool {
+        match self {
+            Self::Baseline => true,
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            Self::Avx2 => false,
+        }
+    }
+
+    /// Every path this processor can run, baseline first.
+    pub fn available() -> Vec<Self> {
+        [Self::Baseline, Self::Avx2]
+            .into_iter()
+            .filter(|path| path.is_available())
+            .collect()
+    }
+
+    /// The path [`evaluate`] takes: the widest available, or [`VectorPath::Baseline`] when
+    /// the environment variable [`VECTOR_PATH_VARIABLE`] is `baseline`. Decided once per
+    /// process.
+    pub fn selected() -> Self {
+        static SELECTED: OnceLock<VectorPath> = OnceLock::new();
+        *SELECTED.get_or_init(|| {
+            let forced = std::env::var(VECTOR_PATH_VARIABLE).is_ok_and(|v| v == "baseline");
+            let widest = Self::available().into_iter().last();
+            match widest {
+                Some(path) if !forced => path,
+                _ => Self::Baseline,
+            }
+        })
+    }
+}
+
+/// A computation on [`LANES`] points at once, written in [`pkm_traits::Lanes`] (for example
+/// a batch Jacobian followed by [`crate::inverse_condition_number_3x3_lanes`]).
+///
+/// For [`evaluate_on`] to compile the whole computation for each path, `evaluate` must be
+/// `#[inline(always)]` and call only `#[inline(always)]` kernels (as the batch Jacobians of
+/// `pkm-mechanisms` and the lane $1/\kappa$ are); a call that is not inlined runs on the
+/// baseline, with the same result, only slower.
+pub trait LaneKernel: Sync {
+    /// What the kernel returns for the [`LANES`] points.
+    type Output;
+    /// The kernel on `points`.
+    fn evaluate(&self, points: &[Vector3<f64>; LANES]) -> Self::Output;
+}
+
+/// `kernel` on `points` compiled for `path`, or for the baseline when this processor cannot
+/// run `path`. The result is the same on every path, bit for bit (module documentation).
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_workspace_indices::{LANES, LaneKernel, VectorPath, evaluate_on};
+/// struct Norms;
+/// impl LaneKernel for Norms {
+///     type Output = [f64; LANES];
+///     #[inline(always)]
+///     fn evaluate(&self, points: &[Vector3<f64>; LANES]) -> [f64; LANES] {
+///         points.map(|p| (p.x * p.x + p.y * p.y + p.z * p.z).sqrt())
+///     }
+/// }
+/// let points = std::array::from_fn(|l| Vector3::new(l as f64, 0.1, if l == 3 { f64::NAN } else { -0.5 }));
+/// let baseline = evaluate_on(VectorPath::Baseline, &Norms, &points);
+/// for path in VectorPath::available() {
+///     assert_eq!(evaluate_on(path, &Norms, &points).map(f64::to_bits), baseline.map(f64::to_bits));
+/// }
+/// ```
+#[inline]
+pub fn evaluate_on<K: LaneKernel>(
+    path: VectorPath,
+    kernel: &K,
+    points: &[Vector3<f64>; LANES],
+) -> K::Output {
+    match path {
+        #[cfg(target_arch = "x86_64")]
+        VectorPath::Avx2 if path.is_available() => {
+            // SAFETY: the processor has AVX2 (checked just above), the only requirement of a
+            // function compiled with `#[target_feature(enable = "avx2")]`.
+            unsafe { evaluate_avx2(kernel, points) }
+        }
+        _ => kernel.evaluate(points),
+    }
+}
+
+/// `kernel` on `points` on [`VectorPath::selected`].
+#[inline]
+pub fn evaluate<K: LaneKernel>(kernel: &K, points: &[Vector3<f64>; LANES]) -> K::Output {
+    evaluate_on(VectorPath::selected(), kernel, points)
+}
+
+/// The kernel inlined into a function compiled for AVX2 (no FMA: see the module
+/// documentation).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn evaluate_avx2<K: LaneKernel>(kernel: &K, points: &[Vector3<f64>; LANES]) -> K::Output {
+    kernel.evaluate(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_baseline_is_always_available_and_first() {
+        let paths = VectorPath::available();
+        assert_eq!(paths.first(), Some(&VectorPath::Baseline));
+        assert!(paths.contains(&VectorPath::selected()));
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_is_offered_exactly_where_the_processor_has_it() {
+        let has = std::arch::is_x86_feature_detected!("avx2");
+        assert_eq!(VectorPath::available().contains(&VectorPath::Avx2), has);
+    }
+}
