@@ -123,18 +123,25 @@ where
     compared
 }
 
-#[test]
-fn rotary_delta_and_nuwar() {
-    let boxes = ([-0.1, -0.1, -0.85], [0.1, 0.1, -0.55]);
-    for (file, design) in [
+/// Miller 2004's Delta and NUWAR: each file, its hand-written model and its robot.
+fn delta_files() -> [(&'static str, RotaryDelta, Robot<3>); 2] {
+    [
         (
             "rotary_delta.toml",
             presets::miller_delta(Placement::canonical()),
         ),
         ("nuwar.toml", presets::nuwar(Placement::canonical())),
-    ] {
+    ]
+    .map(|(file, design)| {
         let hand = RotaryDelta::new(design).unwrap();
-        let robot = Robot::<3>::new(common::robot(file)).unwrap();
+        (file, hand, Robot::<3>::new(common::robot(file)).unwrap())
+    })
+}
+
+#[test]
+fn rotary_delta_and_nuwar() {
+    let boxes = ([-0.1, -0.1, -0.85], [0.1, 0.1, -0.55]);
+    for (file, hand, robot) in delta_files() {
         for mode in [ElbowMode::Out, ElbowMode::In] {
             let n = agree(&hand, mode, &robot, &poses(boxes.0, boxes.1, 30), true);
             println!("{file} {mode:?}: {n} poses agree");
@@ -203,15 +210,7 @@ fn leg_clearance_of_the_delta_files_is_the_hand_written_one() {
     // The RUU-equivalent legs' segments are the hand-written links: motor → elbow and the
     // forearm mid-line from the elbow over 75 % of the way to the plate joint.
     use pkm_traits::{ConstrainedWorkspace, ConstraintKind};
-    for (file, design) in [
-        (
-            "rotary_delta.toml",
-            presets::miller_delta(Placement::canonical()),
-        ),
-        ("nuwar.toml", presets::nuwar(Placement::canonical())),
-    ] {
-        let hand = RotaryDelta::new(design).unwrap();
-        let robot = Robot::<3>::new(common::robot(file)).unwrap();
+    for (file, hand, robot) in delta_files() {
         assert!(robot.supports(ConstraintKind::LegClearance));
         let (mut compared, mut worst) = (0, 0.0_f64);
         for x in poses([-0.2, -0.2, -0.85], [0.2, 0.2, -0.45], 40) {
