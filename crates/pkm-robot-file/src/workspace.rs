@@ -18,7 +18,7 @@ use nalgebra::Vector3;
 use pkm_traits::checked::min_propagating_nan;
 use pkm_traits::{
     ConstrainedWorkspace, ConstraintKind, Joints, PLATFORM_LINK_CLEARANCE_SPAN, Task,
-    segment_distance,
+    links_distance,
 };
 
 impl RobotModel {
@@ -35,11 +35,8 @@ impl RobotModel {
         let pairs = if n == 2 { 1 } else { n };
         let mut clearance = f64::INFINITY;
         for i in 0..pairs {
-            for a in &links[i] {
-                for b in &links[(i + 1) % n] {
-                    clearance = min_propagating_nan(clearance, segment_distance(*a, *b));
-                }
-            }
+            let pair = links_distance(&links[i], &links[(i + 1) % n]);
+            clearance = min_propagating_nan(clearance, pair);
         }
         clearance.is_finite().then_some(clearance)
     }

@@ -2,9 +2,9 @@
 //! kernels. Every operation is a fixed-length loop over the lanes with no branch and no call,
 //! which the compiler turns into SIMD instructions (SSE2 on the baseline target, AVX where
 //! enabled), so a kernel written once in `Lanes<N>` is vectorised without `unsafe` or a SIMD
-//! crate. Conditions are selects ([`Lanes::select`], [`Lanes::select_gt`]); lanes never interact, so NaN or
-//! infinity in one lane cannot reach another. [`JacobianLanes`] is what the batch Jacobian
-//! kernels of the mechanisms return.
+//! crate. Conditions are selects ([`Lanes::select`], [`Lanes::select_gt`]); lanes never
+//! interact, so NaN or infinity in one lane cannot reach another. [`JacobianLanes`] is what the
+//! batch Jacobian kernels of the mechanisms return.
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 

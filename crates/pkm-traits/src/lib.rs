@@ -64,5 +64,5 @@ pub use progress::{CancelOnly, Cancelled, Progress, Silent};
 pub use region::{CrossSectionWorkspace, Extents, SlicedRegion};
 pub use workspace::{
     ConstrainedWorkspace, ConstraintError, ConstraintKind, PLATFORM_LINK_CLEARANCE_SPAN,
-    WorkspaceConstraint, segment_distance,
+    WorkspaceConstraint, links_distance, segment_distance,
 };

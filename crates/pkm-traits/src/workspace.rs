@@ -364,6 +364,17 @@ pub fn segment_distance(
     ((p0 + d1 * s) - (q0 + d2 * t)).norm()
 }
 
+/// The smallest [`segment_distance`] between a segment of `a` and one of `b` (the clearance
+/// between two legs' links); NaN when any distance is NaN, $+\infty$ when a side is empty.
+pub fn links_distance(
+    a: &[(Vector3<f64>, Vector3<f64>)],
+    b: &[(Vector3<f64>, Vector3<f64>)],
+) -> f64 {
+    a.iter()
+        .flat_map(|s| b.iter().map(move |t| segment_distance(*s, *t)))
+        .fold(f64::INFINITY, crate::checked::min_propagating_nan)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -396,7 +407,6 @@ mod tests {
             prop_assert!(exact <= brute(a, b) + 1e-12);
             prop_assert!(brute(a, b) - exact < 0.01);
         }
-
     }
 
     #[test]
@@ -407,5 +417,9 @@ mod tests {
         assert!((segment_distance((o, x), (up, up + x)) - 2.0).abs() < 1e-15);
         assert!((segment_distance((o, o), (up, up)) - 2.0).abs() < 1e-15);
         assert!((segment_distance((o, o), (up, up + x)) - 2.0).abs() < 1e-15);
+        let nan = Vector3::new(f64::NAN, 0.0, 0.0);
+        assert!(links_distance(&[(o, x), (up, up + x)], &[(up, up)]).abs() < 1e-15);
+        assert!(links_distance(&[(o, x)], &[]).is_infinite());
+        assert!(links_distance(&[(o, x), (nan, x)], &[(up, up)]).is_nan());
     }
 }

@@ -45,10 +45,12 @@
 //!
 //! Every estimator is deterministic: sample $i$ is a pure function of `(seed, i)` and parallel
 //! sums use fixed-size chunks reduced serially in order ([`chunked_reduce`]), so results are
-//! bit-for-bit identical whatever the number of rayon threads. The lane kernels (a batch
-//! Jacobian and [`inverse_condition_number_3x3_lanes`] on [`LANES`] points) run through
-//! [`evaluate`], compiled for the widest vector unit the processor offers ([`VectorPath`]), with
-//! the same bits on every path.
+//! bit-for-bit identical whatever the number of rayon threads. A lane kernel (a batch
+//! Jacobian and [`inverse_condition_number_3x3_lanes`] on [`LANES`] points, as a
+//! [`LaneKernel`]) runs through [`evaluate`] compiled for the widest vector unit the processor
+//! offers ([`VectorPath`]), with the same bits on every path. The estimators of this crate do
+//! not use the Delta and Tsai batch Jacobians yet (they evaluate point by point), and the
+//! cross-section indices call [`inverse_condition_number_3x3_lanes`] on the baseline path.
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.

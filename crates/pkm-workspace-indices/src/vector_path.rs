@@ -13,8 +13,8 @@
 //! once where the baseline rounds twice. The one exception is which NaN comes out of an
 //! operation on two NaNs, which IEEE-754 leaves open and the compiler may change by swapping
 //! the operands of a sum or a product: a NaN may differ in sign between paths, only in lanes
-//! that hold no result (a batch Jacobian's unreachable lanes). AVX-512 is not compiled (no machine of the project has
-//! it to test the path on).
+//! that hold no result (a batch Jacobian's unreachable lanes). AVX-512 is not compiled (no
+//! machine of the project has it to test the path on).
 
 use crate::LANES;
 use nalgebra::Vector3;

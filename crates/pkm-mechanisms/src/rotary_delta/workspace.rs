@@ -3,7 +3,7 @@
 
 use super::{ElbowMode, RotaryDelta};
 use pkm_traits::checked::{all_finite, min_propagating_nan};
-use pkm_traits::workspace::{PLATFORM_LINK_CLEARANCE_SPAN, segment_distance};
+use pkm_traits::workspace::{PLATFORM_LINK_CLEARANCE_SPAN, links_distance};
 use pkm_traits::{ConstrainedWorkspace, ConstraintKind, InverseKinematics, Joints, Task};
 
 /// The part of a forearm, from the elbow, on which leg clearance is measured (the span every
@@ -91,11 +91,8 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
         };
         let mut clearance = f64::INFINITY;
         for i in 0..3 {
-            for a in links(i) {
-                for b in links((i + 1) % 3) {
-                    clearance = min_propagating_nan(clearance, segment_distance(a, b));
-                }
-            }
+            let pair = links_distance(&links(i), &links((i + 1) % 3));
+            clearance = min_propagating_nan(clearance, pair);
         }
         clearance.is_finite().then_some(clearance)
     }
