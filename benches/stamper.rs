@@ -1,13 +1,15 @@
 //! Points per second of the GCI kernel (IK + Jacobian of eq. 7 + closed-form 1/κ per point),
-//! on one core and on two; scalar (through `Workspace::hemisphere_estimate`, the generic entry
-//! point) and lane-parallel.
+//! on one core and on two: through `Workspace::hemisphere_estimate`, the generic entry point
+//! (the lane kernels since they were wired into the estimators), the same estimator asked point
+//! by point (`point_by_point_*`), and the bare lane kernels (`gci_kernel_batch`).
 
 use crate::delta_kernel::lane_sums;
 use criterion::{Criterion, Throughput};
 use nalgebra::Vector3;
 use pkm::mechanisms::{Elbow, Tsai3Dof, presets};
 use pkm::workspace_indices::{
-    LANES, LaneKernel, Sampler, VectorPath, Workspace, inverse_condition_number_3x3_lanes,
+    LANES, LaneKernel, Sampler, VectorPath, Workspace, hemisphere_estimate,
+    inverse_condition_number_3x3_lanes,
 };
 use pkm_traits::Silent;
 
@@ -31,6 +33,12 @@ pub(crate) fn gci_kernel(c: &mut Criterion) {
         group.bench_function(format!("{threads}_threads"), |b| {
             b.iter(|| {
                 pool.install(|| workspace.hemisphere_estimate(&points, design.reach(), &Silent))
+            })
+        });
+        let one_by_one = |x: &Vector3<f64>| workspace.inverse_condition(x);
+        group.bench_function(format!("point_by_point_{threads}_threads"), |b| {
+            b.iter(|| {
+                pool.install(|| hemisphere_estimate(&points, design.reach(), &Silent, one_by_one))
             })
         });
     }

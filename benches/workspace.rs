@@ -1,10 +1,16 @@
 //! Points per second of the §2.1 membership kernel (NUWAR, plate below the motors, every leg
-//! reachable: `Workspace::contains` through the trigonometry-free `RotaryDelta::reachable`), on
-//! one core and on two, and of one row of the (α, β) sweep (`sweep_volumes`).
+//! reachable: `Workspace::volume`, which counts through the lane test
+//! `RotaryDelta::reachable_in_any_lanes`), on one core and on two, and point by point
+//! (`Workspace::contains` through the trigonometry-free `RotaryDelta::reachable`); and of one
+//! row of the (α, β) sweep (`sweep_workspace_volumes`, and `sweep_volumes` point by point).
 
 use criterion::{Criterion, Throughput};
+use nalgebra::Vector3;
 use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
-use pkm::workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, sweep_volumes};
+use pkm::workspace_indices::{
+    Domain, PointSet, Region, Sampler, Workspace, sweep_volumes, sweep_workspace_volumes,
+    workspace_volume,
+};
 use pkm_traits::{Silent, WorkspaceConstraint};
 
 fn study_placement() -> Placement {
@@ -41,6 +47,10 @@ pub(crate) fn membership_kernel(c: &mut Criterion) {
         group.bench_function(format!("{threads}_threads"), |b| {
             b.iter(|| pool.install(|| workspace.volume(&points, &Silent)))
         });
+        let one_by_one = |x: &Vector3<f64>| workspace.contains(x);
+        group.bench_function(format!("point_by_point_{threads}_threads"), |b| {
+            b.iter(|| pool.install(|| workspace_volume(&points, &Silent, one_by_one)))
+        });
     }
     group.finish();
 
@@ -72,10 +82,18 @@ pub(crate) fn membership_kernel(c: &mut Criterion) {
             return;
         };
         group.bench_function(format!("91_designs_{threads}_threads"), |b| {
-            b.iter(|| {
-                pool.install(|| sweep_volumes(&workspaces, &points, &Silent, |w, x| w.contains(x)))
-            })
+            b.iter(|| pool.install(|| sweep_workspace_volumes(&workspaces, &points, &Silent)))
         });
+        group.bench_function(
+            format!("91_designs_point_by_point_{threads}_threads"),
+            |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        sweep_volumes(&workspaces, &points, &Silent, |w, x| w.contains(x))
+                    })
+                })
+            },
+        );
     }
     group.finish();
 }

@@ -422,7 +422,7 @@ enum Against {
 }
 
 /// The ratios that `docs/performance.md` quotes: (what, pkm bench, what it is compared with).
-const RATIOS: [(&str, &str, Against); 7] = [
+const RATIOS: [(&str, &str, Against); 9] = [
     (
         "Delta design index, 1 thread, vs NumPy SVD",
         "delta_kernel/batch/1_threads",
@@ -452,6 +452,16 @@ const RATIOS: [(&str, &str, Against); 7] = [
         "Delta design index, lane kernel vs scalar kernel, 1 thread",
         "delta_kernel/batch/1_threads",
         Against::Bench("delta_kernel/scalar/1_threads"),
+    ),
+    (
+        "§2.1 membership (NUWAR), 1 thread: the library's lane count vs point by point",
+        "workspace/membership/1_threads",
+        Against::Bench("workspace/membership/point_by_point_1_threads"),
+    ),
+    (
+        "Tsai GCI estimate, 1 thread: the library's lane estimator vs point by point",
+        "stamper/gci_kernel/1_threads",
+        Against::Bench("stamper/gci_kernel/point_by_point_1_threads"),
     ),
     (
         "IK + J + 1/κ of the Delta: hand-written model vs the same robot from a file (goal: the file within 5 ×)",

@@ -17,6 +17,7 @@
 
 use crate::checked::all_finite;
 use crate::kinematics::{InverseKinematics, Joints, Task};
+use crate::{JacobianLanes, Lanes};
 use nalgebra::Vector3;
 use thiserror::Error;
 
@@ -227,6 +228,7 @@ impl WorkspaceConstraint {
 
     /// Whether the position alone satisfies the constraint (`true` for constraints on joints).
     /// No constraint holds at a position with a NaN or infinite coordinate.
+    #[inline]
     pub fn holds_at_position(&self, x: &Vector3<f64>) -> bool {
         if !all_finite(x.iter()) {
             return false;
@@ -295,6 +297,37 @@ pub trait ConstrainedWorkspace<const NX: usize, const NQ: usize>:
     /// depend on the mode overrides it to test once.
     fn reachable_in_any(&self, x: &Task<NX>, modes: &[Self::WorkingMode]) -> bool {
         modes.iter().any(|m| self.reachable(x, *m))
+    }
+
+    /// [`ConstrainedWorkspace::reachable_in_any`] at `N` points given by their coordinates in
+    /// lanes (lane `l` of `x[c]` is coordinate `c` of point `l`). The default asks point by
+    /// point. A mechanism may override it with a lane kernel (in [`crate::Lanes`],
+    /// `#[inline(always)]`, so that a caller compiled for a wider vector unit vectorises it)
+    /// that must give the same answer as the point-by-point test at every point, non-finite
+    /// and overflowing ones included.
+    #[inline(always)]
+    fn reachable_in_any_lanes<const N: usize>(
+        &self,
+        x: &[Lanes<N>; NX],
+        modes: &[Self::WorkingMode],
+    ) -> [bool; N] {
+        std::array::from_fn(|l| self.reachable_in_any(&Task::from_fn(|c, _| x[c].0[l]), modes))
+    }
+
+    /// The velocity Jacobians $J = -J_q^{-1}J_x$ at `N` points in `mode` by a lane kernel, with
+    /// each lane's reachability, or `None` (the default) when the mechanism has no lane kernel
+    /// for `mode` (then callers ask [`InverseKinematics::velocity_jacobian_at`] point by
+    /// point). An override is `#[inline(always)]`; lane `l` must agree with
+    /// `velocity_jacobian_at(&x[l], mode)` to rounding: reachable where that call does not
+    /// report the point unreachable (up to rounding at the workspace boundary), with the same
+    /// matrix, or non-finite entries where it reports a singular Jacobian.
+    #[inline(always)]
+    fn velocity_jacobian_lanes<const N: usize>(
+        &self,
+        _x: &[Task<NX>; N],
+        _mode: Self::WorkingMode,
+    ) -> Option<JacobianLanes<N>> {
+        None
     }
 
     /// The bend of each passive spherical joint (rad) at an assembled configuration; `None`

@@ -7,11 +7,13 @@
 //! $V_D\,\mathrm{sd}(f)/\sqrt n$ (exact for Monte Carlo, conservative for quasi-Monte Carlo);
 //! with $R > 1$ replicates the spread of the replicate estimates, $\mathrm{sd}_r/\sqrt R$.
 
+use crate::parallel::chunked_reduce_ranges;
 use crate::points::MAX_REPLICATES;
-use crate::{Accumulator, IndexError, PointSet, chunked_reduce};
+use crate::{Accumulator, CHUNK_SIZE, IndexError, PointSet};
 use nalgebra::Vector3;
-use pkm_traits::Progress;
 use pkm_traits::checked::finite_or;
+use pkm_traits::{Cancelled, Progress};
+use rayon::prelude::*;
 
 /// How a standard error was obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -108,7 +110,44 @@ pub fn workspace_volume<F>(
 where
     F: Fn(&Vector3<f64>) -> bool + Sync,
 {
-    let mut e = workspace_volume_and_eta(points, progress, |p| contains(p).then_some(1.0))?;
+    count_volume(points, progress, |block| {
+        block.iter().filter(|x| contains(x)).count() as u64
+    })
+}
+
+/// The volume of the points that `count_inside` counts, asked for blocks of at most
+/// [`CHUNK_SIZE`] points of one replicate, in parallel. Counts are integers, so the estimate
+/// is the same, bit for bit, whatever the thread count or the split.
+///
+/// # Errors
+/// [`IndexError::Cancelled`] (checked once per block).
+pub(crate) fn count_volume<F>(
+    points: &PointSet,
+    progress: &dyn Progress,
+    count_inside: F,
+) -> Result<VolumeEstimate, IndexError>
+where
+    F: Fn(&[Vector3<f64>]) -> u64 + Sync,
+{
+    let m = points.per_replicate();
+    let mut sums = Sums::default();
+    for (r, block) in points.points().chunks_exact(m).enumerate() {
+        sums.inside[r] = block
+            .par_chunks(CHUNK_SIZE as usize)
+            .map(|chunk| {
+                progress.check()?;
+                let n = count_inside(chunk);
+                progress.advance(chunk.len() as u64);
+                Ok(n)
+            })
+            .try_reduce(|| 0, |a, b| Ok::<u64, Cancelled>(a + b))?;
+    }
+    let mut e = summarise(
+        &sums,
+        points.replicates() as usize,
+        m as u64,
+        points.domain().volume(),
+    )?;
     e.eta = None;
     e.eta_se = None;
     Ok(e)
@@ -128,27 +167,34 @@ pub fn workspace_volume_and_eta<F>(
 where
     F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
 {
-    integrate_slice(
+    integrate_blocks(
         points.points(),
         points.replicates() as usize,
         points.domain().volume(),
         progress,
-        local,
+        |block, out| {
+            for (x, f) in block.iter().zip(out) {
+                *f = local(x);
+            }
+        },
     )
 }
 
 /// The estimator on `points` (`replicates` equal consecutive blocks) of a domain of volume
-/// `v_domain`; the one loop behind [`workspace_volume`], [`workspace_volume_and_eta`] and
-/// [`crate::hemisphere_estimate`].
-pub(crate) fn integrate_slice<F>(
+/// `v_domain`; the one loop behind [`workspace_volume_and_eta`] and
+/// [`crate::hemisphere_estimate`]. `values(block, out)` writes the local index of each point
+/// of a block (at most [`CHUNK_SIZE`] consecutive points) into `out`, `None` outside; the
+/// values are then summed point by point in index order, so the bits do not depend on how
+/// `values` computes them (one point or a lane kernel at a time) nor on the thread count.
+pub(crate) fn integrate_blocks<F>(
     points: &[Vector3<f64>],
     replicates: usize,
     v_domain: f64,
     progress: &dyn Progress,
-    local: F,
+    values: F,
 ) -> Result<VolumeEstimate, IndexError>
 where
-    F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
+    F: Fn(&[Vector3<f64>], &mut [Option<f64>]) + Sync,
 {
     if replicates > MAX_REPLICATES as usize {
         return Err(IndexError::TooLarge {
@@ -163,13 +209,22 @@ where
         });
     }
     let m = (points.len() / replicates) as u64;
-    let sums = chunked_reduce(points.len() as u64, progress, |acc: &mut Sums, i| {
-        if let Some(f) = local(&points[i as usize]) {
-            let f = if f.is_finite() { f } else { 0.0 };
-            let r = (i / m) as usize;
-            acc.inside[r] += 1;
-            acc.f[r] += f;
-            acc.f2[r] += f * f;
+    let sums = chunked_reduce_ranges(points.len() as u64, progress, |acc: &mut Sums, range| {
+        let block = &points[range.start as usize..range.end as usize];
+        let mut out = vec![None; block.len()];
+        values(block, &mut out);
+        // The replicate of index i is i / m, tracked by its next boundary rather than divided.
+        let (mut r, mut next) = ((range.start / m) as usize, (range.start / m + 1) * m);
+        for (i, f) in range.zip(out) {
+            if i == next {
+                (r, next) = (r + 1, next + m);
+            }
+            if let Some(f) = f {
+                let f = if f.is_finite() { f } else { 0.0 };
+                acc.inside[r] += 1;
+                acc.f[r] += f;
+                acc.f2[r] += f * f;
+            }
         }
     })?;
     summarise(&sums, replicates, m, v_domain)

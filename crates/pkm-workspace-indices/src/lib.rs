@@ -48,9 +48,21 @@
 //! bit-for-bit identical whatever the number of rayon threads. A lane kernel (a batch
 //! Jacobian and [`inverse_condition_number_3x3_lanes`] on [`LANES`] points, as a
 //! [`LaneKernel`]) runs through [`evaluate`] compiled for the widest vector unit the processor
-//! offers ([`VectorPath`]), with the same bits on every path. The estimators of this crate do
-//! not use the Delta and Tsai batch Jacobians yet (they evaluate point by point), and the
-//! cross-section indices call [`inverse_condition_number_3x3_lanes`] on the baseline path.
+//! offers ([`VectorPath`]), with the same bits on every path; a [`BlockKernel`] runs a whole
+//! loop of them through [`run_block`] the same way.
+//!
+//! [`Workspace`] asks the mechanism's lane kernels where it has them:
+//! - volumes count through [`pkm_traits::ConstrainedWorkspace::reachable_in_any_lanes`]
+//!   ([`Workspace::count_inside`], [`Workspace::volume`], [`sweep_workspace_volumes`]), the
+//!   same counts as the point test, exactly;
+//! - $1/\kappa$ through [`pkm_traits::ConstrainedWorkspace::velocity_jacobian_lanes`] and
+//!   [`inverse_condition_number_3x3_lanes`] ([`Workspace::inverse_condition_lanes`],
+//!   [`Workspace::volume_and_eta`], [`Workspace::hemisphere_estimate`]), equal to the point
+//!   by point values to rounding.
+//!
+//! The rotary Delta and the Tsai platform have lane kernels; any other mechanism is asked point
+//! by point, as are the closure estimators ([`workspace_volume`], [`hemisphere_estimate`]).
+//! The cross-section indices call [`inverse_condition_number_3x3_lanes`] on the baseline path.
 #![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
@@ -67,6 +79,7 @@ mod estimator;
 mod gauss_legendre;
 mod local;
 mod parallel;
+mod point_groups;
 mod points;
 mod region;
 mod sampler;
@@ -94,7 +107,7 @@ pub use error::IndexError;
 pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volume_and_eta};
 pub use gauss_legendre::GaussLegendre;
 pub use local::{LocalIndices, inverse_condition_at, local_indices};
-pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce};
+pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce, chunked_reduce_ranges};
 pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
 pub use region::{BoundingBox, Domain, Region};
 pub use sampler::Sampler;
@@ -102,7 +115,10 @@ pub use section_cache::SectionIndexCache;
 pub use section_indices::{Eta1Rule, SectionIndex, SectionIndices};
 pub use slice::{Plane, Slice};
 pub use space_utilization::space_utilization;
-pub use sweep::{ratio_standard_error, sweep_volumes};
-pub use vector_path::{LaneKernel, VECTOR_PATH_VARIABLE, VectorPath, evaluate, evaluate_on};
+pub use sweep::{ratio_standard_error, sweep_volumes, sweep_workspace_volumes};
+pub use vector_path::{
+    BlockKernel, LaneKernel, VECTOR_PATH_VARIABLE, VectorPath, evaluate, evaluate_on, run_block,
+    run_block_on,
+};
 pub use volume::{HemisphereEstimate, hemisphere_estimate};
 pub use workspace::Workspace;

@@ -41,6 +41,29 @@ where
     A: Accumulator,
     F: Fn(&mut A, u64) + Sync,
 {
+    chunked_reduce_ranges(n, progress, |acc, range| {
+        for i in range {
+            visit(acc, i);
+        }
+    })
+}
+
+/// [`chunked_reduce`] with `visit(acc, range)` called once per chunk, on the chunk's index
+/// range (at most [`CHUNK_SIZE`] long): for a visitor that works on several indices at once
+/// (a lane kernel) and then accumulates them in index order, with the bits of
+/// [`chunked_reduce`].
+///
+/// # Errors
+/// [`Cancelled`] when `progress` asks to stop.
+pub fn chunked_reduce_ranges<A, F>(
+    n: u64,
+    progress: &dyn Progress,
+    visit: F,
+) -> Result<A, Cancelled>
+where
+    A: Accumulator,
+    F: Fn(&mut A, std::ops::Range<u64>) + Sync,
+{
     let n_chunks = n.div_ceil(CHUNK_SIZE);
     let mut total = A::default();
     // Batches of chunks, so that the partial results held at once stay bounded whatever `n`;
@@ -55,9 +78,7 @@ where
                 let mut acc = A::default();
                 let start = chunk * CHUNK_SIZE;
                 let end = start.saturating_add(CHUNK_SIZE).min(n);
-                for i in start..end {
-                    visit(&mut acc, i);
-                }
+                visit(&mut acc, start..end);
                 progress.advance(end - start);
                 Ok(acc)
             })

@@ -1,12 +1,13 @@
 //! The first three dimensions of the Sobol sequence (Joe & Kuo 2008 direction numbers), 32-bit,
 //! with an optional random digital shift, in natural order. Computed directly from the bits of $i$, so point $i$
-//! costs $O(32)$ and needs no state.
+//! costs $O(32)$ and needs no state beyond a per-thread memo of the last digital shift.
 //!
 //! `sobol_burley` was considered; it stops at $2^{16}$ points and returns `f32`, too few and too
 //! coarse for the 200,000-point sets of Stamper et al.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::cell::Cell;
 
 const BITS: usize = 32;
 
@@ -48,15 +49,31 @@ const fn directions(d: usize) -> [u32; BITS] {
 
 const DIRECTIONS: [[u32; BITS]; 3] = [directions(0), directions(1), directions(2)];
 
+/// The digital shift of `seed` (none for 0): three words of ChaCha8 seeded with `seed`,
+/// remembered per thread for the last seed asked, since a point set asks the same seed for
+/// every point and seeding ChaCha costs more than the point.
+fn digital_shift(seed: u64) -> [u32; 3] {
+    thread_local! {
+        static LAST: Cell<Option<(u64, [u32; 3])>> = const { Cell::new(None) };
+    }
+    if seed == 0 {
+        return [0; 3];
+    }
+    LAST.with(|last| match last.get() {
+        Some((s, shift)) if s == seed => shift,
+        _ => {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let shift = [rng.random(), rng.random(), rng.random()];
+            last.set(Some((seed, shift)));
+            shift
+        }
+    })
+}
+
 /// Point $i$ of the 3-D Sobol sequence in $[0, 1)^3$, digitally shifted by a pure function of
 /// `seed` (no shift when `seed = 0`). Indices wrap modulo $2^{32}$.
 pub(crate) fn sobol3(i: u64, seed: u64) -> [f64; 3] {
-    let shift: [u32; 3] = if seed == 0 {
-        [0; 3]
-    } else {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        [rng.random(), rng.random(), rng.random()]
-    };
+    let shift = digital_shift(seed);
     let index = i as u32;
     let mut out = [0.0; 3];
     for (d, value) in out.iter_mut().enumerate() {

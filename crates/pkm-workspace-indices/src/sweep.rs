@@ -7,9 +7,10 @@
 //! design; cancellation is checked before each design.
 
 use crate::estimator::{Sums, summarise};
-use crate::{IndexError, PointSet, VolumeEstimate};
+use crate::point_groups::PointGroups;
+use crate::{Dim, IndexError, PointSet, TranslationalCondition, VolumeEstimate, Workspace};
 use nalgebra::Vector3;
-use pkm_traits::Progress;
+use pkm_traits::{ConstrainedWorkspace, Progress};
 use rayon::prelude::*;
 
 /// The workspace volume of every design in `designs`, `contains(design, x)` being its
@@ -41,6 +42,66 @@ where
     D: Sync,
     F: Fn(&D, &Vector3<f64>) -> bool + Sync,
 {
+    sweep_counts(designs, points, progress, |design, _, block| {
+        block.iter().filter(|x| contains(design, x)).count() as u64
+    })
+}
+
+/// The volume of every workspace in `workspaces`: [`sweep_volumes`] with
+/// [`Workspace::count_inside`], which asks the mechanism's lane test where it has one (the
+/// same counts, faster).
+///
+/// # Errors
+/// As [`sweep_volumes`].
+///
+/// # Example
+/// ```
+/// use pkm_traits::{Silent, WorkspaceConstraint};
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
+/// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace, sweep_volumes, sweep_workspace_volumes};
+/// let place = Placement::canonical();
+/// let robots = [RotaryDelta::new(presets::miller_delta(place))?, RotaryDelta::new(presets::nuwar(place))?];
+/// let below = [WorkspaceConstraint::below(place.motor_plane_z)?];
+/// let ws: Vec<_> = robots.iter().map(|r| Workspace::new(r, &[ElbowMode::Out], &below)).collect::<Result<_, _>>()?;
+/// let domain = Domain::new(Region::axial_cylinder(1.0, -1.5, 0.0))?;
+/// let points = PointSet::new(domain, Sampler::Sobol { seed: 5 }, 4000, 2)?;
+/// let fast = sweep_workspace_volumes(&ws, &points, &Silent)?;
+/// assert_eq!(fast, sweep_volumes(&ws, &points, &Silent, |w, x| w.contains(x))?);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn sweep_workspace_volumes<M, const NQ: usize>(
+    workspaces: &[Workspace<'_, M, NQ>],
+    points: &PointSet,
+    progress: &dyn Progress,
+) -> Result<Vec<VolumeEstimate>, IndexError>
+where
+    M: ConstrainedWorkspace<3, NQ> + Sync,
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
+    // Each replicate transposed into lanes once for all designs, in Morton order (a count
+    // does not depend on the order, and near points in a group let the kernels stop early).
+    let replicates: Vec<PointGroups> = points
+        .points()
+        .chunks_exact(points.per_replicate())
+        .map(PointGroups::in_morton_order)
+        .collect();
+    sweep_counts(workspaces, points, progress, |w, r, _| {
+        w.count_in_groups(&replicates[r])
+    })
+}
+
+/// The estimate of each design from `count(design, r, block)`, the number of points of
+/// replicate `r`'s block inside its workspace.
+fn sweep_counts<D, F>(
+    designs: &[D],
+    points: &PointSet,
+    progress: &dyn Progress,
+    count: F,
+) -> Result<Vec<VolumeEstimate>, IndexError>
+where
+    D: Sync,
+    F: Fn(&D, usize, &[Vector3<f64>]) -> u64 + Sync,
+{
     if designs.is_empty() {
         return Err(IndexError::EmptySample { n_samples: 0 });
     }
@@ -54,7 +115,7 @@ where
             progress.check()?;
             let mut sums = Sums::default();
             for (r, block) in all.chunks_exact(m).enumerate() {
-                sums.inside[r] = block.iter().filter(|x| contains(design, x)).count() as u64;
+                sums.inside[r] = count(design, r, block);
             }
             progress.advance(1);
             let mut e = summarise(&sums, replicates, m as u64, v_domain)?;

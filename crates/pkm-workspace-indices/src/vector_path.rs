@@ -83,6 +83,57 @@ pub trait LaneKernel: Sync {
     fn evaluate(&self, points: &[Vector3<f64>; LANES]) -> Self::Output;
 }
 
+/// A computation over a whole block of work (a loop over many groups of lanes), compiled for
+/// one [`VectorPath`] as a [`LaneKernel`] is, so that the loop runs inside the wide copy with
+/// one dispatch per block instead of one per group. The same rules hold: `run` must be
+/// `#[inline(always)]` and call only `#[inline(always)]` kernels to be compiled for the path.
+pub trait BlockKernel: Sync {
+    /// What the kernel returns.
+    type Output;
+    /// The kernel.
+    fn run(&self) -> Self::Output;
+}
+
+/// `kernel` compiled for `path`, or for the baseline when this processor cannot run `path`.
+/// The result is the same on every path, bit for bit (module documentation).
+#[inline]
+pub fn run_block_on<K: BlockKernel>(path: VectorPath, kernel: &K) -> K::Output {
+    match path {
+        #[cfg(target_arch = "x86_64")]
+        VectorPath::Avx2 if path.is_available() => {
+            // SAFETY: the processor has AVX2 (checked just above), the only requirement of a
+            // function compiled with `#[target_feature(enable = "avx2")]`.
+            unsafe { run_avx2(kernel) }
+        }
+        _ => kernel.run(),
+    }
+}
+
+/// `kernel` on [`VectorPath::selected`].
+#[inline]
+pub fn run_block<K: BlockKernel>(kernel: &K) -> K::Output {
+    run_block_on(VectorPath::selected(), kernel)
+}
+
+/// The kernel inlined into a function compiled for AVX2 (no FMA: see the module
+/// documentation).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn run_avx2<K: BlockKernel>(kernel: &K) -> K::Output {
+    kernel.run()
+}
+
+/// A [`LaneKernel`] on one group of points, as a [`BlockKernel`].
+struct OneGroup<'a, K>(&'a K, &'a [Vector3<f64>; LANES]);
+
+impl<K: LaneKernel> BlockKernel for OneGroup<'_, K> {
+    type Output = K::Output;
+    #[inline(always)]
+    fn run(&self) -> K::Output {
+        self.0.evaluate(self.1)
+    }
+}
+
 /// `kernel` on `points` compiled for `path`, or for the baseline when this processor cannot
 /// run `path`. The result is the same on every path, bit for bit (module documentation).
 ///
@@ -110,29 +161,13 @@ pub fn evaluate_on<K: LaneKernel>(
     kernel: &K,
     points: &[Vector3<f64>; LANES],
 ) -> K::Output {
-    match path {
-        #[cfg(target_arch = "x86_64")]
-        VectorPath::Avx2 if path.is_available() => {
-            // SAFETY: the processor has AVX2 (checked just above), the only requirement of a
-            // function compiled with `#[target_feature(enable = "avx2")]`.
-            unsafe { evaluate_avx2(kernel, points) }
-        }
-        _ => kernel.evaluate(points),
-    }
+    run_block_on(path, &OneGroup(kernel, points))
 }
 
 /// `kernel` on `points` on [`VectorPath::selected`].
 #[inline]
 pub fn evaluate<K: LaneKernel>(kernel: &K, points: &[Vector3<f64>; LANES]) -> K::Output {
     evaluate_on(VectorPath::selected(), kernel, points)
-}
-
-/// The kernel inlined into a function compiled for AVX2 (no FMA: see the module
-/// documentation).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn evaluate_avx2<K: LaneKernel>(kernel: &K, points: &[Vector3<f64>; LANES]) -> K::Output {
-    kernel.evaluate(points)
 }
 
 #[cfg(test)]

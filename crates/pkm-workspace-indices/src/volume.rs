@@ -8,7 +8,7 @@
 //! $V_h\sqrt{p(1-p)/n}$ and $V_h\,\mathrm{sd}(f)/\sqrt{n}$.
 
 use crate::IndexError;
-use crate::estimator::integrate_slice;
+use crate::estimator::integrate_blocks;
 use nalgebra::Vector3;
 use pkm_traits::{InvalidInput, Progress};
 use std::f64::consts::PI;
@@ -68,6 +68,24 @@ pub fn hemisphere_estimate<F>(
 where
     F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
 {
+    hemisphere_estimate_blocks(unit_points, radius, progress, |block, out| {
+        for (p, f) in block.iter().zip(out) {
+            *f = local(p);
+        }
+    })
+}
+
+/// [`hemisphere_estimate`] with the local index asked for blocks of scaled points at once:
+/// `values(block, out)` writes `local(block[k])` into `out[k]` (the same length).
+pub(crate) fn hemisphere_estimate_blocks<F>(
+    unit_points: &[Vector3<f64>],
+    radius: f64,
+    progress: &dyn Progress,
+    values: F,
+) -> Result<HemisphereEstimate, IndexError>
+where
+    F: Fn(&[Vector3<f64>], &mut [Option<f64>]) + Sync,
+{
     if unit_points.is_empty() {
         return Err(IndexError::EmptySample { n_samples: 0 });
     }
@@ -83,7 +101,10 @@ where
         )
         .into());
     }
-    let e = integrate_slice(unit_points, 1, v_h, progress, |p| local(&(p * radius)))?;
+    let e = integrate_blocks(unit_points, 1, v_h, progress, |block, out| {
+        let scaled: Vec<Vector3<f64>> = block.iter().map(|p| p * radius).collect();
+        values(&scaled, out);
+    })?;
     Ok(HemisphereEstimate {
         n: e.n_points,
         n_inside: e.n_inside,

@@ -17,15 +17,92 @@
 //! platform at a fixed orientation, `NQ = 6`): $J$ is then $NQ \times 3$ and $1/\kappa$ is
 //! $\sigma_3/\sigma_1$ of its singular values ([`TranslationalCondition`]). `NQ` defaults to 3.
 
+use crate::estimator::{count_volume, integrate_blocks};
+use crate::point_groups::PointGroups;
+use crate::volume::hemisphere_estimate_blocks;
 use crate::{
-    BoundingBox, Dim, HemisphereEstimate, IndexError, Plane, PointSet, Slice,
-    TranslationalCondition, VolumeEstimate, hemisphere_estimate, workspace_volume,
-    workspace_volume_and_eta,
+    BlockKernel, BoundingBox, Dim, HemisphereEstimate, IndexError, LANES, LaneKernel, Plane,
+    PointSet, Slice, TranslationalCondition, VolumeEstimate, evaluate,
+    inverse_condition_number_3x3_lanes, run_block,
 };
 use nalgebra::Vector3;
 use pkm_traits::{
-    ConstrainedWorkspace, InvalidInput, Joints, KinematicsError, Progress, WorkspaceConstraint,
+    ConstrainedWorkspace, InvalidInput, Joints, KinematicsError, Lanes, Progress,
+    WorkspaceConstraint,
 };
+
+/// How many points of `groups` belong to a workspace: the mechanism's lane reachability, then,
+/// for the lanes it reaches, the position constraints and (where some constraint needs the
+/// joints) the assembly, per lane. Exact: a mechanism's reachability agrees with its inverse
+/// kinematics ([`ConstrainedWorkspace::reachable`]), so no point it rejects can assemble.
+struct CountInside<'a, 'm, M: ConstrainedWorkspace<3, NQ>, const NQ: usize> {
+    workspace: &'a Workspace<'m, M, NQ>,
+    groups: &'a [[Lanes<LANES>; 3]],
+}
+
+impl<M, const NQ: usize> BlockKernel for CountInside<'_, '_, M, NQ>
+where
+    M: ConstrainedWorkspace<3, NQ> + Sync,
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
+    type Output = u64;
+
+    #[inline(always)]
+    fn run(&self) -> u64 {
+        let ws = self.workspace;
+        let mut count = 0;
+        for group in self.groups {
+            let reachable = ws.mechanism.reachable_in_any_lanes(group, &ws.modes);
+            for (l, inside) in reachable.into_iter().enumerate() {
+                let point = || Vector3::new(group[0].0[l], group[1].0[l], group[2].0[l]);
+                count += u64::from(inside && ws.inside_if_reachable(&point()));
+            }
+        }
+        count
+    }
+}
+
+/// [`Workspace::inverse_condition`] at [`LANES`] points by the mechanism's lane Jacobians and
+/// the lane $1/\kappa$, for a workspace whose constraints are all on the position; `None`
+/// when the mechanism has no lane kernel for one of the modes it needs.
+struct ConditionLanes<'w, 'm, M: ConstrainedWorkspace<3, NQ>, const NQ: usize>(
+    &'w Workspace<'m, M, NQ>,
+);
+
+impl<M, const NQ: usize> LaneKernel for ConditionLanes<'_, '_, M, NQ>
+where
+    M: ConstrainedWorkspace<3, NQ> + Sync,
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
+    type Output = Option<[Option<f64>; LANES]>;
+
+    #[inline(always)]
+    fn evaluate(&self, points: &[Vector3<f64>; LANES]) -> Self::Output {
+        let ws = self.0;
+        let mut out = [None; LANES];
+        let mut pending: [bool; LANES] = std::array::from_fn(|l| ws.position_allowed(&points[l]));
+        for mode in &ws.modes {
+            if !pending.contains(&true) {
+                break;
+            }
+            let mut j = ws.mechanism.velocity_jacobian_lanes(points, *mode)?;
+            // The identity in the lanes not reached (their values are not used): their
+            // often huge entries would send the 1/κ kernel down its rare scaling path.
+            for (k, row) in j.jacobian.iter_mut().enumerate() {
+                let unit = if k % 4 == 0 { 1.0 } else { 0.0 };
+                *row = Lanes(*row).select(j.reachable, Lanes::splat(unit)).0;
+            }
+            let values = inverse_condition_number_3x3_lanes(&j.jacobian);
+            for l in 0..LANES {
+                if pending[l] && j.reachable[l] {
+                    out[l] = Some(values[l]);
+                    pending[l] = false;
+                }
+            }
+        }
+        Some(out)
+    }
+}
 
 /// A mechanism, the working modes it may use and the constraints of its workspace.
 ///
@@ -104,6 +181,44 @@ where
         }
     }
 
+    /// How many of `points` belong to the workspace: [`Workspace::contains`] at each, the
+    /// mechanism's lane test [`ConstrainedWorkspace::reachable_in_any_lanes`] asked first,
+    /// [`LANES`] points at a time on the vector path of [`crate::run_block`], and the
+    /// constraints only where it reaches. The count is that of `contains`, point for point.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_traits::WorkspaceConstraint;
+    /// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
+    /// use pkm_workspace_indices::{Domain, PointSet, Region, Sampler, Workspace};
+    /// let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical()))?;
+    /// let ws = Workspace::new(&delta, &[ElbowMode::Out], &[WorkspaceConstraint::below(0.0)?])?;
+    /// let domain = Domain::new(Region::axial_cylinder(0.9, -1.2, 0.2))?;
+    /// let points = PointSet::new(domain, Sampler::Sobol { seed: 1 }, 1001, 1)?;
+    /// let one_by_one = points.points().iter().filter(|x| ws.contains(x)).count() as u64;
+    /// assert_eq!(ws.count_inside(points.points()), one_by_one);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn count_inside(&self, points: &[Vector3<f64>]) -> u64 {
+        self.count_in_groups(&PointGroups::new(points))
+    }
+
+    /// [`Workspace::contains`] at a point that the mechanism reaches in one of the modes.
+    #[inline]
+    fn inside_if_reachable(&self, x: &Vector3<f64>) -> bool {
+        self.position_allowed(x) && (self.on_joints.is_empty() || self.assemble(x).is_some())
+    }
+
+    /// [`Workspace::count_inside`] of the points of `points`.
+    pub(crate) fn count_in_groups(&self, points: &PointGroups) -> u64 {
+        let kernel = CountInside {
+            workspace: self,
+            groups: &points.groups,
+        };
+        let rest = points.rest.iter().filter(|x| self.contains(x)).count() as u64;
+        run_block(&kernel) + rest
+    }
+
     /// The joints of the first listed mode that assembles at `x` within every constraint.
     pub fn assembly(&self, x: &Vector3<f64>) -> Option<Joints<NQ>> {
         if self.position_allowed(x) {
@@ -151,6 +266,50 @@ where
         }))
     }
 
+    /// [`Workspace::inverse_condition`] at [`LANES`] points at once. Where the mechanism has
+    /// lane Jacobians for every mode ([`ConstrainedWorkspace::velocity_jacobian_lanes`]),
+    /// $J$ is square and no constraint needs the joints, they and
+    /// [`crate::inverse_condition_number_3x3_lanes`] run on the vector path of
+    /// [`crate::evaluate`]; otherwise point by point. The lane kernels equal the point-by-point
+    /// ones to rounding: $1/\kappa$ to about $10^{-12}$ relative for $\kappa \le 10^2$, and
+    /// membership may differ only within rounding of the workspace boundary.
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::Vector3;
+    /// use pkm_mechanisms::{Elbow, Tsai3Dof, presets};
+    /// use pkm_workspace_indices::{LANES, Workspace};
+    /// let tsai = Tsai3Dof::new(presets::stamper_max_gci())?;
+    /// let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[])?;
+    /// let points = std::array::from_fn(|l| Vector3::new(0.02 * l as f64, -0.1, 0.4));
+    /// for (x, lane) in points.iter().zip(ws.inverse_condition_lanes(&points)) {
+    ///     let one = ws.inverse_condition(x).unwrap();
+    ///     assert!((lane.unwrap() - one).abs() < 1e-12);
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn inverse_condition_lanes(&self, points: &[Vector3<f64>; LANES]) -> [Option<f64>; LANES] {
+        let lanes = (NQ == 3 && self.on_joints.is_empty())
+            .then(|| evaluate(&ConditionLanes(self), points))
+            .flatten();
+        lanes.unwrap_or_else(|| std::array::from_fn(|l| self.inverse_condition(&points[l])))
+    }
+
+    /// [`Workspace::inverse_condition_lanes`] over `points`, [`LANES`] at a time, into `out`
+    /// (the same length); the remainder point by point.
+    fn inverse_condition_block(&self, points: &[Vector3<f64>], out: &mut [Option<f64>]) {
+        let groups = points.chunks_exact(LANES);
+        let rest = points.len() - groups.remainder().len();
+        for (group, values) in groups.zip(out.chunks_exact_mut(LANES)) {
+            if let Ok(group) = <&[Vector3<f64>; LANES]>::try_from(group) {
+                values.copy_from_slice(&self.inverse_condition_lanes(group));
+            }
+        }
+        for (x, value) in points[rest..].iter().zip(&mut out[rest..]) {
+            *value = self.inverse_condition(x);
+        }
+    }
+
     /// The workspace volume over `points`.
     ///
     /// # Errors
@@ -160,7 +319,7 @@ where
         points: &PointSet,
         progress: &dyn Progress,
     ) -> Result<VolumeEstimate, IndexError> {
-        workspace_volume(points, progress, |x| self.contains(x))
+        count_volume(points, progress, |block| self.count_inside(block))
     }
 
     /// The workspace volume and $\eta = \int 1/\kappa\, dW$ over `points` (GCI = η/W by
@@ -173,7 +332,13 @@ where
         points: &PointSet,
         progress: &dyn Progress,
     ) -> Result<VolumeEstimate, IndexError> {
-        workspace_volume_and_eta(points, progress, |x| self.inverse_condition(x))
+        integrate_blocks(
+            points.points(),
+            points.replicates() as usize,
+            points.domain().volume(),
+            progress,
+            |block, out| self.inverse_condition_block(block, out),
+        )
     }
 
     /// $W$ and $\eta = \int 1/\kappa\, dW$ over the hemisphere of `radius` about the origin,
@@ -203,7 +368,9 @@ where
         radius: f64,
         progress: &dyn Progress,
     ) -> Result<HemisphereEstimate, IndexError> {
-        hemisphere_estimate(unit_points, radius, progress, |x| self.inverse_condition(x))
+        hemisphere_estimate_blocks(unit_points, radius, progress, |block, out| {
+            self.inverse_condition_block(block, out);
+        })
     }
 
     /// $1/\kappa$ on the `n × n` cell centres of `plane` at offset `at` over the extent of

@@ -2,9 +2,12 @@
 //! bend of its ball joints, and the clearance between neighbouring legs.
 
 use super::{ElbowMode, RotaryDelta};
+use nalgebra::Vector3;
 use pkm_traits::checked::{all_finite, min_propagating_nan};
 use pkm_traits::workspace::{PLATFORM_LINK_CLEARANCE_SPAN, links_distance};
-use pkm_traits::{ConstrainedWorkspace, ConstraintKind, InverseKinematics, Joints, Task};
+use pkm_traits::{
+    ConstrainedWorkspace, ConstraintKind, InverseKinematics, JacobianLanes, Joints, Lanes, Task,
+};
 
 /// The part of a forearm, from the elbow, on which leg clearance is measured (the span every
 /// mechanism uses for the link that ends on the platform).
@@ -51,6 +54,80 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     /// Reachability does not depend on the elbow mode: one test for any non-empty list.
     fn reachable_in_any(&self, x: &Task<3>, modes: &[ElbowMode]) -> bool {
         !modes.is_empty() && self.reachable(x, ElbowMode::Out)
+    }
+
+    /// The test of [`ConstrainedWorkspace::reachable`] on `N` points at once, in [`Lanes`],
+    /// with the same products, sums and comparisons, so the same answer at every point: a lane
+    /// is inside where every leg has $4L_a^2\rho^2 - s^2 \ge 0$ (the sign of a difference of
+    /// finite values is that of the comparison) and $\rho^2 > 0$. A lane whose products are
+    /// not finite (a non-finite point, or one beyond about 1e77 m; caught as a NaN in
+    /// $\sum 0 \cdot s^2 + 0 \cdot r$) is answered by the point test, which asks the inverse
+    /// kinematics there. The legs after one that no settled lane passes are skipped (the point
+    /// test stops at the first leg that fails as well).
+    #[inline(always)]
+    fn reachable_in_any_lanes<const N: usize>(
+        &self,
+        x: &[Lanes<N>; 3],
+        modes: &[ElbowMode],
+    ) -> [bool; N] {
+        if modes.is_empty() {
+            return [false; N];
+        }
+        let offset = self.design.arm * self.design.arm - self.design.forearm * self.design.forearm;
+        let scale = 4.0 * self.design.arm * self.design.arm;
+        // Per lane: the smallest 4L_a²ρ² − s² and ρ² over the legs, and a sum that is NaN
+        // where a product was not finite. One fused loop over the lanes per leg, so that the
+        // compiler vectorises across lanes.
+        let (mut margin, mut rho2_min, mut poison) =
+            ([f64::INFINITY; N], [f64::INFINITY; N], [0.0; N]);
+        for leg in &self.legs {
+            let (o, u, w) = (leg.plate_offset - leg.motor, leg.u, leg.w);
+            let mut open = false;
+            for l in 0..N {
+                let d = [x[0].0[l] + o.x, x[1].0[l] + o.y, x[2].0[l] + o.z];
+                let s = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + offset;
+                let a = d[0] * u.x + d[1] * u.y + d[2] * u.z;
+                let b = d[0] * w.x + d[1] * w.y + d[2] * w.z;
+                let rho2 = a * a + b * b;
+                let (lhs, rhs) = (s * s, scale * rho2);
+                poison[l] = poison[l] + lhs * 0.0 + rhs * 0.0;
+                let gap = rhs - lhs;
+                margin[l] = if gap < margin[l] { gap } else { margin[l] };
+                rho2_min[l] = if rho2 < rho2_min[l] {
+                    rho2
+                } else {
+                    rho2_min[l]
+                };
+                open |= (margin[l] >= 0.0) & (poison[l] == 0.0);
+            }
+            if !open {
+                break;
+            }
+        }
+        let inside = std::array::from_fn(|l| (margin[l] >= 0.0) & (rho2_min[l] > 0.0));
+        if poison.iter().fold(true, |all, p| all & (*p == 0.0)) {
+            return inside;
+        }
+        std::array::from_fn(|l| {
+            if poison[l] == 0.0 {
+                inside[l]
+            } else {
+                self.reachable(
+                    &Vector3::new(x[0].0[l], x[1].0[l], x[2].0[l]),
+                    ElbowMode::Out,
+                )
+            }
+        })
+    }
+
+    /// [`RotaryDelta::jacobian_lanes`], in either mode.
+    #[inline(always)]
+    fn velocity_jacobian_lanes<const N: usize>(
+        &self,
+        x: &[Task<3>; N],
+        mode: ElbowMode,
+    ) -> Option<JacobianLanes<N>> {
+        Some(self.jacobian_lanes(x, mode))
     }
 
     /// The ball joints at both ends of forearm $i$ have their studs along the motor axis $e_i$
@@ -103,7 +180,6 @@ mod tests {
     use super::*;
     use crate::presets;
     use crate::rotary_delta::Placement;
-    use nalgebra::Vector3;
     use proptest::prelude::*;
 
     fn nuwar() -> RotaryDelta {
@@ -121,6 +197,77 @@ mod tests {
             let ik = m.inverse_kinematics(&p, ElbowMode::Out).is_ok();
             prop_assert_eq!(m.reachable(&p, ElbowMode::In), ik);
         }
+    }
+
+    /// Any float (NaN, ±∞, huge and subnormal included) or a coordinate near the workspace.
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![-1.5f64..1.5, proptest::num::f64::ANY]
+    }
+
+    fn lanes_agree_with_the_point_test(m: &RotaryDelta, points: &[Vector3<f64>; 8]) {
+        let modes = [ElbowMode::Out, ElbowMode::In];
+        let lanes = m.reachable_in_any_lanes(&Lanes::coordinates(points), &modes);
+        for (p, inside) in points.iter().zip(lanes) {
+            assert_eq!(inside, m.reachable_in_any(p, &modes), "{p:?}");
+        }
+        assert_eq!(
+            m.reachable_in_any_lanes(&Lanes::coordinates(points), &[]),
+            [false; 8]
+        );
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+        #[test]
+        fn reachability_in_lanes_is_the_point_test(
+            c in proptest::collection::vec(coordinate(), 24)
+        ) {
+            let points = std::array::from_fn(|l| Vector3::new(c[3 * l], c[3 * l + 1], c[3 * l + 2]));
+            lanes_agree_with_the_point_test(&nuwar(), &points);
+        }
+    }
+
+    /// Pairs of points one ulp apart across the boundary, found by bisection along rays from
+    /// a reachable point: where a reordered sum would flip the answer.
+    #[test]
+    fn reachability_in_lanes_is_the_point_test_at_the_boundary() {
+        let m = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
+        let centre = Vector3::new(0.0, 0.0, -0.7);
+        assert!(m.reachable(&centre, ElbowMode::Out));
+        let mut pairs = Vec::new();
+        for k in 0..48 {
+            let (polar, azimuth) = (0.3 + 0.05 * f64::from(k), 0.7 * f64::from(k));
+            let dir = Vector3::new(
+                polar.sin() * azimuth.cos(),
+                polar.sin() * azimuth.sin(),
+                polar.cos(),
+            );
+            let (mut inside, mut outside) = (0.0f64, 4.0f64);
+            while outside.next_down() > inside {
+                let mid = 0.5 * (inside + outside);
+                let mid = if mid <= inside || mid >= outside {
+                    inside.next_up()
+                } else {
+                    mid
+                };
+                if m.reachable(&(centre + dir * mid), ElbowMode::Out) {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            pairs.extend([centre + dir * inside, centre + dir * outside]);
+        }
+        let mut flips = 0;
+        for chunk in pairs.chunks_exact(8) {
+            let points: [Vector3<f64>; 8] = std::array::from_fn(|l| chunk[l]);
+            lanes_agree_with_the_point_test(&m, &points);
+            flips += points
+                .iter()
+                .filter(|p| m.reachable(p, ElbowMode::Out))
+                .count();
+        }
+        assert_eq!(flips, 48, "one point of each pair inside");
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! and one build of the shared code instead of one per file).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod lane_estimators;
 mod lane_kernels;
 mod local_indices;
 mod properties;

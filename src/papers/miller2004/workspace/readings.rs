@@ -9,7 +9,7 @@ use pkm_mechanisms::{ElbowMode, RotaryDelta};
 use pkm_traits::{ConstraintError, WorkspaceConstraint};
 use pkm_workspace_indices::{
     Domain, PointSet, Region, Sampler, VolumeEstimate, Workspace, ratio_standard_error,
-    sweep_volumes,
+    sweep_workspace_volumes,
 };
 
 /// Where the points are drawn: the bounding cylinder of every design below the motor plane,
@@ -288,7 +288,7 @@ impl Reading {
             REPLICATES,
         )?;
         ctx.progress.start(label, workspaces.len() as u64);
-        let volumes = sweep_volumes(&workspaces, &points, ctx.progress, |w, x| w.contains(x));
+        let volumes = sweep_workspace_volumes(&workspaces, &points, ctx.progress);
         ctx.progress.finish();
         Ok(volumes?)
     }
