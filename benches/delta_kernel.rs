@@ -16,7 +16,7 @@ use nalgebra::Vector3;
 use pkm::mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
 use pkm::workspace_indices::{
     Accumulator, LANES, LaneKernel, Sampler, VectorPath, chunked_reduce, evaluate_on,
-    inverse_condition_number_3x3, inverse_condition_number_3x3_lanes,
+    inverse_condition_number_3x3, inverse_condition_of_reachable_lanes,
 };
 use pkm_traits::{ClosedChain, InverseKinematics, Silent};
 
@@ -117,9 +117,7 @@ impl LaneKernel for DeltaIndex {
     type Output = [Option<f64>; LANES];
     #[inline(always)]
     fn evaluate(&self, points: &[Vector3<f64>; LANES]) -> [Option<f64>; LANES] {
-        let j = self.0.jacobian_lanes(points, ElbowMode::Out);
-        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
-        std::array::from_fn(|l| j.reachable[l].then_some(r[l]))
+        inverse_condition_of_reachable_lanes(&self.0.jacobian_lanes(points, ElbowMode::Out))
     }
 }
 

@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 use pkm::mechanisms::{Elbow, Tsai3Dof, presets};
 use pkm::workspace_indices::{
     LANES, LaneKernel, Sampler, VectorPath, Workspace, hemisphere_estimate,
-    inverse_condition_number_3x3_lanes,
+    inverse_condition_of_reachable_lanes,
 };
 use pkm_traits::Silent;
 
@@ -46,7 +46,7 @@ pub(crate) fn gci_kernel(c: &mut Criterion) {
 }
 
 /// The same kernel lane-parallel ([`Tsai3Dof::velocity_jacobian_elbow_out_lanes`] and
-/// `inverse_condition_number_3x3_lanes`) on unit-hemisphere points scaled by `radius`.
+/// `inverse_condition_of_reachable_lanes`) on unit-hemisphere points scaled by `radius`.
 struct TsaiIndex {
     design: Tsai3Dof,
     radius: f64,
@@ -56,11 +56,10 @@ impl LaneKernel for TsaiIndex {
     type Output = [Option<f64>; LANES];
     #[inline(always)]
     fn evaluate(&self, unit: &[Vector3<f64>; LANES]) -> [Option<f64>; LANES] {
-        let j = self
-            .design
-            .velocity_jacobian_elbow_out_lanes(&unit.map(|p| p * self.radius));
-        let r = inverse_condition_number_3x3_lanes(&j.jacobian);
-        std::array::from_fn(|l| j.reachable[l].then_some(r[l]))
+        let scaled = unit.map(|p| p * self.radius);
+        inverse_condition_of_reachable_lanes(
+            &self.design.velocity_jacobian_elbow_out_lanes(&scaled),
+        )
     }
 }
 

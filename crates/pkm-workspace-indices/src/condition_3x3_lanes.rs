@@ -26,7 +26,7 @@
 
 #[cfg(doc)]
 use crate::inverse_condition_number_3x3;
-use pkm_traits::Lanes;
+use pkm_traits::{JacobianLanes, Lanes};
 
 /// The lane count the batch kernels are tuned for: eight independent lanes (four SSE2 registers)
 /// hide the latency of the dependent divisions in the Newton steps; on baseline x86-64 eight
@@ -102,6 +102,41 @@ pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -
             general.0[l]
         }
     })
+}
+
+/// $1/\kappa$ ([`inverse_condition_number_3x3_lanes`]) of each reachable lane of a batch
+/// Jacobian, `None` in the others. The lanes not reached are set to the identity first: their
+/// values are not used, and their entries, often huge, would send the kernel down its rare
+/// scaling path (a logarithm per lane). The reachable lanes are untouched, so their values are
+/// those of [`inverse_condition_number_3x3_lanes`] on the Jacobian as it is, bit for bit.
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
+/// use pkm_workspace_indices::{inverse_condition_number_3x3_lanes, inverse_condition_of_reachable_lanes};
+/// let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical()))?;
+/// let j = delta.jacobian_lanes(&[Vector3::new(0.0, 0.1, -0.7), Vector3::new(0.0, 0.0, 9.0)], ElbowMode::Out);
+/// let values = inverse_condition_of_reachable_lanes(&j);
+/// assert_eq!(values[0], Some(inverse_condition_number_3x3_lanes(&j.jacobian)[0]));
+/// assert_eq!(values[1], None);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[inline(always)]
+pub fn inverse_condition_of_reachable_lanes<const N: usize>(
+    j: &JacobianLanes<N>,
+) -> [Option<f64>; N] {
+    let values = if j.reachable.contains(&false) {
+        let mut jacobian = j.jacobian;
+        for (k, row) in jacobian.iter_mut().enumerate() {
+            let unit = if k % 4 == 0 { 1.0 } else { 0.0 };
+            *row = Lanes(*row).select(j.reachable, Lanes::splat(unit)).0;
+        }
+        inverse_condition_number_3x3_lanes(&jacobian)
+    } else {
+        inverse_condition_number_3x3_lanes(&j.jacobian)
+    };
+    std::array::from_fn(|l| j.reachable[l].then_some(values[l]))
 }
 
 /// Each lane scaled by the power of two of the scalar routine (`det(J)²` grows like the sixth

@@ -98,7 +98,9 @@ pub use condition::{
     inverse_condition_number_tall,
 };
 pub use condition_3x3::inverse_condition_number_3x3;
-pub use condition_3x3_lanes::{LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes};
+pub use condition_3x3_lanes::{
+    LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes, inverse_condition_of_reachable_lanes,
+};
 pub use cross_section_indices::{
     GridMean, GridRule, mean_by_grid, mean_by_grid_lanes, mean_by_quadrature,
     mean_by_quadrature_lanes,

@@ -23,7 +23,7 @@ use crate::volume::hemisphere_estimate_blocks;
 use crate::{
     BlockKernel, BoundingBox, Dim, HemisphereEstimate, IndexError, LANES, LaneKernel, Plane,
     PointSet, Slice, TranslationalCondition, VolumeEstimate, evaluate,
-    inverse_condition_number_3x3_lanes, run_block,
+    inverse_condition_of_reachable_lanes, run_block,
 };
 use nalgebra::Vector3;
 use pkm_traits::{
@@ -85,17 +85,11 @@ where
             if !pending.contains(&true) {
                 break;
             }
-            let mut j = ws.mechanism.velocity_jacobian_lanes(points, *mode)?;
-            // The identity in the lanes not reached (their values are not used): their
-            // often huge entries would send the 1/κ kernel down its rare scaling path.
-            for (k, row) in j.jacobian.iter_mut().enumerate() {
-                let unit = if k % 4 == 0 { 1.0 } else { 0.0 };
-                *row = Lanes(*row).select(j.reachable, Lanes::splat(unit)).0;
-            }
-            let values = inverse_condition_number_3x3_lanes(&j.jacobian);
+            let j = ws.mechanism.velocity_jacobian_lanes(points, *mode)?;
+            let values = inverse_condition_of_reachable_lanes(&j);
             for l in 0..LANES {
-                if pending[l] && j.reachable[l] {
-                    out[l] = Some(values[l]);
+                if pending[l] && values[l].is_some() {
+                    out[l] = values[l];
                     pending[l] = false;
                 }
             }
