@@ -49,6 +49,7 @@ pub mod progress;
 pub mod region;
 #[cfg(feature = "testkit")]
 pub mod testkit;
+pub mod vector_path;
 pub mod workspace;
 
 pub use checked::MEMORY_BUDGET_BYTES;
@@ -62,6 +63,7 @@ pub use lanes::{JacobianLanes, Lanes};
 pub use objective::{Bounds, Constraints, Objective, Residuals};
 pub use progress::{CancelOnly, Cancelled, Progress, Silent};
 pub use region::{CrossSectionWorkspace, Extents, SlicedRegion};
+pub use vector_path::{BlockKernel, VECTOR_PATH_VARIABLE, VectorPath, run_block, run_block_on};
 pub use workspace::{
     ConstrainedWorkspace, ConstraintError, ConstraintKind, PLATFORM_LINK_CLEARANCE_SPAN,
     WorkspaceConstraint, links_distance, segment_distance,

@@ -110,6 +110,9 @@ pub use estimator::{ErrorModel, VolumeEstimate, workspace_volume, workspace_volu
 pub use gauss_legendre::GaussLegendre;
 pub use local::{LocalIndices, inverse_condition_at, local_indices};
 pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce, chunked_reduce_ranges};
+pub use pkm_traits::vector_path::{
+    BlockKernel, VECTOR_PATH_VARIABLE, VectorPath, run_block, run_block_on,
+};
 pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
 pub use region::{BoundingBox, Domain, Region};
 pub use sampler::Sampler;
@@ -118,9 +121,6 @@ pub use section_indices::{Eta1Rule, SectionIndex, SectionIndices};
 pub use slice::{Plane, Slice};
 pub use space_utilization::space_utilization;
 pub use sweep::{ratio_standard_error, sweep_volumes, sweep_workspace_volumes};
-pub use vector_path::{
-    BlockKernel, LaneKernel, VECTOR_PATH_VARIABLE, VectorPath, evaluate, evaluate_on, run_block,
-    run_block_on,
-};
+pub use vector_path::{LaneKernel, evaluate, evaluate_on};
 pub use volume::{HemisphereEstimate, hemisphere_estimate};
 pub use workspace::Workspace;
