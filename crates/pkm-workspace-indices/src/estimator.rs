@@ -172,12 +172,20 @@ where
         points.replicates() as usize,
         points.domain().volume(),
         progress,
-        |block, out| {
-            for (x, f) in block.iter().zip(out) {
-                *f = local(x);
-            }
-        },
+        point_by_point(local),
     )
+}
+
+/// `local` asked point by point, as the `values` of [`integrate_blocks`].
+pub(crate) fn point_by_point<F>(local: F) -> impl Fn(&[Vector3<f64>], &mut [Option<f64>]) + Sync
+where
+    F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
+{
+    move |block, out| {
+        for (x, f) in block.iter().zip(out) {
+            *f = local(x);
+        }
+    }
 }
 
 /// The estimator on `points` (`replicates` equal consecutive blocks) of a domain of volume

@@ -8,7 +8,7 @@
 //! $V_h\sqrt{p(1-p)/n}$ and $V_h\,\mathrm{sd}(f)/\sqrt{n}$.
 
 use crate::IndexError;
-use crate::estimator::integrate_blocks;
+use crate::estimator::{integrate_blocks, point_by_point};
 use nalgebra::Vector3;
 use pkm_traits::{InvalidInput, Progress};
 use std::f64::consts::PI;
@@ -68,11 +68,7 @@ pub fn hemisphere_estimate<F>(
 where
     F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
 {
-    hemisphere_estimate_blocks(unit_points, radius, progress, |block, out| {
-        for (p, f) in block.iter().zip(out) {
-            *f = local(p);
-        }
-    })
+    hemisphere_estimate_blocks(unit_points, radius, progress, point_by_point(local))
 }
 
 /// [`hemisphere_estimate`] with the local index asked for blocks of scaled points at once:

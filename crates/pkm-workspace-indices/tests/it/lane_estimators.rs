@@ -24,31 +24,13 @@ fn sector_points(per_replicate: u64) -> PointSet {
     PointSet::new(domain, Sampler::Sobol { seed: 11 }, per_replicate, 2).unwrap()
 }
 
-/// Non-finite, huge and tiny coordinates mixed with ordinary ones.
-fn hostile() -> Vec<Vector3<f64>> {
-    let specials = [
-        f64::NAN,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::MAX,
-        -1e160,
-        1e154,
-        1e-300,
-        -0.0,
-        0.2,
-        -0.7,
-    ];
-    let mut out = Vec::new();
-    for &a in &specials {
-        for &b in &specials {
-            out.extend([
-                Vector3::new(a, b, -0.6),
-                Vector3::new(0.05, a, b),
-                Vector3::new(b, 0.02, a),
-            ]);
-        }
-    }
-    out
+/// `f` on a pool of `threads` threads.
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(f)
 }
 
 /// Every constraint kind the Delta evaluates, alone and together.
@@ -71,7 +53,7 @@ fn constraint_sets() -> Vec<Vec<WorkspaceConstraint>> {
 fn counts_are_the_point_tests_for_every_constraint_and_mode_set() {
     let m = nuwar();
     let mut points = sector_points(3001).points().to_vec();
-    points.extend(hostile());
+    points.extend(crate::lane_kernels::hostile());
     for constraints in constraint_sets() {
         let mut inside = 0;
         for modes in [
@@ -119,15 +101,8 @@ fn volumes_and_sweeps_are_bit_identical_to_the_point_by_point_estimators() {
         );
         assert_eq!(sweep[0], slow);
         for threads in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            assert_eq!(
-                pool.install(|| sweep_workspace_volumes(&ws, &points, &Silent))
-                    .unwrap(),
-                sweep
-            );
+            let again = on_threads(threads, || sweep_workspace_volumes(&ws, &points, &Silent));
+            assert_eq!(again.unwrap(), sweep);
         }
     }
 }
@@ -151,7 +126,7 @@ impl BlockKernel for Reachability<'_> {
 fn the_lane_reachability_is_the_point_test_on_every_vector_path() {
     let m = nuwar();
     let mut points = sector_points(4000).points().to_vec();
-    points.extend(hostile());
+    points.extend(crate::lane_kernels::hostile());
     points.truncate(points.len() / LANES * LANES);
     let groups: Vec<[Lanes<LANES>; 3]> = points
         .chunks_exact(LANES)
@@ -249,14 +224,7 @@ fn eta_estimates_on_lanes_agree_with_the_point_by_point_ones_to_rounding() {
     let (a, b) = (lanes.eta.unwrap(), slow.eta.unwrap());
     assert!((a / b - 1.0).abs() < 1e-12, "{a} vs {b}");
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        assert_eq!(
-            pool.install(|| ws.volume_and_eta(&points, &Silent))
-                .unwrap(),
-            lanes
-        );
+        let again = on_threads(threads, || ws.volume_and_eta(&points, &Silent));
+        assert_eq!(again.unwrap(), lanes);
     }
 }

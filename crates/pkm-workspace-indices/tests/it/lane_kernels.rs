@@ -23,7 +23,7 @@ fn tsai() -> Tsai3Dof {
 }
 
 /// Non-finite and huge coordinates in every position, mixed with ordinary ones.
-fn hostile() -> Vec<Vector3<f64>> {
+pub(crate) fn hostile() -> Vec<Vector3<f64>> {
     let specials = [
         f64::NAN,
         f64::INFINITY,
