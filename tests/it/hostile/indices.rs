@@ -5,15 +5,16 @@
 use super::{config, hostile_count, hostile_f64, hostile_vec3, judge, judge_err, judge_value};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use pkm_mechanisms::{
-    Elbow, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios, ThreeUpu,
-    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, presets,
+    Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
+    Placement, RotaryDelta, ThreeUpu, ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, presets,
 };
-use pkm_traits::{Extents, Silent, SlicedRegion};
+use pkm_traits::{Extents, JacobianLanes, Silent, SlicedRegion, WorkspaceConstraint};
 use pkm_workspace_indices::{
-    BoundingBox, Eta1Rule, GaussLegendre, GridRule, LocalIndices, Plane, SectionIndex,
-    SectionIndexCache, SectionIndices, Slice, Workspace, condition_number, inverse_condition_at,
-    inverse_condition_number, inverse_condition_number_3x3, local_indices, mean_by_grid,
-    mean_by_quadrature, space_utilization,
+    BoundingBox, Domain, Eta1Rule, GaussLegendre, GridRule, LANES, LocalIndices, Plane, PointSet,
+    Region, Sampler, SectionIndex, SectionIndexCache, SectionIndices, Slice, Workspace,
+    condition_number, inverse_condition_at, inverse_condition_number, inverse_condition_number_3x3,
+    inverse_condition_of_reachable_lanes, local_indices, mean_by_grid, mean_by_quadrature,
+    space_utilization, sweep_workspace_volumes,
 };
 use proptest::prelude::*;
 
@@ -185,6 +186,53 @@ proptest! {
         judge("Workspace::hemisphere_estimate", || ws.hemisphere_estimate(&unit, radius, &Silent), |e| {
             e.volume.is_finite() && e.eta.is_finite() && e.eta <= e.volume && e.gci().is_none_or(|g| ratio(&g))
         })?;
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// The lane entry points at hostile points and Jacobians: 1/κ of every lane a ratio or
+    /// `None`, the lane count the point test's count, and a sweep over no design refused.
+    #[test]
+    fn lane_entry_points(
+        coordinates in prop::collection::vec(hostile_f64(), 3 * LANES),
+        entries in prop::collection::vec(hostile_f64(), 9 * LANES),
+        reachable in prop::collection::vec(any::<bool>(), LANES),
+        scale in hostile_f64(),
+    ) {
+        let points: [Vector3<f64>; LANES] = std::array::from_fn(|l| {
+            Vector3::new(coordinates[3 * l], coordinates[3 * l + 1], coordinates[3 * l + 2])
+        });
+        let lanes_hold = |values: &[Option<f64>; LANES]| values.iter().flatten().all(ratio);
+        let j = JacobianLanes {
+            jacobian: std::array::from_fn(|k| std::array::from_fn(|l| entries[LANES * k + l])),
+            reachable: std::array::from_fn(|l| reachable[l]),
+        };
+        judge_value("inverse_condition_of_reachable_lanes", || inverse_condition_of_reachable_lanes(&j), |v| {
+            lanes_hold(v) && v.iter().zip(&j.reachable).all(|(v, r)| v.is_some() == *r)
+        })?;
+        let tsai = tsai();
+        let nuwar = RotaryDelta::new(presets::nuwar(Placement::canonical())).unwrap();
+        let below = WorkspaceConstraint::below(0.0).unwrap();
+        let cone = WorkspaceConstraint::passive_cone(0.6).unwrap();
+        let scaled = points.map(|p| p * scale);
+        for p in [&points, &scaled] {
+            let ws = Workspace::new(&tsai, &[[Elbow::Out; 3]], &[]).unwrap();
+            judge_value("Workspace::inverse_condition_lanes (Tsai3Dof)", || ws.inverse_condition_lanes(p), lanes_hold)?;
+            let count = p.iter().filter(|x| ws.contains(x)).count() as u64;
+            judge_value("Workspace::count_inside (Tsai3Dof)", || ws.count_inside(p), |n| *n == count)?;
+            for constraints in [vec![below], vec![below, cone]] {
+                let ws = Workspace::new(&nuwar, &[ElbowMode::Out, ElbowMode::In], &constraints).unwrap();
+                judge_value("Workspace::inverse_condition_lanes (RotaryDelta)", || ws.inverse_condition_lanes(p), lanes_hold)?;
+                let count = p.iter().filter(|x| ws.contains(x)).count() as u64;
+                judge_value("Workspace::count_inside (RotaryDelta)", || ws.count_inside(p), |n| *n == count)?;
+            }
+        }
+        let none: [Workspace<'_, Tsai3Dof>; 0] = [];
+        let domain = Domain::new(Region::Ball { center: Vector3::zeros(), radius: 1.0 }).unwrap();
+        let set = PointSet::new(domain, Sampler::Sobol { seed: 1 }, 64, 2).unwrap();
+        judge_err("sweep_workspace_volumes (no design)", || sweep_workspace_volumes(&none, &set, &Silent))?;
     }
 }
 
