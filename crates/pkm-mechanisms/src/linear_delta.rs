@@ -69,6 +69,7 @@ impl LinearDeltaMode {
         leans_positive: [true, true, false],
     };
 
+    #[inline(always)]
     fn sign(&self, leg: usize) -> f64 {
         if self.leans_positive[leg] { 1.0 } else { -1.0 }
     }
@@ -211,6 +212,7 @@ impl LinearDelta {
     /// `l` is reachable exactly where the arms reach $(y, z_l)$ (every discriminant
     /// $L_i^2 - (y - A_{iy})^2 - (z_l - A_{iz})^2 > 0$), and there its entries are the same
     /// floating-point operations, so bit-identical.
+    #[inline(always)]
     pub fn velocity_jacobian_lanes<const N: usize>(
         &self,
         y: f64,

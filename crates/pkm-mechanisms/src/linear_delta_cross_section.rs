@@ -328,6 +328,7 @@ impl CrossSectionWorkspace for LinearDelta {
         self.rails().to_vec()
     }
 
+    #[inline(always)]
     fn cross_section_jacobian_lanes<const N: usize>(
         &self,
         y: f64,

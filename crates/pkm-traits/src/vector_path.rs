@@ -72,7 +72,7 @@ impl VectorPath {
 /// one [`VectorPath`] as a [`LaneKernel`] is, so that the loop runs inside the wide copy with
 /// one dispatch per block instead of one per group. The same rules hold: `run` must be
 /// `#[inline(always)]` and call only `#[inline(always)]` kernels to be compiled for the path.
-pub trait BlockKernel: Sync {
+pub trait BlockKernel {
     /// What the kernel returns.
     type Output;
     /// The kernel.

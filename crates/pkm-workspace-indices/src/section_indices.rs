@@ -14,7 +14,7 @@ use crate::{
     GaussLegendre, GridMean, GridRule, IndexError, LANES, inverse_condition_number_3x3_lanes,
     mean_by_grid_lanes, mean_by_quadrature_lanes, space_utilization,
 };
-use pkm_traits::{CrossSectionWorkspace, SlicedRegion};
+use pkm_traits::{BlockKernel, CrossSectionWorkspace, SlicedRegion, run_block};
 use serde::{Deserialize, Serialize};
 
 /// How $\eta_1$ is integrated over the cross-section.
@@ -40,6 +40,31 @@ pub enum SectionIndex {
     Eta2,
     /// The exact area $A_W$ (0 for an empty cross-section).
     Area,
+}
+
+/// [`SectionIndices::inverse_condition_lanes`] as a kernel for the vector path.
+struct SliceLanes<'a, 'm, M: CrossSectionWorkspace> {
+    indices: &'a SectionIndices<'m, M>,
+    y: f64,
+    z: &'a [f64; LANES],
+}
+
+impl<M: CrossSectionWorkspace> BlockKernel for SliceLanes<'_, '_, M> {
+    type Output = [f64; LANES];
+
+    #[inline(always)]
+    fn run(&self) -> [f64; LANES] {
+        let (m, mode) = (self.indices.mechanism, self.indices.mode);
+        let batch = m.cross_section_jacobian_lanes(self.y, self.z, mode);
+        let inverse = inverse_condition_number_3x3_lanes(&batch.jacobian);
+        std::array::from_fn(|lane| {
+            if batch.reachable[lane] {
+                inverse[lane]
+            } else {
+                0.0
+            }
+        })
+    }
 }
 
 /// The cross-section indices of one mechanism in one working mode: its cross-section is built
@@ -82,16 +107,13 @@ impl<'m, M: CrossSectionWorkspace> SectionIndices<'m, M> {
     }
 
     /// $1/\kappa(J)$ at the [`LANES`] points $(y, z_l)$ of one slice, 0 in a lane where $J$ is
-    /// not defined.
+    /// not defined; on the vector path of [`pkm_traits::run_block`] (the same bits on every
+    /// path).
     pub fn inverse_condition_lanes(&self, y: f64, z: &[f64; LANES]) -> [f64; LANES] {
-        let batch = self.mechanism.cross_section_jacobian_lanes(y, z, self.mode);
-        let inverse = inverse_condition_number_3x3_lanes(&batch.jacobian);
-        std::array::from_fn(|lane| {
-            if batch.reachable[lane] {
-                inverse[lane]
-            } else {
-                0.0
-            }
+        run_block(&SliceLanes {
+            indices: self,
+            y,
+            z,
         })
     }
 
@@ -156,5 +178,51 @@ impl<'m, M: CrossSectionWorkspace> SectionIndices<'m, M> {
             SectionIndex::Eta2 => self.eta2(),
             SectionIndex::Area => Ok(self.area()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
+    use pkm_traits::{VectorPath, run_block_on};
+
+    #[test]
+    fn slice_lanes_give_the_same_bits_on_every_vector_path() {
+        let ratios = LinearDeltaRatios {
+            l1_over_yr: 2.0,
+            ya_over_yr: 0.0,
+            zr_over_yr: 0.0,
+            l2_over_l1: 0.63,
+        };
+        let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
+        let indices = SectionIndices::new(&delta, LinearDeltaMode::PAPER);
+        let mut inside = 0;
+        for k in 0..40 {
+            let y = -2.0 + 0.1 * f64::from(k);
+            let z: [f64; LANES] =
+                std::array::from_fn(|l| -3.0 + 0.37 * l as f64 + 0.01 * f64::from(k));
+            let kernel = SliceLanes {
+                indices: &indices,
+                y,
+                z: &z,
+            };
+            let baseline = run_block_on(VectorPath::Baseline, &kernel).map(f64::to_bits);
+            for path in VectorPath::available() {
+                assert_eq!(
+                    run_block_on(path, &kernel).map(f64::to_bits),
+                    baseline,
+                    "{path:?}"
+                );
+            }
+            inside += baseline
+                .iter()
+                .filter(|&&b| f64::from_bits(b) > 0.0)
+                .count();
+        }
+        assert!(
+            inside > 20,
+            "{inside} lanes inside: the test would test nothing"
+        );
     }
 }
