@@ -1,6 +1,9 @@
 //! The per-row kernels of `pkm.Mechanism`, as [`WorkspaceVisitor`]s of the study layer's built
 //! workspace (so the constraints and working modes are the studies'), mapped over the rows on
 //! rayon threads. Each row is independent, so the output is the same for any thread count.
+//! 1/κ and membership go through the library's lane kernels eight rows at a time
+//! (`Workspace::inverse_condition_lanes`, `Workspace::contains_lanes`): membership as the point
+//! test exactly, 1/κ equal to it to rounding and to the values the workspace studies integrate.
 
 use nalgebra::Vector3;
 use numpy::ndarray::ArrayView2;
@@ -8,7 +11,7 @@ use pkm_study::schema::mechanism::{
     MechanismSpec, WorkspaceVisitor, linear_delta, rotary_delta, three_upu, tsai,
 };
 use pkm_traits::{ConstrainedWorkspace, ForwardKinematics, NewtonSettings};
-use pkm_workspace_indices::{Dim, TranslationalCondition, Workspace};
+use pkm_workspace_indices::{Dim, LANES, TranslationalCondition, Workspace};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 
@@ -60,13 +63,13 @@ impl WorkspaceVisitor for Kernel<'_> {
                 }
                 Some(())
             }),
-            Op::InverseCondition => map_rows(n, 1, |i, out| {
-                out[0] = workspace.inverse_condition(&row(&self.points, i))?;
-                Some(())
+            Op::InverseCondition => map_groups(&self.points, |group| {
+                workspace.inverse_condition_lanes(group)
             }),
-            Op::Contains => map_rows(n, 0, |i, _| {
-                workspace.contains(&row(&self.points, i)).then_some(())
-            }),
+            Op::Contains => {
+                let inside = |group: &_| workspace.contains_lanes(group).map(|b| b.then_some(0.0));
+                (Vec::new(), map_groups(&self.points, inside).1)
+            }
         }
     }
 }
@@ -92,8 +95,8 @@ fn row(points: &ArrayView2<'_, f64>, i: usize) -> Vector3<f64> {
     Vector3::new(points[(i, 0)], points[(i, 1)], points[(i, 2)])
 }
 
-/// `f(i, out)` for every row `i < n` in parallel, writing `width` values to `out`: NaN and
-/// `false` where `f` returns `None`.
+/// `f(i, out)` for every row `i < n` in parallel, writing `width` (≥ 1) values to `out`: NaN
+/// and `false` where `f` returns `None`.
 fn map_rows<F>(n: usize, width: usize, f: F) -> (Vec<f64>, Vec<bool>)
 where
     F: Fn(usize, &mut [f64]) -> Option<()> + Sync,
@@ -106,19 +109,36 @@ where
             out.fill(f64::NAN);
         }
     };
-    if width == 0 {
-        mask.par_iter_mut()
-            .with_min_len(ROWS_PER_TASK)
-            .enumerate()
-            .for_each(|(i, inside)| visit((i, (&mut [], inside))));
-    } else {
-        values
-            .par_chunks_mut(width)
-            .zip(mask.par_iter_mut())
-            .with_min_len(ROWS_PER_TASK)
-            .enumerate()
-            .for_each(visit);
-    }
+    values
+        .par_chunks_mut(width)
+        .zip(mask.par_iter_mut())
+        .with_min_len(ROWS_PER_TASK)
+        .enumerate()
+        .for_each(visit);
+    (values, mask)
+}
+
+/// `f` on the rows in groups of [`LANES`] (the library's lane kernels; the last group padded
+/// with its last row), in parallel: one value per row, NaN and `false` where `f` gives `None`.
+fn map_groups<F>(points: &ArrayView2<'_, f64>, f: F) -> (Vec<f64>, Vec<bool>)
+where
+    F: Fn(&[Vector3<f64>; LANES]) -> [Option<f64>; LANES] + Sync,
+{
+    let n = points.nrows();
+    let mut values = vec![f64::NAN; n];
+    let mut mask = vec![false; n];
+    values
+        .par_chunks_mut(LANES)
+        .zip(mask.par_chunks_mut(LANES))
+        .with_min_len(ROWS_PER_TASK / LANES)
+        .enumerate()
+        .for_each(|(g, (out, inside))| {
+            let first = g * LANES;
+            let group = std::array::from_fn(|l| row(points, (first + l).min(n - 1)));
+            for ((value, inside), v) in out.iter_mut().zip(inside).zip(f(&group)) {
+                (*value, *inside) = (v.unwrap_or(f64::NAN), v.is_some());
+            }
+        });
     (values, mask)
 }
 
