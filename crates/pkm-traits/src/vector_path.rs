@@ -69,9 +69,11 @@ impl VectorPath {
 }
 
 /// A computation over a whole block of work (a loop over many groups of lanes), compiled for
-/// one [`VectorPath`] as a [`LaneKernel`] is, so that the loop runs inside the wide copy with
-/// one dispatch per block instead of one per group. The same rules hold: `run` must be
-/// `#[inline(always)]` and call only `#[inline(always)]` kernels to be compiled for the path.
+/// one [`VectorPath`] by [`run_block_on`], so that the loop runs inside the wide copy with one
+/// dispatch per block (`pkm_workspace_indices::LaneKernel` is one group of points run this
+/// way). `run` must be `#[inline(always)]` and call only `#[inline(always)]` kernels to be
+/// compiled for the path; a call that is not inlined runs on the baseline, with the same
+/// result, only slower.
 pub trait BlockKernel {
     /// What the kernel returns.
     type Output;

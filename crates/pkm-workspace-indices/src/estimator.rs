@@ -85,7 +85,8 @@ impl Accumulator for Sums {
 
 /// The volume of $\{x : \texttt{contains}(x)\}$ over `points`.
 ///
-/// Parallel over fixed chunks ([`chunked_reduce`]): bit-identical for any thread count.
+/// Counted in parallel over blocks of [`CHUNK_SIZE`] points; counts are integers, so the
+/// estimate is bit-identical for any thread count.
 ///
 /// # Errors
 /// [`IndexError::Cancelled`].
