@@ -52,11 +52,11 @@ where
         let ws = self.workspace;
         let mut count = 0;
         for group in self.groups {
-            let reachable = ws.mechanism.reachable_in_any_lanes(group, &ws.modes);
-            for (l, inside) in reachable.into_iter().enumerate() {
-                // Not through `inside_group`: the array it returns cost 12 % of the §2.1 sweep.
-                count += u64::from(inside && ws.inside_if_reachable(&lane_point(group, l)));
-            }
+            count += ws
+                .inside_group(group)
+                .into_iter()
+                .map(u64::from)
+                .sum::<u64>();
         }
         count
     }
