@@ -14,17 +14,6 @@ pub(crate) struct PointGroups {
 }
 
 impl PointGroups {
-    /// `points` in their order.
-    pub(crate) fn new(points: &[Vector3<f64>]) -> Self {
-        let mut out = Self {
-            groups: Vec::with_capacity(points.len() / LANES),
-            rest: Vec::new(),
-        };
-        out.push_groups(points);
-        out.rest = points.chunks_exact(LANES).remainder().to_vec();
-        out
-    }
-
     /// Appends the whole groups of `points` (a multiple of [`LANES`] long, or the rest is
     /// left out).
     fn push_groups(&mut self, points: &[Vector3<f64>]) {
@@ -145,7 +134,6 @@ mod tests {
         let g = PointGroups::in_morton_order(&points);
         assert_eq!((g.groups.len(), g.rest.len()), (n / LANES, n % LANES));
         same_points(&g, &points);
-        same_points(&PointGroups::new(&points), &points);
     }
 
     #[test]

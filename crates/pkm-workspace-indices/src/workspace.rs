@@ -62,6 +62,34 @@ where
     }
 }
 
+/// [`Workspace::count_inside`]: the points transposed into lanes group by group, as they are
+/// read (one pass needs no transposed copy).
+struct CountInsidePoints<'a, 'm, M: ConstrainedWorkspace<3, NQ>, const NQ: usize> {
+    workspace: &'a Workspace<'m, M, NQ>,
+    points: &'a [Vector3<f64>],
+}
+
+impl<M, const NQ: usize> BlockKernel for CountInsidePoints<'_, '_, M, NQ>
+where
+    M: ConstrainedWorkspace<3, NQ> + Sync,
+    Dim<NQ>: TranslationalCondition<NQ>,
+{
+    type Output = u64;
+
+    #[inline(always)]
+    fn run(&self) -> u64 {
+        let ws = self.workspace;
+        let groups = self.points.chunks_exact(LANES);
+        let rest = groups.remainder();
+        let mut count = rest.iter().filter(|x| ws.contains(x)).count() as u64;
+        for group in groups.filter_map(|g| <&[Vector3<f64>; LANES]>::try_from(g).ok()) {
+            let inside = ws.inside_group(&Lanes::coordinates(group));
+            count += inside.into_iter().map(u64::from).sum::<u64>();
+        }
+        count
+    }
+}
+
 /// Point `l` of a group whose coordinates are in lanes.
 #[inline(always)]
 fn lane_point(group: &[Lanes<LANES>; 3], l: usize) -> Vector3<f64> {
@@ -220,7 +248,10 @@ where
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn count_inside(&self, points: &[Vector3<f64>]) -> u64 {
-        self.count_in_groups(&PointGroups::new(points))
+        run_block(&CountInsidePoints {
+            workspace: self,
+            points,
+        })
     }
 
     /// [`Workspace::contains`] at [`LANES`] points at once, the mechanism's lane test

@@ -28,27 +28,10 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     /// $a = D\cdot u_i$, $b = -D\cdot w_i$; tested as $(|D|^2 + L_a^2 - L_b^2)^2 \le
     /// 4L_a^2 (a^2 + b^2)$, with no division, square root or trigonometry. Where a product of
     /// that test overflows (points beyond about 1e77 m) it asks the inverse kinematics, whose
-    /// ratio $K/\rho$ does not; a non-finite $x$ is never reachable.
-    fn reachable(&self, x: &Task<3>, mode: ElbowMode) -> bool {
-        if !all_finite(x.iter()) {
-            return false;
-        }
-        let offset = self.design.arm * self.design.arm - self.design.forearm * self.design.forearm;
-        let scale = 4.0 * self.design.arm * self.design.arm;
-        let mut overflowed = false;
-        let cheap = self.legs.iter().all(|leg| {
-            let d = x + (leg.plate_offset - leg.motor);
-            let s = d.norm_squared() + offset;
-            let (a, b) = (d.dot(&leg.u), d.dot(&leg.w));
-            let rho2 = a * a + b * b;
-            let (lhs, rhs) = (s * s, scale * rho2);
-            overflowed |= !(lhs.is_finite() && rhs.is_finite());
-            lhs <= rhs && rho2 > 0.0
-        });
-        if overflowed {
-            return self.inverse_kinematics(x, mode).is_ok();
-        }
-        cheap
+    /// ratio $K/\rho$ does not; a non-finite $x$ is never reachable. The mode does not matter.
+    /// One lane of [`RotaryDelta::reachable_lanes`].
+    fn reachable(&self, x: &Task<3>, _mode: ElbowMode) -> bool {
+        self.reachable_lanes(&[Lanes([x.x]), Lanes([x.y]), Lanes([x.z])])[0]
     }
 
     /// Reachability does not depend on the elbow mode: one test for any non-empty list.
@@ -56,14 +39,7 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
         !modes.is_empty() && self.reachable(x, ElbowMode::Out)
     }
 
-    /// The test of [`ConstrainedWorkspace::reachable`] on `N` points at once, in [`Lanes`],
-    /// with the same products, sums and comparisons, so the same answer at every point: a lane
-    /// is inside where every leg has $4L_a^2\rho^2 - s^2 \ge 0$ (the sign of a difference of
-    /// finite values is that of the comparison) and $\rho^2 > 0$. A lane whose products are
-    /// not finite (a non-finite point, or one beyond about 1e77 m; caught as a NaN in
-    /// $\sum 0 \cdot s^2 + 0 \cdot r$) is answered by the point test, which asks the inverse
-    /// kinematics there. The legs after one that no settled lane passes are skipped (the point
-    /// test stops at the first leg that fails as well).
+    /// [`RotaryDelta::reachable_lanes`] (the point test, lane by lane).
     #[inline(always)]
     fn reachable_in_any_lanes<const N: usize>(
         &self,
@@ -73,51 +49,7 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
         if modes.is_empty() {
             return [false; N];
         }
-        let offset = self.design.arm * self.design.arm - self.design.forearm * self.design.forearm;
-        let scale = 4.0 * self.design.arm * self.design.arm;
-        // Per lane: the smallest 4L_a²ρ² − s² and ρ² over the legs, and a sum that is NaN
-        // where a product was not finite. One fused loop over the lanes per leg, so that the
-        // compiler vectorises across lanes.
-        let (mut margin, mut rho2_min, mut poison) =
-            ([f64::INFINITY; N], [f64::INFINITY; N], [0.0; N]);
-        for leg in &self.legs {
-            let (o, u, w) = (leg.plate_offset - leg.motor, leg.u, leg.w);
-            let mut open = false;
-            for l in 0..N {
-                let d = [x[0].0[l] + o.x, x[1].0[l] + o.y, x[2].0[l] + o.z];
-                let s = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + offset;
-                let a = d[0] * u.x + d[1] * u.y + d[2] * u.z;
-                let b = d[0] * w.x + d[1] * w.y + d[2] * w.z;
-                let rho2 = a * a + b * b;
-                let (lhs, rhs) = (s * s, scale * rho2);
-                poison[l] = poison[l] + lhs * 0.0 + rhs * 0.0;
-                let gap = rhs - lhs;
-                margin[l] = if gap < margin[l] { gap } else { margin[l] };
-                rho2_min[l] = if rho2 < rho2_min[l] {
-                    rho2
-                } else {
-                    rho2_min[l]
-                };
-                open |= (margin[l] >= 0.0) & (poison[l] == 0.0);
-            }
-            if !open {
-                break;
-            }
-        }
-        let inside = std::array::from_fn(|l| (margin[l] >= 0.0) & (rho2_min[l] > 0.0));
-        if poison.iter().fold(true, |all, p| all & (*p == 0.0)) {
-            return inside;
-        }
-        std::array::from_fn(|l| {
-            if poison[l] == 0.0 {
-                inside[l]
-            } else {
-                self.reachable(
-                    &Vector3::new(x[0].0[l], x[1].0[l], x[2].0[l]),
-                    ElbowMode::Out,
-                )
-            }
-        })
+        self.reachable_lanes(x)
     }
 
     /// [`RotaryDelta::jacobian_lanes`], in either mode.
@@ -172,6 +104,71 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
             clearance = min_propagating_nan(clearance, pair);
         }
         clearance.is_finite().then_some(clearance)
+    }
+}
+
+impl RotaryDelta {
+    /// Whether each of `N` points (coordinates in lanes) is reachable: the test behind
+    /// [`ConstrainedWorkspace::reachable`] (one lane) and
+    /// [`ConstrainedWorkspace::reachable_in_any_lanes`]. A lane is inside where every leg has $4L_a^2\rho^2 - s^2 \ge 0$ (the sign of a difference of
+    /// finite values is that of the comparison) and $\rho^2 > 0$. A lane whose products are
+    /// not finite (a non-finite point, or one beyond about 1e77 m; caught as a NaN in
+    /// $\sum 0 \cdot s^2 + 0 \cdot r$) is answered by the inverse kinematics, whose ratio
+    /// $K/\rho$ does not overflow. The legs after one that no settled lane passes are skipped.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_mechanisms::{Placement, RotaryDelta, presets};
+    /// use pkm_traits::Lanes;
+    /// let delta = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
+    /// let x = [Lanes([0.0, 0.0, f64::NAN]), Lanes([0.1, 0.1, 0.0]), Lanes([-0.7, 5.0, -0.7])];
+    /// assert_eq!(delta.reachable_lanes(&x), [true, false, false]);
+    /// ```
+    #[inline(always)]
+    pub fn reachable_lanes<const N: usize>(&self, x: &[Lanes<N>; 3]) -> [bool; N] {
+        let offset = self.design.arm * self.design.arm - self.design.forearm * self.design.forearm;
+        let scale = 4.0 * self.design.arm * self.design.arm;
+        // Per lane: the smallest 4L_a²ρ² − s² and ρ² over the legs, and a sum that is NaN
+        // where a product was not finite. One fused loop over the lanes per leg, so that the
+        // compiler vectorises across lanes.
+        let (mut margin, mut rho2_min, mut poison) =
+            ([f64::INFINITY; N], [f64::INFINITY; N], [0.0; N]);
+        for leg in &self.legs {
+            let (o, u, w) = (leg.plate_offset - leg.motor, leg.u, leg.w);
+            let mut open = false;
+            for l in 0..N {
+                let d = [x[0].0[l] + o.x, x[1].0[l] + o.y, x[2].0[l] + o.z];
+                let s = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + offset;
+                let a = d[0] * u.x + d[1] * u.y + d[2] * u.z;
+                let b = d[0] * w.x + d[1] * w.y + d[2] * w.z;
+                let rho2 = a * a + b * b;
+                let (lhs, rhs) = (s * s, scale * rho2);
+                poison[l] = poison[l] + lhs * 0.0 + rhs * 0.0;
+                let gap = rhs - lhs;
+                margin[l] = if gap < margin[l] { gap } else { margin[l] };
+                rho2_min[l] = if rho2 < rho2_min[l] {
+                    rho2
+                } else {
+                    rho2_min[l]
+                };
+                open |= (margin[l] >= 0.0) & (rho2_min[l] > 0.0) & (poison[l] == 0.0);
+            }
+            if !open {
+                break;
+            }
+        }
+        let inside = std::array::from_fn(|l| (margin[l] >= 0.0) & (rho2_min[l] > 0.0));
+        if poison.iter().fold(true, |all, p| all & (*p == 0.0)) {
+            return inside;
+        }
+        std::array::from_fn(|l| {
+            if poison[l] == 0.0 {
+                inside[l]
+            } else {
+                let point = Vector3::new(x[0].0[l], x[1].0[l], x[2].0[l]);
+                self.inverse_kinematics(&point, ElbowMode::Out).is_ok()
+            }
+        })
     }
 }
 

@@ -5,7 +5,6 @@
 //! Carlo count, the result is continuous in the design, so it can be optimised.
 
 use super::Tsai3Dof;
-use nalgebra::Vector3;
 use pkm_traits::{BlockKernel, InvalidInput, run_block};
 
 impl Tsai3Dof {
@@ -50,9 +49,9 @@ impl Tsai3Dof {
         Ok(total * cell * cell)
     }
 
-    /// [`Tsai3Dof::column_height`] at the `N` columns $(x, y_l)$: the same operations per lane,
-    /// without its early returns (a column is empty where the hemisphere or a leg's
-    /// $|p_v| \le b$ excludes it), so the same bits.
+    /// The lengths of the workspace columns over $(x, y_l)$ within the hemisphere of radius
+    /// `r` (module documentation), one per lane, without branches: a column is empty where the
+    /// hemisphere or a leg's $|p_v| \le b$ excludes it.
     #[inline(always)]
     fn column_heights<const N: usize>(&self, x: f64, y: &[f64; N], r: f64) -> [f64; N] {
         let mut out = [0.0; N];
@@ -74,29 +73,9 @@ impl Tsai3Dof {
         out
     }
 
-    /// Length of the workspace column over $(x, y)$ within the hemisphere of radius `r`
-    /// (the point-by-point form of [`Tsai3Dof::column_heights`], for the last columns of a row).
+    /// One lane of [`Tsai3Dof::column_heights`], for the last columns of a row.
     fn column_height(&self, x: f64, y: f64, r: f64) -> f64 {
-        let top = r * r - x * x - y * y;
-        if top <= 0.0 {
-            return 0.0;
-        }
-        let (mut lo2, mut hi2) = (0.0_f64, top);
-        for i in 0..3 {
-            let (pu, pv, _) = self.leg_coordinates(i, &Vector3::new(x, y, 0.0));
-            let s3 = self.b * self.b - pv * pv;
-            if s3 < 0.0 {
-                return 0.0;
-            }
-            let l = self.s + s3.sqrt();
-            lo2 = lo2.max((l - self.a) * (l - self.a) - pu * pu);
-            hi2 = hi2.min((l + self.a) * (l + self.a) - pu * pu);
-        }
-        if hi2 > lo2 {
-            hi2.sqrt() - lo2.max(0.0).sqrt()
-        } else {
-            0.0
-        }
+        self.column_heights(x, &[y], r)[0]
     }
 }
 
