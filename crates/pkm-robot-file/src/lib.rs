@@ -55,6 +55,7 @@ mod parameters;
 mod points;
 mod pose;
 mod robot;
+mod task_workspace;
 mod workspace;
 
 pub use chain::{Joint, LegChain};
@@ -68,3 +69,4 @@ pub use model::{CoordinateRole, MAX_JOINTS_PER_LEG, MAX_LEGS, RobotModel, Workin
 pub use points::{LegPoint, LegPointKind, LegPoints, LegSegment};
 pub use pose::{OrientationKind, PoseCoordinates, platform_pose};
 pub use robot::{Robot, task_of};
+pub use task_workspace::{MarginLimits, OrientationLevels, OrientationSet, TaskWorkspace};

@@ -196,6 +196,14 @@ impl WorkspaceConstraint {
         }
     }
 
+    /// The actuated joint a range constrains, `None` for a range of every joint or another kind.
+    pub fn joint(&self) -> Option<usize> {
+        match self.0 {
+            Limit::JointRange { joint, .. } => joint,
+            _ => None,
+        }
+    }
+
     /// Whether the constraint needs the joint coordinates (all but the half-space).
     pub fn needs_joints(&self) -> bool {
         self.kind() != ConstraintKind::HalfSpace
@@ -246,11 +254,36 @@ impl WorkspaceConstraint {
     where
         M: ConstrainedWorkspace<3, NQ> + ?Sized,
     {
-        if !(all_finite(x.iter()) && all_finite(q.iter())) {
+        self.holds_at(
+            x,
+            q.as_slice(),
+            || {
+                mechanism
+                    .passive_joint_angles(x, q)
+                    .map(|a| a.iter().copied().collect())
+            },
+            || mechanism.leg_clearance(x, q),
+        )
+    }
+
+    /// Whether a configuration satisfies the constraint, given the platform position, the
+    /// actuated joints `q`, and (asked only by the constraints that need them) the bends of the
+    /// passive joints and the leg clearance: the test of [`WorkspaceConstraint::holds`] for a
+    /// mechanism whose task is not the platform position (a robot from a file in any task
+    /// space). No constraint holds at a NaN or infinite position or joint; NaN angles or
+    /// distances fail it.
+    pub fn holds_at(
+        &self,
+        position: &Vector3<f64>,
+        q: &[f64],
+        passive_angles: impl FnOnce() -> Option<Vec<f64>>,
+        clearance: impl FnOnce() -> Option<f64>,
+    ) -> bool {
+        if !(all_finite(position.iter()) && all_finite(q.iter())) {
             return false;
         }
         match self.0 {
-            Limit::HalfSpace { .. } => self.holds_at_position(x),
+            Limit::HalfSpace { .. } => self.holds_at_position(position),
             Limit::JointRange {
                 joint,
                 lower,
@@ -259,12 +292,10 @@ impl WorkspaceConstraint {
                 Some(j) => q.get(j).is_some_and(|v| lower <= *v && *v <= upper),
                 None => q.iter().all(|v| lower <= *v && *v <= upper),
             },
-            Limit::PassiveCone { max_angle } => mechanism
-                .passive_joint_angles(x, q)
-                .is_some_and(|a| a.iter().all(|v| *v <= max_angle)),
-            Limit::LegClearance { distance } => {
-                mechanism.leg_clearance(x, q).is_some_and(|d| d >= distance)
+            Limit::PassiveCone { max_angle } => {
+                passive_angles().is_some_and(|a| a.iter().all(|v| *v <= max_angle))
             }
+            Limit::LegClearance { distance } => clearance().is_some_and(|d| d >= distance),
         }
     }
 }

@@ -89,6 +89,7 @@ mod slice;
 mod sobol;
 mod space_utilization;
 mod sweep;
+mod task_space;
 mod vector_path;
 mod volume;
 mod workspace;
@@ -121,6 +122,10 @@ pub use section_indices::{Eta1Rule, SectionIndex, SectionIndices};
 pub use slice::{Plane, Slice};
 pub use space_utilization::space_utilization;
 pub use sweep::{ratio_standard_error, sweep_volumes, sweep_workspace_volumes};
+pub use task_space::{
+    ConnectedVolume, MAX_GRID_CELLS, MAX_TASK_DIMENSION, TaskBox, TaskPoints,
+    connected_task_volume, nested_task_volumes, task_volume_and_eta,
+};
 pub use vector_path::{LaneKernel, evaluate, evaluate_on};
 pub use volume::{HemisphereEstimate, hemisphere_estimate};
 pub use workspace::Workspace;
