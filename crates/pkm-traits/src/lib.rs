@@ -33,6 +33,8 @@
 //! assert!((j[(0, 0)] - 1.0).abs() < 1e-15);
 //! ```
 #![warn(missing_docs)]
+// docs.rs (nightly, `--cfg docsrs`) marks the `testkit` items with the feature they need.
+#![cfg_attr(docsrs, feature(doc_cfg))]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]
