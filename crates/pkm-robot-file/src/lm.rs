@@ -10,7 +10,7 @@
 use nalgebra::{DMatrix, DVector};
 use pkm_traits::KinematicsError;
 
-/// Settings of [`levenberg_marquardt`].
+/// Settings of `levenberg_marquardt`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
     /// Stop when $\|r\|_\infty$ falls below this (m and rad). Default 1e-12: three orders below

@@ -1,7 +1,7 @@
 //! Pose coordinates of the platform: position and a gimbal-free orientation.
 //!
 //! Two orientation parametrisations, neither with a singularity at home:
-//! - `rotation_vector`: $R = \exp([r]_\times)$, $r = (r_x, r_y, r_z)$, singular only at
+//! - `rotation_vector`: $R = \exp(\[r\]_\times)$, $r = (r_x, r_y, r_z)$, singular only at
 //!   $|r| = 2\pi$; for a planar robot $R = R_z(r_z)$;
 //! - `tilt_torsion`: $R = \exp([(t_x, t_y, 0)]_\times)\,R_z(\sigma)$, the tilt-and-torsion
 //!   angles of Bonev (tilt $\theta = |t|$ about the horizontal axis $t/|t|$, torsion $\sigma$),
@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum OrientationKind {
-    /// Rotation vector $r$, $R = \exp([r]_\times)$; coordinates `rx`, `ry`, `rz`.
+    /// Rotation vector $r$, $R = \exp(\[r\]_\times)$; coordinates `rx`, `ry`, `rz`.
     #[default]
     RotationVector,
     /// Tilt vector and torsion, $R = \exp([(t_x, t_y, 0)]_\times) R_z(\sigma)$; coordinates
@@ -107,7 +107,7 @@ pub(crate) fn hybrid_rates(kind: OrientationKind, c: &PoseCoordinates) -> Matrix
     h
 }
 
-/// The left Jacobian of SO(3): $\omega = J_l(r)\,\dot r$ for $R = \exp([r]_\times)$.
+/// The left Jacobian of SO(3): $\omega = J_l(r)\,\dot r$ for $R = \exp(\[r\]_\times)$.
 pub(crate) fn so3_left_jacobian(r: &Vector3<f64>) -> Matrix3<f64> {
     let theta = r.norm();
     let k = r.cross_matrix();

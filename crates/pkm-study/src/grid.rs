@@ -1,7 +1,7 @@
-//! The design grid of [`sweep`](crate::sweep) and [`pareto`](crate::pareto): the named design
+//! The design grid of [`sweep`](crate::sweep()) and [`pareto`](crate::pareto()): the named design
 //! variables and their axes, checked with their key paths before any computation; the
 //! evaluation of every node (in parallel, collected in node order: bit-identical for any thread
-//! count); and the deterministic split into shards that [`merge`](crate::merge) joins.
+//! count); and the deterministic split into shards that [`merge`](crate::merge()) joins.
 
 use crate::indices::{Evaluator, Infeasible};
 use crate::outcome::{Cell, Outcome, Table};
@@ -93,7 +93,7 @@ impl Shard {
 /// The values of the requested indices at a node, or why it has none.
 pub type NodeOutcome = Result<Vec<f64>, Infeasible>;
 
-/// The result of one part of a split grid study: what [`merge`](crate::merge) joins.
+/// The result of one part of a split grid study: what [`merge`](crate::merge()) joins.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ShardResult {
     /// Which shard.

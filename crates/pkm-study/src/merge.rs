@@ -17,9 +17,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum GridKind {
-    /// [`sweep`](crate::sweep).
+    /// [`sweep`](crate::sweep()).
     Sweep,
-    /// [`pareto`](crate::pareto).
+    /// [`pareto`](crate::pareto()).
     Pareto,
 }
 

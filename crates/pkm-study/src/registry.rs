@@ -1,11 +1,11 @@
 //! The mechanism registry: what a study needs to know about a mechanism, stated once per
 //! mechanism through the [`StudyMechanism`] trait rather than a match arm per command.
 //!
-//! A study's `[mechanism.<kind>]` table is one of the kinds listed by [`mechanisms!`] (one
+//! A study's `[mechanism.<kind>]` table is one of the kinds listed by [`mechanisms!`](crate::mechanisms!) (one
 //! line each); every command takes any [`StudyMechanism`] (a task study a
 //! [`TaskMechanism`](crate::task::TaskMechanism) too), so a new mechanism is a table type
-//! (plain serde), a [`design_variables!`] line and an `impl StudyMechanism`, then one line in a
-//! [`mechanisms!`] list (see `docs/adding-a-mechanism.md`).
+//! (plain serde), a [`design_variables!`](crate::design_variables!) line and an `impl StudyMechanism`, then one line in a
+//! [`mechanisms!`](crate::mechanisms!) list (see `docs/adding-a-mechanism.md`).
 
 use crate::StudyError;
 pub use crate::schema::constraints::Actuation;
@@ -64,7 +64,7 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     /// nothing more to check).
     ///
     /// # Errors
-    /// [`StudyError::Invalid`](crate::StudyError::Invalid) at the key path of the offending
+    /// [`StudyError::Invalid`] at the key path of the offending
     /// value.
     fn check(&self) -> Result<(), StudyError> {
         Ok(())
@@ -123,7 +123,7 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     /// The nominal design $(a, b, d + e, c - r, \phi_2, \phi_3)$ (study units) of the one
     /// design objective that is smooth in the design: the Tsai platform's workspace volume by
     /// column quadrature, its $\eta$ and GCI over common points (Stamper, Tsai & Walsh 1997 §5;
-    /// [`optimize`](crate::optimize)).
+    /// [`optimize`](crate::optimize())).
     ///
     /// # Errors
     /// Why this mechanism has none (the default): a Monte Carlo workspace volume counts points,

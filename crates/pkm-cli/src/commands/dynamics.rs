@@ -1,4 +1,4 @@
-//! `pkm dynamics FILE`: the study layer's [`pkm_study::dynamics`] on a study file: motor
+//! `pkm dynamics FILE`: the study layer's [`pkm_study::dynamics()`] on a study file: motor
 //! torques by Hamilton and Lagrange along a trajectory, and the forward retrace.
 //!
 //! A `trajectory.csv` file is read here, relative to the study file, and handed to the study

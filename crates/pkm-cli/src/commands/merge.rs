@@ -1,6 +1,6 @@
 //! `pkm merge DIR…`: joins the outputs of `pkm sweep --shard I/N` (or `pkm pareto`) for
 //! I = 1…N into the result of a single run, bit for bit, with the study layer's
-//! [`pkm_study::merge`]. This file reads the shards' `results.json` and checks that they come
+//! [`pkm_study::merge()`]. This file reads the shards' `results.json` and checks that they come
 //! from one command on one study file.
 
 use super::{Context, Report, Run};

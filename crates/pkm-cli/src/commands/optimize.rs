@@ -1,4 +1,4 @@
-//! `pkm optimize FILE`: the study layer's [`pkm_study::optimize`] on a study file: multistart
+//! `pkm optimize FILE`: the study layer's [`pkm_study::optimize()`] on a study file: multistart
 //! constrained optimisation of the Tsai platform's workspace volume, η or GCI with the
 //! first- and second-order checks at the optimum; the starts as CSV and SVG, the optimum drawn.
 

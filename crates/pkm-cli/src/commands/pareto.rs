@@ -1,4 +1,4 @@
-//! `pkm pareto FILE [--shard I/N]`: the study layer's [`pkm_study::pareto`] on a study file:
+//! `pkm pareto FILE [--shard I/N]`: the study layer's [`pkm_study::pareto()`] on a study file:
 //! the non-dominated designs of two or more indices over the study's grid and the weights that
 //! select each. A shard writes its nodes' values for `pkm merge`.
 

@@ -1,4 +1,4 @@
-//! `pkm sweep FILE [--shard I/N]`: the study layer's [`pkm_study::sweep`] on a study file: an
+//! `pkm sweep FILE [--shard I/N]`: the study layer's [`pkm_study::sweep()`] on a study file: an
 //! exhaustive grid over design variables, a weighted utility, refinement, the landscape and
 //! heat maps. A shard writes its nodes' values for `pkm merge`.
 

@@ -1,4 +1,4 @@
-//! `pkm task FILE`: the study layer's [`pkm_study::task`] on a study file: task-based synthesis
+//! `pkm task FILE`: the study layer's [`pkm_study::task()`] on a study file: task-based synthesis
 //! after Wolf & Shoham (pose and geometry of a Stewart–Gough platform or a 3-UPU for weighted
 //! task twists) and the 3-UPU singularity search; the starts as CSV and SVG, the optimal pose
 //! drawn with the task twists' axes.

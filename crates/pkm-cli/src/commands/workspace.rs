@@ -1,4 +1,4 @@
-//! `pkm workspace FILE`: the study layer's [`pkm_study::workspace`] on a study file: volume ±
+//! `pkm workspace FILE`: the study layer's [`pkm_study::workspace()`] on a study file: volume ±
 //! standard error, η and GCI, and planar slices of 1/κ as CSV and SVG.
 
 use super::{Context, Report, Run};

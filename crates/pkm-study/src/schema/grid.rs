@@ -9,8 +9,8 @@ use crate::registry::StudyMechanism;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// A study over a grid of designs, read by [`sweep`](crate::sweep) (its `[sweep]` section) and
-/// [`pareto`](crate::pareto) (its `[pareto]` section), of a mechanism of the registry `M` (the
+/// A study over a grid of designs, read by [`sweep`](crate::sweep()) (its `[sweep]` section) and
+/// [`pareto`](crate::pareto()) (its `[pareto]` section), of a mechanism of the registry `M` (the
 /// papers' mechanisms by default).
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -28,9 +28,9 @@ pub struct GridStudy<M = MechanismSpec> {
     pub indices: IndexSettings,
     /// The design variables: one `[[variables]]` table each.
     pub variables: Vec<VariableSpec>,
-    /// The section of [`sweep`](crate::sweep).
+    /// The section of [`sweep`](crate::sweep()).
     pub sweep: Option<SweepSection>,
-    /// The section of [`pareto`](crate::pareto).
+    /// The section of [`pareto`](crate::pareto()).
     pub pareto: Option<ParetoSection>,
 }
 

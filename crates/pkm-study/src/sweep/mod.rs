@@ -1,10 +1,10 @@
 //! The sweep study: an exhaustive grid over named design variables, a weighted utility
 //! U = Σ wᵢ ηᵢ of any indices (maximised), lattice refinement around the optimum
-//! ([`refine`]), the landscape as a table and heat maps of pairs of variables through the
+//! (`refine`), the landscape as a table and heat maps of pairs of variables through the
 //! optimum.
 //!
 //! A sweep can be split into shards ([`Shard`]): each part returns its nodes' values, and
-//! [`merge`](crate::merge) of the parts returns the single run's outcome, bit for bit (both
+//! [`merge`](crate::merge()) of the parts returns the single run's outcome, bit for bit (both
 //! end in the same `finish`).
 
 mod refine;
