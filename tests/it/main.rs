@@ -9,4 +9,5 @@ mod linear_delta_study;
 mod reproduce_quick;
 mod six_mechanisms;
 mod study_grid;
+mod task_space;
 mod tidy;

@@ -1,0 +1,253 @@
+//! Task-space workspaces of robot files against closed forms.
+//!
+//! At a fixed orientation $R$, leg $i$ of a distance-leg robot (3-RPR, 6-UPS) reaches the
+//! platform position $p$ when its length $|p + R b_i - a_i|$ lies in its actuator range
+//! $[\rho_{lo}, \rho_{hi}]$: $p$ lies in an annulus (planar) or a spherical shell about
+//! $c_i = a_i - R b_i$, and the constant-orientation workspace is their intersection.
+//! - Its **area** (3-RPR) is exact by Green's theorem, $A = \frac12\oint (x\,dy - y\,dx)$, over
+//!   the boundary arcs: each circle split at its intersections with every other, an arc kept
+//!   where its midpoint lies in every other annulus, outer circles counter-clockwise and inner
+//!   ones clockwise; an arc of radius $r$ about $c$ from $\theta_1$ to $\theta_2$ gives
+//!   $\frac12[r^2\Delta\theta + r c_x(\sin\theta_2 - \sin\theta_1) - r c_y(\cos\theta_2 -
+//!   \cos\theta_1)]$.
+//! - Its **volume** (6-UPS) is $\int A(z)\,dz$, each shell cut by the plane at height $z$ in an
+//!   annulus of radii $\sqrt{\rho^2 - (z - c_z)^2}$, by Gauss–Legendre on the pieces between
+//!   the heights where a circle appears or vanishes.
+
+use nalgebra::{Rotation3, Vector3};
+use pkm::workspace_indices::{GaussLegendre, Sampler, TaskBox, TaskPoints, task_volume_and_eta};
+use pkm_robot_file::{RobotModel, TaskWorkspace};
+use pkm_traits::Silent;
+use std::f64::consts::{PI, TAU};
+
+/// An annulus $r_{in} \le |p - c| \le r_{out}$ in the plane.
+#[derive(Clone, Copy, Debug)]
+struct Annulus {
+    c: [f64; 2],
+    r_in: f64,
+    r_out: f64,
+}
+
+impl Annulus {
+    fn holds(&self, p: [f64; 2]) -> bool {
+        let d = (p[0] - self.c[0]).hypot(p[1] - self.c[1]);
+        self.r_in <= d && d <= self.r_out
+    }
+}
+
+/// The area of the intersection of `annuli` (Green's theorem over the boundary arcs).
+fn intersection_area(annuli: &[Annulus]) -> f64 {
+    // Every circle: (annulus, radius, +1 outer / -1 inner).
+    let circles: Vec<(usize, f64, f64)> = annuli
+        .iter()
+        .enumerate()
+        .flat_map(|(i, a)| [(i, a.r_out, 1.0), (i, a.r_in, -1.0)])
+        .filter(|(_, r, _)| *r > 0.0)
+        .collect();
+    let mut area = 0.0;
+    for &(i, r, sign) in &circles {
+        let c = annuli[i].c;
+        let mut cuts: Vec<f64> = circles
+            .iter()
+            .filter(|(j, _, _)| *j != i)
+            .flat_map(|&(j, s, _)| circle_cuts(c, r, annuli[j].c, s))
+            .collect();
+        cuts.sort_by(f64::total_cmp);
+        if cuts.is_empty() {
+            cuts.push(0.0);
+        }
+        for k in 0..cuts.len() {
+            let (t1, mut t2) = (cuts[k], cuts[(k + 1) % cuts.len()]);
+            if t2 <= t1 {
+                t2 += TAU;
+            }
+            let mid = 0.5 * (t1 + t2);
+            let p = [c[0] + r * mid.cos(), c[1] + r * mid.sin()];
+            let own = annuli[i];
+            let inside_own = if sign > 0.0 {
+                (p[0] - own.c[0]).hypot(p[1] - own.c[1]) >= own.r_in
+            } else {
+                true
+            };
+            if inside_own && annuli.iter().enumerate().all(|(j, a)| j == i || a.holds(p)) {
+                let arc = r * r * (t2 - t1) + r * c[0] * (t2.sin() - t1.sin())
+                    - r * c[1] * (t2.cos() - t1.cos());
+                area += 0.5 * sign * arc;
+            }
+        }
+    }
+    area
+}
+
+/// Angles on the circle (c, r) where it meets the circle (d, s).
+fn circle_cuts(c: [f64; 2], r: f64, d: [f64; 2], s: f64) -> Vec<f64> {
+    let (dx, dy) = (d[0] - c[0], d[1] - c[1]);
+    let dist = dx.hypot(dy);
+    if dist == 0.0 || dist > r + s || dist < (r - s).abs() {
+        return Vec::new();
+    }
+    let base = dy.atan2(dx);
+    let spread = ((r * r + dist * dist - s * s) / (2.0 * r * dist))
+        .clamp(-1.0, 1.0)
+        .acos();
+    [base - spread, base + spread]
+        .into_iter()
+        .map(|t| t.rem_euclid(TAU))
+        .collect()
+}
+
+/// The robot file `name` of `examples/robots/` with actuator `limits` added to every leg.
+fn with_limits(name: &str, limits: [f64; 2]) -> RobotModel {
+    let path = format!("{}/examples/robots/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let limited = format!("actuated = true, limits = [{}, {}]", limits[0], limits[1]);
+    RobotModel::from_toml(&text.replace("actuated = true", &limited)).unwrap()
+}
+
+/// Base points $a_i$ and platform points $b_i$ of a distance-leg robot, read from its home
+/// configuration: $a_i$ its first joint point, $b_i$ its last, in the platform frame.
+fn anchors(model: &RobotModel) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let home = model
+        .inverse_kinematics_configuration(&model.home_task(), model.home_mode())
+        .unwrap();
+    let plate = model.platform_pose_of(&home);
+    (0..model.legs().len())
+        .map(|leg| {
+            let points = model.leg_points(leg, &home).unwrap().points;
+            let (a, b) = (points[0].position, points[points.len() - 1].position);
+            (a, plate.inverse_transform_point(&b.into()).coords)
+        })
+        .collect()
+}
+
+/// $W$ ± SE of the constant-orientation workspace over `region`, the task coordinates `task`
+/// with the position coordinates (the first `region.dimension()`) from the sample.
+fn estimate(model: &RobotModel, region: TaskBox, task: &[f64]) -> (f64, f64) {
+    let ws = TaskWorkspace::new(model, &[model.home_mode()], &[], Default::default()).unwrap();
+    let points = TaskPoints::new(region, Sampler::Sobol { seed: 11 }, 1 << 15, 4).unwrap();
+    let n = points.region().dimension();
+    let e = task_volume_and_eta(&points, &Silent, |u| {
+        let mut x = task.to_vec();
+        x[..n].copy_from_slice(u);
+        ws.inverse_condition(&x)
+    })
+    .unwrap();
+    (e.volume, e.volume_se)
+}
+
+#[test]
+fn the_area_formula_gives_a_disc_and_a_lens() {
+    let disc = intersection_area(&[Annulus {
+        c: [0.3, -0.2],
+        r_in: 0.0,
+        r_out: 0.5,
+    }]);
+    assert!((disc - PI * 0.25).abs() < 1e-14);
+    let ring = intersection_area(&[Annulus {
+        c: [0.0, 0.0],
+        r_in: 0.5,
+        r_out: 1.0,
+    }]);
+    assert!((ring - PI * 0.75).abs() < 1e-14);
+    // Two unit discs whose centres are 1 apart: 2π/3 − √3/2.
+    let lens = intersection_area(&[
+        Annulus {
+            c: [0.0, 0.0],
+            r_in: 0.0,
+            r_out: 1.0,
+        },
+        Annulus {
+            c: [1.0, 0.0],
+            r_in: 0.0,
+            r_out: 1.0,
+        },
+    ]);
+    assert!(
+        (lens - (2.0 * PI / 3.0 - 3f64.sqrt() / 2.0)).abs() < 1e-14,
+        "{lens}"
+    );
+}
+
+#[test]
+fn a_planar_3rpr_constant_orientation_workspace_is_an_intersection_of_annuli() {
+    let limits = [0.4, 1.1];
+    let model = with_limits("three_rpr.toml", limits);
+    let rz = 0.2;
+    let rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), rz);
+    let annuli: Vec<Annulus> = anchors(&model)
+        .iter()
+        .map(|(a, b)| {
+            let c = a - rotation * b;
+            Annulus {
+                c: [c.x, c.y],
+                r_in: limits[0],
+                r_out: limits[1],
+            }
+        })
+        .collect();
+    let exact = intersection_area(&annuli);
+    // The intersection lies in the first outer disc.
+    let (c, r) = (annuli[0].c, annuli[0].r_out);
+    let region = TaskBox::new(vec![c[0] - r, c[1] - r], vec![c[0] + r, c[1] + r]).unwrap();
+    let (area, se) = estimate(&model, region, &[0.0, 0.0, rz]);
+    assert!(exact > 0.05, "a design with a workspace: {exact}");
+    assert!(
+        (area - exact).abs() < 4.0 * se && se < 0.01 * exact,
+        "{area} ± {se} against {exact}"
+    );
+}
+
+#[test]
+fn a_6ups_constant_orientation_workspace_is_an_intersection_of_spherical_shells() {
+    let limits = [0.26, 0.36];
+    let model = with_limits("stewart_gough.toml", limits);
+    let r = [0.05, -0.04, 0.1];
+    let rotation = Rotation3::new(Vector3::from(r));
+    let centres: Vec<Vector3<f64>> = anchors(&model)
+        .iter()
+        .map(|(a, b)| a - rotation * b)
+        .collect();
+    let area_at = |z: f64| {
+        let annuli: Vec<Annulus> = centres
+            .iter()
+            .map(|c| {
+                let h2 = (z - c.z).powi(2);
+                let radius = |rho: f64| (rho * rho - h2).max(0.0).sqrt();
+                Annulus {
+                    c: [c.x, c.y],
+                    r_in: radius(limits[0]),
+                    r_out: radius(limits[1]),
+                }
+            })
+            .collect();
+        if annuli.iter().any(|a| a.r_out == 0.0) {
+            0.0
+        } else {
+            intersection_area(&annuli)
+        }
+    };
+    // The part above the base plane (the shells' mirror images below it are not sampled).
+    let mut breaks: Vec<f64> = centres
+        .iter()
+        .flat_map(|c| limits.iter().flat_map(move |rho| [c.z - rho, c.z + rho]))
+        .map(|z| z.max(0.0))
+        .collect();
+    breaks.sort_by(f64::total_cmp);
+    let rule = GaussLegendre::new(16).unwrap();
+    let mut exact = 0.0;
+    for w in breaks.windows(2) {
+        let pieces = 64;
+        let h = (w[1] - w[0]) / pieces as f64;
+        for k in 0..pieces {
+            let a = w[0] + h * k as f64;
+            rule.for_each_on(a, a + h, |z, w| exact += w * area_at(z));
+        }
+    }
+    let region = TaskBox::new(vec![-0.4, -0.4, 0.0], vec![0.4, 0.4, 0.5]).unwrap();
+    let (volume, se) = estimate(&model, region, &[0.0, 0.0, 0.0, r[0], r[1], r[2]]);
+    assert!(exact > 1e-4, "a design with a workspace: {exact}");
+    assert!(
+        (volume - exact).abs() < 4.0 * se && se < 0.02 * exact,
+        "{volume} ± {se} against {exact}"
+    );
+}
