@@ -234,6 +234,9 @@ pub fn prepare<M: StudyMechanism>(
         }
     }
     let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
+    if let Some(robot) = study.mechanism.robot_file() {
+        robot.translational_robot()?;
+    }
     let search = GridSearch::new(axes)?;
     let points = match requested.iter().find(|(i, _)| i.needs_points()) {
         None => None,

@@ -15,6 +15,7 @@ pub mod schema;
 mod starts;
 pub mod sweep;
 pub mod task;
+pub mod task_space;
 pub mod tsai;
 pub mod workspace;
 

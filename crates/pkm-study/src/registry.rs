@@ -136,6 +136,12 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
         ))
     }
 
+    /// The robot file of a `[mechanism.robot_file]` table (default: none), whose studies may
+    /// run in its own task space ([`crate::task_space`]).
+    fn robot_file(&self) -> Option<&crate::schema::robot_file::RobotFileSpec> {
+        None
+    }
+
     /// Sets variable `name` to `value` (study unit). The value is checked when the mechanism is
     /// built, so a sweep records an invalid node as infeasible.
     ///
@@ -334,6 +340,9 @@ macro_rules! mechanisms {
             }
             fn smooth_objective(&self) -> Result<[f64; 6], String> {
                 match self { $(Self::$variant(m) => m.smooth_objective(),)* }
+            }
+            fn robot_file(&self) -> Option<&$crate::schema::robot_file::RobotFileSpec> {
+                match self { $(Self::$variant(m) => m.robot_file(),)* }
             }
         }
     };

@@ -7,8 +7,10 @@ use crate::outcome::{Artifact, Outcome, Table};
 use crate::registry::StudyMechanism;
 use crate::scene;
 use crate::schema::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
+use crate::schema::robot_file::RobotFileSpec;
 use crate::schema::sampling::SamplingSpec;
 use crate::schema::units::Metres;
+use crate::task_space::{self, TaskSpaceResult, TaskSpaceSpec};
 use pkm_draw::chart::{self, Chart};
 use pkm_traits::{ConstrainedWorkspace, Progress, WorkspaceConstraint};
 use pkm_workspace_indices::{
@@ -33,6 +35,10 @@ pub struct WorkspaceStudy<M = MechanismSpec> {
     /// What to report.
     #[serde(default)]
     pub workspace: WorkspaceSection,
+    /// The workspace of a robot file in its own task coordinates ([`crate::task_space`]);
+    /// absent for a translational study of the platform position.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub task_space: Option<TaskSpaceSpec>,
 }
 
 /// The `[workspace]` section.
@@ -138,6 +144,9 @@ pub struct WorkspaceResult {
     pub estimate: Estimate,
     /// The slices.
     pub slices: Vec<SliceSummary>,
+    /// What a task-space study reports beside the estimate (absent for a translational one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub task_space: Option<TaskSpaceResult>,
 }
 
 /// The library constraints of a study's `[constraints]` table, checked against the mechanism.
@@ -235,6 +244,9 @@ pub fn workspace<M: StudyMechanism>(
     progress: &dyn Progress,
 ) -> Result<Outcome<WorkspaceResult>, StudyError> {
     let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
+    if let Some((robot, spec)) = task_space_of(study)? {
+        return task_space::workspace(study, robot, spec, &constraints, progress);
+    }
     let slices = slice_settings(&study.workspace)?;
     let domain = study.sampling.domain(study.mechanism.reach_region()?)?;
     progress.phase("sampling points");
@@ -266,12 +278,51 @@ pub fn workspace<M: StudyMechanism>(
         domain_volume: domain.volume(),
         estimate,
         slices: summaries,
+        task_space: None,
     });
     outcome.artifacts = artifacts;
     summarise(&mut outcome);
     let scene = scene::design_scene(&study.mechanism, &constraints, Some(domain.region()));
     outcome.robot(format!("{kind} in its workspace"), scene);
     Ok(outcome)
+}
+
+/// The robot file and `[task_space]` section of a task-space study: `None` for a translational
+/// study (no section, a mechanism whose task is the platform position).
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `task_space` for a section with a mechanism that is not a robot
+/// file, or for a robot file whose task is not `["x", "y", "z"]` without one.
+fn task_space_of<M: StudyMechanism>(
+    study: &WorkspaceStudy<M>,
+) -> Result<Option<(&RobotFileSpec, &TaskSpaceSpec)>, StudyError> {
+    let robot = study.mechanism.robot_file();
+    match (robot, &study.task_space) {
+        (Some(robot), Some(spec)) => Ok(Some((robot, spec))),
+        (None, Some(_)) => Err(StudyError::invalid(
+            "task_space",
+            format!(
+                "a [task_space] study takes a robot file ([mechanism.robot_file]); {} is \
+                 studied by platform position",
+                study.mechanism.kind()
+            ),
+        )),
+        (Some(robot), None) => {
+            let task = robot.model()?.task_names();
+            if task == ["x", "y", "z"] {
+                Ok(None)
+            } else {
+                Err(StudyError::invalid(
+                    "task_space",
+                    format!(
+                        "this robot's task is {task:?}: give [task_space] with its kind and the \
+                         box of the sampled coordinates (docs/studies.md)"
+                    ),
+                ))
+            }
+        }
+        (None, None) => Ok(None),
+    }
 }
 
 fn summarise(outcome: &mut Outcome<WorkspaceResult>) {

@@ -41,6 +41,13 @@ fn the_example_studies_are_valid() {
         "three_upu_workspace.toml",
         "stewart_gough_workspace.toml",
         "robot_file_workspace.toml",
+        "three_prs_reachable.toml",
+        "five_bar_reachable.toml",
+        "stewart_gough_constant_orientation.toml",
+        "stewart_gough_dexterous.toml",
+        "three_rpr_constant_orientation.toml",
+        "hexa_orientation.toml",
+        "agile_eye_orientation.toml",
     ] {
         let _: (String, WorkspaceStudy) = study::load_study(&example(name)).unwrap();
     }
@@ -69,7 +76,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        11,
+        18,
         "a new example study needs a check here: {listed:?}"
     );
 }

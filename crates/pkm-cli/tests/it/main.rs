@@ -10,4 +10,5 @@ mod examples;
 mod robot_file_studies;
 mod shards;
 mod synthesis_studies;
+mod task_space_studies;
 mod upu_stewart_studies;

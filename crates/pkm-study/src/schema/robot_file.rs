@@ -11,7 +11,9 @@
 //! the study's working modes (`modes`, a key of the study beside the robot file's; by default
 //! the reference working mode of the file, the mode of its home configuration), actuator
 //! `limits` of the file and the study's `[constraints]` included; the local index is 1/κ of the
-//! velocity Jacobian, so the task must be the platform position `["x", "y", "z"]`.
+//! velocity Jacobian of the platform position `["x", "y", "z"]`. A robot with any other task is
+//! measured in its own task coordinates by a workspace study with `[task_space]`
+//! ([`crate::task_space`]).
 
 use super::constraints::ConstraintsSpec;
 use crate::StudyError;
@@ -177,9 +179,10 @@ impl RobotFileSpec {
             return Err(StudyError::invalid(
                 format!("{KEY_PATH}.task").as_str(),
                 format!(
-                    "workspace, sweep and pareto studies sample platform positions and rate \
+                    "sweep, pareto and optimize studies sample platform positions and rate \
                      them by 1/κ of J: the task must be [\"x\", \"y\", \"z\"], this robot's is \
-                     {task:?}"
+                     {task:?} (a workspace study measures it in its own task space with \
+                     [task_space])"
                 ),
             ));
         }
@@ -278,9 +281,14 @@ impl StudyMechanism for RobotFileSpec {
         }
     }
 
+    /// The model and the working modes (a translational study checks the task where it builds
+    /// the workspace; a task-space study takes any task).
     fn check(&self) -> Result<(), StudyError> {
-        let robot = self.translational_robot()?;
-        self.working_modes(robot.model()).map(|_| ())
+        self.working_modes(&self.model()?).map(|_| ())
+    }
+
+    fn robot_file(&self) -> Option<&RobotFileSpec> {
+        Some(self)
     }
 
     /// The study's working modes ([`RobotFileSpec::working_modes`]; by default the reference
