@@ -251,3 +251,54 @@ fn a_6ups_constant_orientation_workspace_is_an_intersection_of_spherical_shells(
         "{volume} ± {se} against {exact}"
     );
 }
+
+/// Whether the symmetric 3-PRS of `examples/robots/three_prs.toml` (rails at radius $R = 0.3$ m,
+/// platform radius $r = 0.1$ m, rods $l = 0.25$ m, sliders in $[0, 1]$ m below their rods)
+/// reaches $(z, \theta_x, \theta_y)$, by its closed form. Each R joint keeps its rod in the
+/// radial plane of its rail, so platform point $P_i = p + R\,b_i$ has no tangential component:
+/// $t_i \cdot P_i = 0$, $t_i = (-\sin a_i, \cos a_i, 0)$, three equations linear in the
+/// parasitic $(x, y)$ at zero torsion (Bonev's tilt-and-torsion angles: a symmetric 3-PRS has
+/// none, which the residual checks). Then $q_i = P_{iz} - \sqrt{l^2 - (R - e_i\cdot P_i)^2}$.
+fn three_prs_reaches(z: f64, tilt: [f64; 2]) -> bool {
+    let rotation = Rotation3::new(Vector3::new(tilt[0], tilt[1], 0.0));
+    let legs: Vec<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> = (0..3)
+        .map(|i| {
+            let a = TAU * f64::from(i) / 3.0;
+            let (e, t) = (Vector3::new(a.cos(), a.sin(), 0.0), Vector3::new(-a.sin(), a.cos(), 0.0));
+            (e, t, rotation * (0.1 * e))
+        })
+        .collect();
+    // Least squares on t_i · (x, y, 0) = -t_i · R b_i.
+    let a = nalgebra::Matrix3x2::from_fn(|i, k| legs[i].1[k]);
+    let rhs = nalgebra::Vector3::from_fn(|i, _| -legs[i].1.dot(&legs[i].2));
+    let xy = (a.transpose() * a).try_inverse().unwrap() * a.transpose() * rhs;
+    assert!((a * xy - rhs).norm() < 1e-12, "no torsion at tilt {tilt:?}");
+    let p = Vector3::new(xy[0], xy[1], z);
+    legs.iter().all(|(e, _, rb)| {
+        let point = p + rb;
+        let d = 0.25f64.powi(2) - (0.3 - e.dot(&point)).powi(2);
+        let q = point.z - d.max(0.0).sqrt();
+        d >= 0.0 && (0.0..=1.0).contains(&q)
+    })
+}
+
+#[test]
+fn the_3prs_reachable_set_is_its_closed_form_with_parasitic_motion() {
+    let path = format!("{}/examples/robots/three_prs.toml", env!("CARGO_MANIFEST_DIR"));
+    let model = RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let ws = TaskWorkspace::new(&model, &[model.home_mode()], &[], Default::default()).unwrap();
+    let angle = 60f64.to_radians();
+    let region = TaskBox::new(vec![0.2, -angle, -angle], vec![0.9, angle, angle]).unwrap();
+    let points = TaskPoints::new(region, Sampler::Sobol { seed: 2 }, 4096, 1).unwrap();
+    let (mut inside, mut disagree) = (0, 0);
+    let mut u = [0.0; 3];
+    for k in 0..points.total() {
+        points.point(k, &mut u);
+        let closed = three_prs_reaches(u[0], [u[1], u[2]]);
+        inside += usize::from(closed);
+        disagree += usize::from(closed != ws.contains(&u));
+    }
+    // Both sides of the boundary are sampled, and the two agree at every point.
+    assert!(inside > 400 && inside < 3700, "{inside} of 4096 inside");
+    assert_eq!(disagree, 0, "{disagree} of 4096 points disagree ({inside} inside)");
+}

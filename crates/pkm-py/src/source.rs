@@ -4,7 +4,8 @@
 //! shard of a split study carries, so that `pkm.merge` needs nothing but the parts).
 
 use crate::{convert, errors};
-use pkm_study::{from_json_str, from_toml_str};
+use pkm_study::schema::robot_file::RobotFileSpec;
+use pkm_study::{StudyError, from_deserializer, from_json_str, from_toml_str};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use serde::de::DeserializeOwned;
@@ -51,15 +52,38 @@ impl<'py> Source<'py> {
     ///
     /// # Errors
     /// `pkm.InvalidInput` (or the study error's class) with the key path where it does not fit.
+    ///
+    /// A robot file named by `[mechanism.robot_file] file` is read relative to
+    /// [`Source::base`] and put in its place, as the `pkm` command does
+    /// ([`RobotFileSpec::resolve_in_document`]).
     pub(crate) fn parse<S: DeserializeOwned>(&self, py: Python<'py>) -> PyResult<S> {
+        let base = self.base();
+        let read = |file: &str| std::fs::read_to_string(base.join(file));
+        let study_error = |e: StudyError| errors::study_error(py, &e);
         match self {
-            Self::Mapping(m) => convert::from_python(m),
-            Self::File { path, text } => if Self::is_json(path) {
-                from_json_str(text)
-            } else {
-                from_toml_str(text)
+            Self::Mapping(m) => match convert::from_python::<toml::Table>(m) {
+                Ok(mut document) if names_robot_file(&document) => {
+                    RobotFileSpec::resolve_in_document(&mut document, read).map_err(study_error)?;
+                    from_deserializer(toml::Value::Table(document)).map_err(study_error)
+                }
+                _ => convert::from_python(m),
+            },
+            Self::File { path, text } => {
+                let document = if Self::is_json(path) {
+                    serde_json::from_str::<toml::Table>(text).ok()
+                } else {
+                    toml::from_str::<toml::Table>(text).ok()
+                };
+                match document {
+                    Some(mut document) if names_robot_file(&document) => {
+                        RobotFileSpec::resolve_in_document(&mut document, read)
+                            .map_err(study_error)?;
+                        from_deserializer(toml::Value::Table(document)).map_err(study_error)
+                    }
+                    _ if Self::is_json(path) => from_json_str(text).map_err(study_error),
+                    _ => from_toml_str(text).map_err(study_error),
+                }
             }
-            .map_err(|e| errors::study_error(py, &e)),
         }
     }
 
@@ -100,4 +124,13 @@ impl<'py> Source<'py> {
             .cast_into::<PyDict>()
             .map_err(|_| errors::invalid(py, "study: expected a table of settings"))
     }
+}
+
+/// Whether the document names its robot by `[mechanism.robot_file] file`.
+fn names_robot_file(document: &toml::Table) -> bool {
+    document
+        .get("mechanism")
+        .and_then(|m| m.get("robot_file"))
+        .and_then(|r| r.get("file"))
+        .is_some()
 }

@@ -90,6 +90,32 @@ impl RobotFileSpec {
         Ok(())
     }
 
+    /// Replaces `[mechanism.robot_file] file = "path"` of a study document (TOML or any
+    /// serde source turned into a table) by the robot file it names, read by `read` from the
+    /// path as written ([`RobotFileSpec::resolve_file`]); a document without one is unchanged.
+    /// Every front end that reads a study document calls this, so a study names its robot the
+    /// same way wherever it runs.
+    ///
+    /// # Errors
+    /// As [`RobotFileSpec::resolve_file`].
+    pub fn resolve_in_document(
+        document: &mut Table,
+        read: impl FnOnce(&str) -> std::io::Result<String>,
+    ) -> Result<(), StudyError> {
+        let Some(table) = document
+            .get_mut("mechanism")
+            .and_then(Value::as_table_mut)
+            .and_then(|m| m.get_mut("robot_file"))
+            .and_then(Value::as_table_mut)
+        else {
+            return Ok(());
+        };
+        let mut spec = Self::inline(std::mem::take(table));
+        let resolved = spec.resolve_file(read);
+        *table = spec.table;
+        resolved
+    }
+
     /// `file` (and the study's `modes`) alone: the robot is either named or given, never both.
     fn only_file(&self) -> Result<(), StudyError> {
         match self.table.keys().find(|k| *k != "file" && *k != MODES) {
