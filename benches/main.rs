@@ -10,6 +10,7 @@ mod integrators;
 mod linear_delta;
 mod screw;
 mod stamper;
+mod task_space;
 mod wolf;
 mod workspace;
 
@@ -26,5 +27,6 @@ criterion_group!(
     dynamics::forward_cycle,
     wolf::section_4_1,
     workspace::membership_kernel,
+    task_space::stewart_gough,
 );
 criterion_main!(benches);

@@ -264,7 +264,10 @@ fn three_prs_reaches(z: f64, tilt: [f64; 2]) -> bool {
     let legs: Vec<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> = (0..3)
         .map(|i| {
             let a = TAU * f64::from(i) / 3.0;
-            let (e, t) = (Vector3::new(a.cos(), a.sin(), 0.0), Vector3::new(-a.sin(), a.cos(), 0.0));
+            let (e, t) = (
+                Vector3::new(a.cos(), a.sin(), 0.0),
+                Vector3::new(-a.sin(), a.cos(), 0.0),
+            );
             (e, t, rotation * (0.1 * e))
         })
         .collect();
@@ -284,7 +287,10 @@ fn three_prs_reaches(z: f64, tilt: [f64; 2]) -> bool {
 
 #[test]
 fn the_3prs_reachable_set_is_its_closed_form_with_parasitic_motion() {
-    let path = format!("{}/examples/robots/three_prs.toml", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/examples/robots/three_prs.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let model = RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
     let ws = TaskWorkspace::new(&model, &[model.home_mode()], &[], Default::default()).unwrap();
     let angle = 60f64.to_radians();
@@ -300,5 +306,8 @@ fn the_3prs_reachable_set_is_its_closed_form_with_parasitic_motion() {
     }
     // Both sides of the boundary are sampled, and the two agree at every point.
     assert!(inside > 400 && inside < 3700, "{inside} of 4096 inside");
-    assert_eq!(disagree, 0, "{disagree} of 4096 points disagree ({inside} inside)");
+    assert_eq!(
+        disagree, 0,
+        "{disagree} of 4096 points disagree ({inside} inside)"
+    );
 }

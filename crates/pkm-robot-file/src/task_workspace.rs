@@ -296,12 +296,28 @@ fn inverse_condition_of(j: &DMatrix<f64>) -> Result<f64, KinematicsError> {
     if !j.iter().all(|v| v.is_finite()) {
         return Err(singular);
     }
-    let svd = j
-        .clone()
-        .try_svd(false, false, f64::EPSILON, 1000)
-        .ok_or(singular)?;
-    let s = &svd.singular_values;
-    let (min, max) = (s.min(), s.max());
+    // The common square sizes on the stack (the same decomposition, without a heap matrix).
+    macro_rules! fixed {
+        ($n:literal) => {
+            nalgebra::SMatrix::<f64, $n, $n>::from_fn(|r, c| j[(r, c)])
+                .try_svd(false, false, f64::EPSILON, 1000)
+                .map(|svd| svd.singular_values.as_slice().to_vec())
+        };
+    }
+    let singular_values = match (j.nrows(), j.ncols()) {
+        (3, 3) => fixed!(3),
+        (6, 6) => fixed!(6),
+        _ => j
+            .clone()
+            .try_svd(false, false, f64::EPSILON, 1000)
+            .map(|svd| svd.singular_values.as_slice().to_vec()),
+    }
+    .ok_or(singular)?;
+    let min = singular_values
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let max = singular_values.iter().copied().fold(0.0, f64::max);
     Ok(if max > 0.0 { min / max } else { 0.0 })
 }
 

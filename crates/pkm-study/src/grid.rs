@@ -8,6 +8,7 @@ use crate::outcome::{Cell, Outcome, Table};
 use crate::registry::StudyMechanism;
 use crate::schema::grid::{GridStudy, IndexName, IndexSettings, VariableSpec};
 use crate::schema::mechanism::MechanismSpec;
+use crate::task_space::TaskSpaceEvaluator;
 use crate::workspace::constraints_of;
 use crate::{KeyPath, StudyError};
 use pkm_optimizers::{GridAxis, GridSearch, MAX_GRID_NODES};
@@ -234,10 +235,25 @@ pub fn prepare<M: StudyMechanism>(
         }
     }
     let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
+    let search = GridSearch::new(axes)?;
+    let variables = names.clone();
+    if let Some(spec) = &study.task_space {
+        let robot = study.mechanism.robot_file().ok_or_else(|| {
+            StudyError::invalid(
+                "task_space",
+                "a [task_space] study takes a robot file ([mechanism.robot_file])",
+            )
+        })?;
+        let sampling = study.sampling.clone().unwrap_or_default();
+        let task = TaskSpaceEvaluator::new(robot, spec, &sampling)?;
+        let evaluator = Evaluator::new(study.mechanism.clone(), variables, constraints, None)
+            .with_task_space(task);
+        let grid = Grid { names, search };
+        return Ok(Prepared { grid, evaluator });
+    }
     if let Some(robot) = study.mechanism.robot_file() {
         robot.translational_robot()?;
     }
-    let search = GridSearch::new(axes)?;
     let points = match requested.iter().find(|(i, _)| i.needs_points()) {
         None => None,
         Some((index, path)) => {
@@ -258,7 +274,6 @@ pub fn prepare<M: StudyMechanism>(
         }
     };
     let grid = Grid { names, search };
-    let variables = grid.names.clone();
     let evaluator = Evaluator::new(study.mechanism.clone(), variables, constraints, points);
     Ok(Prepared { grid, evaluator })
 }

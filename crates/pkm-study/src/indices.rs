@@ -11,6 +11,7 @@ use crate::StudyError;
 use crate::registry::StudyMechanism;
 use crate::schema::grid::{IndexName, IndexSettings};
 use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
+use crate::task_space::TaskSpaceEvaluator;
 use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
 use pkm_traits::{ConstrainedWorkspace, ObjectiveError, Silent, WorkspaceConstraint};
 use pkm_workspace_indices::{
@@ -42,6 +43,7 @@ pub struct Evaluator<M = MechanismSpec> {
     variables: Vec<String>,
     constraints: Vec<WorkspaceConstraint>,
     points: Option<PointSet>,
+    task_space: Option<TaskSpaceEvaluator>,
     cache: SectionIndexCache,
 }
 
@@ -85,8 +87,16 @@ impl<M: StudyMechanism> Evaluator<M> {
             variables,
             constraints,
             points,
+            task_space: None,
             cache: SectionIndexCache::new(),
         }
+    }
+
+    /// The evaluator whose workspace indices are those of a robot file in its task space.
+    #[must_use]
+    pub fn with_task_space(mut self, task_space: TaskSpaceEvaluator) -> Self {
+        self.task_space = Some(task_space);
+        self
     }
 
     /// The mechanism at `design` (values of the variables in order).
@@ -154,6 +164,15 @@ impl<M: StudyMechanism> Evaluator<M> {
     ) -> Result<Result<Option<VolumeAndEtaValues>, Infeasible>, StudyError> {
         if !indices.iter().any(|i| i.needs_points()) {
             return Ok(Ok(None));
+        }
+        if let Some(task_space) = &self.task_space {
+            let robot = spec.robot_file().ok_or_else(|| {
+                StudyError::invalid("task_space", "a [task_space] study takes a robot file")
+            })?;
+            // Silent: a grid study reports progress per design, not per point.
+            return Ok(task_space
+                .volume_and_eta(robot, &self.constraints, &Silent)?
+                .map(Some));
         }
         let points = self.points.as_ref().ok_or_else(|| {
             StudyError::invalid("sampling", "workspace indices need a [sampling] section")

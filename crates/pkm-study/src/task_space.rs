@@ -809,3 +809,65 @@ fn summarise(outcome: &mut Outcome<WorkspaceResult>) {
     }
     outcome.summary.extend(lines);
 }
+
+/// W and η of the designs of a grid study in a robot file's task space: the `[task_space]`
+/// section checked on the base design, and its common points (the same for every design, so
+/// the designs are compared on common random numbers).
+#[derive(Debug, Clone)]
+pub struct TaskSpaceEvaluator {
+    spec: TaskSpaceSpec,
+    points: TaskPoints,
+}
+
+impl TaskSpaceEvaluator {
+    /// The evaluator of `spec` with the points of `sampling`, checked on the base design
+    /// `robot`.
+    ///
+    /// # Errors
+    /// As [`workspace`]: a setting that does not fit the base design, at its key path.
+    pub fn new(
+        robot: &RobotFileSpec,
+        spec: &TaskSpaceSpec,
+        sampling: &SamplingSpec,
+    ) -> Result<Self, StudyError> {
+        let model = robot.model()?;
+        let setup = spec.setup(&model)?;
+        let points = task_points(sampling, setup.region)?;
+        Ok(Self {
+            spec: spec.clone(),
+            points,
+        })
+    }
+
+    /// W and η of the design `robot` under `constraints` (η only when `with_eta`), or why the
+    /// design has none (its model or its settings refused).
+    ///
+    /// # Errors
+    /// [`StudyError::Cancelled`] when `progress` asks to stop, an estimator error.
+    pub fn volume_and_eta(
+        &self,
+        robot: &RobotFileSpec,
+        constraints: &[WorkspaceConstraint],
+        progress: &dyn Progress,
+    ) -> Result<Result<(f64, Option<f64>), String>, StudyError> {
+        let design = || -> Result<_, StudyError> {
+            let model = robot.model()?;
+            let modes = robot.working_modes(&model)?;
+            let setup = self.spec.setup(&model)?;
+            Ok((model, modes, setup))
+        };
+        let (model, modes, setup) = match design() {
+            Ok(design) => design,
+            Err(e) => return Ok(Err(e.to_string())),
+        };
+        let ws = match TaskWorkspace::new(&model, &modes, constraints, setup.margins) {
+            Ok(ws) => ws,
+            Err(e) => return Ok(Err(located(e).to_string())),
+        };
+        let estimates = estimate(&ws, &setup, &self.points, progress)?;
+        Ok(estimates
+            .last()
+            .map(|e| (e.volume, e.eta))
+            .ok_or_else(|| "no estimate".to_owned()))
+    }
+}

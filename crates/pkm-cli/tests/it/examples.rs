@@ -55,6 +55,7 @@ fn the_example_studies_are_valid() {
         assert!(checked_grid(name, "sweep") > 10, "{name}");
     }
     assert!(checked_grid("linear_delta_pareto.toml", "pareto") > 1000);
+    assert_eq!(checked_grid("three_prs_sweep.toml", "sweep"), 5);
     let _: (String, OptimizeStudy) =
         study::load_study(&example("tsai_volume_optimize.toml")).unwrap();
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
@@ -76,7 +77,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        18,
+        19,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -2,7 +2,7 @@
 //! runs through the command, and every setting that does not fit the robot is refused at its
 //! key path before any computation.
 
-use crate::common::{example, pkm, run_study};
+use crate::common::{csv, example, pkm, run_study};
 use serde_json::Value;
 
 fn number(v: &Value, path: &[&str]) -> f64 {
@@ -96,6 +96,50 @@ fn every_workspace_kind_runs_on_the_example_robots() {
     );
     let json = run_study("workspace", &home, &dir.path().join("out"), &[]);
     assert!(finest < number(&json["result"], &["estimate", "volume"]));
+}
+
+#[test]
+fn a_sweep_rates_robot_file_designs_in_their_task_space() {
+    let dir = tempfile::tempdir().unwrap();
+    let quick = study_with(
+        "three_prs_sweep.toml",
+        &[("points = 2048", "points = 256")],
+        dir.path(),
+    );
+    let json = run_study("sweep", &quick, &dir.path().join("out"), &[]);
+    assert_eq!(json["result"]["nodes"], 5);
+    assert_eq!(json["result"]["infeasible"], 0);
+    let (header, rows) = csv(&dir.path().join("out/landscape.csv"));
+    let column = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let node = rows
+        .iter()
+        .find(|r| r[column("r")] == "0.1")
+        .expect("the node r = 0.1");
+    // The design of the robot file (r = 0.1 m) has the reachable set of the workspace study
+    // on the same points.
+    let workspace = study_with(
+        "three_prs_reachable.toml",
+        &[
+            ("points = 4096", "points = 256"),
+            (
+                "box = { z = [0.3, 0.75], tilt_x_deg = [-45.0, 45.0], tilt_y_deg = [-45.0, 45.0] }",
+                "box = { z = [0.2, 0.9], tilt_x_deg = [-60.0, 60.0], tilt_y_deg = [-60.0, 60.0] }",
+            ),
+            (
+                "singularity_free = { min_direct_margin = 0.02, cells = 24 }",
+                "",
+            ),
+        ],
+        dir.path(),
+    );
+    let single = run_study("workspace", &workspace, &dir.path().join("single"), &[]);
+    let w = number(&single["result"], &["estimate", "volume"]);
+    let swept: f64 = node[column("volume")].parse().unwrap();
+    assert_eq!(
+        swept.to_bits(),
+        w.to_bits(),
+        "the node r = 0.1: {swept} against W = {w}"
+    );
 }
 
 /// The example `name` with each `(from, to)` replaced, written in `dir`, its robot file named

@@ -23,6 +23,11 @@ pub struct GridStudy<M = MechanismSpec> {
     pub constraints: Option<ConstraintsSpec>,
     /// Common points of the workspace indices (needed for `volume`, `eta`, `gci`).
     pub sampling: Option<SamplingSpec>,
+    /// The workspace indices of a robot file in its own task space ([`crate::task_space`]):
+    /// `volume`, `eta` and `gci` of its kind over the box, on the common points of
+    /// `[sampling]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub task_space: Option<crate::task_space::TaskSpaceSpec>,
     /// Settings of the indices.
     #[serde(default)]
     pub indices: IndexSettings,
