@@ -273,7 +273,7 @@ fn three_prs_reaches(z: f64, tilt: [f64; 2]) -> bool {
         .collect();
     // Least squares on t_i · (x, y, 0) = -t_i · R b_i.
     let a = nalgebra::Matrix3x2::from_fn(|i, k| legs[i].1[k]);
-    let rhs = nalgebra::Vector3::from_fn(|i, _| -legs[i].1.dot(&legs[i].2));
+    let rhs = Vector3::from_fn(|i, _| -legs[i].1.dot(&legs[i].2));
     let xy = (a.transpose() * a).try_inverse().unwrap() * a.transpose() * rhs;
     assert!((a * xy - rhs).norm() < 1e-12, "no torsion at tilt {tilt:?}");
     let p = Vector3::new(xy[0], xy[1], z);

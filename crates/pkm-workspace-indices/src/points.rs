@@ -63,26 +63,7 @@ impl PointSet {
         replicates: u32,
         progress: &dyn Progress,
     ) -> Result<Self, IndexError> {
-        if per_replicate == 0 || replicates == 0 {
-            return Err(IndexError::EmptySample {
-                n_samples: per_replicate * u64::from(replicates),
-            });
-        }
-        if replicates > MAX_REPLICATES {
-            return Err(IndexError::TooLarge {
-                what: "replicates",
-                requested: u64::from(replicates),
-                limit: u64::from(MAX_REPLICATES),
-            });
-        }
-        let total = per_replicate.saturating_mul(u64::from(replicates));
-        if total > MAX_POINTS {
-            return Err(IndexError::TooLarge {
-                what: "points",
-                requested: total,
-                limit: MAX_POINTS,
-            });
-        }
+        let total = check_counts(per_replicate, replicates)?;
         if let Sampler::Grid { per_axis } = sampler {
             // Checked: (2³²)³ overflows u64.
             let cells = u64::from(per_axis).checked_pow(3);
@@ -163,6 +144,35 @@ impl Sampler {
             grid @ Self::Grid { .. } => grid,
         }
     }
+}
+
+/// Checks the counts of a point set: at least one point, at most [`MAX_REPLICATES`] replicates
+/// and [`MAX_POINTS`] points in all; the number of points.
+///
+/// # Errors
+/// [`IndexError::EmptySample`] for no point, [`IndexError::TooLarge`] for too many.
+pub(crate) fn check_counts(per_replicate: u64, replicates: u32) -> Result<u64, IndexError> {
+    if per_replicate == 0 || replicates == 0 {
+        return Err(IndexError::EmptySample {
+            n_samples: per_replicate * u64::from(replicates),
+        });
+    }
+    if replicates > MAX_REPLICATES {
+        return Err(IndexError::TooLarge {
+            what: "replicates",
+            requested: u64::from(replicates),
+            limit: u64::from(MAX_REPLICATES),
+        });
+    }
+    let total = per_replicate.saturating_mul(u64::from(replicates));
+    if total > MAX_POINTS {
+        return Err(IndexError::TooLarge {
+            what: "points",
+            requested: total,
+            limit: MAX_POINTS,
+        });
+    }
+    Ok(total)
 }
 
 #[cfg(test)]

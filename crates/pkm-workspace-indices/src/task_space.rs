@@ -15,7 +15,7 @@
 
 use crate::estimator::{Sums, summarise};
 use crate::parallel::chunked_reduce_ranges;
-use crate::points::{MAX_POINTS, MAX_REPLICATES};
+use crate::points::MAX_POINTS;
 use crate::sobol::{SOBOL_DIMENSIONS, sobol_n};
 use crate::{Accumulator, IndexError, Sampler, VolumeEstimate};
 use pkm_traits::{InvalidInput, Progress};
@@ -131,7 +131,7 @@ impl TaskPoints {
     ///
     /// # Errors
     /// [`IndexError::EmptySample`] for no point; [`IndexError::TooLarge`] for more than
-    /// [`MAX_REPLICATES`] replicates or [`MAX_POINTS`] points; [`IndexError::Invalid`] for a
+    /// [`MAX_REPLICATES`](crate::MAX_REPLICATES) replicates or [`MAX_POINTS`] points; [`IndexError::Invalid`] for a
     /// Sobol sampler in more than [`MAX_TASK_DIMENSION`] coordinates.
     pub fn new(
         region: TaskBox,
@@ -143,26 +143,7 @@ impl TaskPoints {
             Sampler::Grid { per_axis } => (grid_cells(per_axis, region.dimension())?, 1),
             _ => (per_replicate, replicates),
         };
-        if per_replicate == 0 || replicates == 0 {
-            return Err(IndexError::EmptySample {
-                n_samples: per_replicate * u64::from(replicates),
-            });
-        }
-        if replicates > MAX_REPLICATES {
-            return Err(IndexError::TooLarge {
-                what: "replicates",
-                requested: replicates.into(),
-                limit: MAX_REPLICATES.into(),
-            });
-        }
-        let total = per_replicate.saturating_mul(replicates.into());
-        if total > MAX_POINTS {
-            return Err(IndexError::TooLarge {
-                what: "points",
-                requested: total,
-                limit: MAX_POINTS,
-            });
-        }
+        crate::points::check_counts(per_replicate, replicates)?;
         Ok(Self {
             region,
             sampler,
