@@ -157,6 +157,9 @@ fn study_with(name: &str, edits: &[(&str, &str)], dir: &std::path::Path) -> std:
     path
 }
 
+/// Replacements `(from, to)` in a study's text.
+type Edits<'a> = Vec<(&'a str, &'a str)>;
+
 /// Runs `pkm workspace` on the edited example and returns its error message.
 fn refused(name: &str, edits: &[(&str, &str)]) -> String {
     let dir = tempfile::tempdir().unwrap();
@@ -180,7 +183,7 @@ fn settings_that_do_not_fit_the_robot_are_refused_at_their_key_path() {
     let five_bar = "five_bar_reachable.toml";
     let prs = "three_prs_reachable.toml";
     let sg = "stewart_gough_dexterous.toml";
-    let cases: Vec<(&str, Vec<(&str, &str)>, &str)> = vec![
+    let cases: Vec<(&str, Edits<'_>, &str)> = vec![
         // An orientation workspace of a robot whose task has no orientation.
         (
             five_bar,
