@@ -2,6 +2,7 @@
 
 pub mod dynamics;
 mod error;
+mod estimate;
 pub mod grid;
 pub mod indices;
 pub mod merge;

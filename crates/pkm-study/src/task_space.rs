@@ -35,10 +35,10 @@
 //! crossing a type II singularity.
 
 use crate::StudyError;
+use crate::estimate::Estimate;
 use crate::outcome::{Artifact, Outcome};
 use crate::schema::robot_file::{RobotFileSpec, robot_skeleton};
 use crate::schema::sampling::{SamplerKind, SamplingSpec};
-use crate::workspace::{Estimate, WorkspaceResult, WorkspaceStudy};
 use pkm_draw::Scene;
 use pkm_draw::chart::{self, Chart};
 use pkm_robot_file::{
@@ -144,6 +144,19 @@ pub struct SingularityFreeSpec {
 
 fn default_cells() -> u32 {
     24
+}
+
+/// A workspace study in a robot file's task space: the estimate, the measure of the sampled
+/// box and what the task space adds; the study wraps it in its
+/// [`WorkspaceResult`](crate::workspace::WorkspaceResult).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaskSpaceRun {
+    /// Measure of the sampled box (the unit of [`TaskSpaceResult::unit`]).
+    pub domain_volume: f64,
+    /// The estimate (on the finest orientation grid of a dexterous workspace).
+    pub estimate: Estimate,
+    /// What the task space adds.
+    pub task_space: TaskSpaceResult,
 }
 
 /// What a task-space workspace study reports beside its [`Estimate`].
@@ -500,24 +513,17 @@ fn measure_unit(model: &RobotModel, sampled: &[usize]) -> String {
 /// [`StudyError::Invalid`] at the key path of a setting that does not fit the robot (checked
 /// before any computation); [`StudyError::Index`] when the estimator refuses its input;
 /// [`StudyError::Cancelled`] when `progress` asks to stop.
-pub fn workspace<M>(
-    study: &WorkspaceStudy<M>,
+pub fn workspace(
     robot: &RobotFileSpec,
     spec: &TaskSpaceSpec,
+    sampling: &SamplingSpec,
     constraints: &[WorkspaceConstraint],
     progress: &dyn Progress,
-) -> Result<Outcome<WorkspaceResult>, StudyError> {
-    if !study.workspace.slices.is_empty() {
-        return Err(StudyError::invalid(
-            "workspace.slices",
-            "slices in x, y, z belong to translational studies; a [task_space] study maps its \
-             own coordinates",
-        ));
-    }
+) -> Result<Outcome<TaskSpaceRun>, StudyError> {
     let model = robot.model()?;
     let modes = robot.working_modes(&model)?;
     let setup = spec.setup(&model)?;
-    let points = task_points(&study.sampling, setup.region.clone())?;
+    let points = task_points(sampling, setup.region.clone())?;
     let ws = TaskWorkspace::new(&model, &modes, constraints, setup.margins).map_err(located)?;
     let start = singularity_free_start(&model, &setup, spec)?;
     progress.phase("task-space points");
@@ -528,14 +534,7 @@ pub fn workspace<M>(
     let finest = estimates
         .last()
         .ok_or(StudyError::invalid(KEY, "no estimate"))?;
-    let mut outcome = Outcome::new(WorkspaceResult {
-        title: study.title.clone(),
-        mechanism: "robot_file".into(),
-        domain_volume: setup.region.measure(),
-        estimate: Estimate::from(finest),
-        slices: Vec::new(),
-        task_space: None,
-    });
+    let mut artifacts = Vec::new();
     let singularity_free = match (&spec.singularity_free, start) {
         (Some(sf), Some(from)) => Some(singularity_free(
             &model,
@@ -545,13 +544,13 @@ pub fn workspace<M>(
             sf,
             from,
             progress,
-            &mut outcome.artifacts,
+            &mut artifacts,
         )?),
         _ => None,
     };
     let names = model.task_names();
     let unit_of = |k: usize| if model.task_is_angle(k) { "rad" } else { "m" };
-    outcome.result.task_space = Some(TaskSpaceResult {
+    let result = TaskSpaceResult {
         kind: setup.kind,
         coordinates: setup
             .sampled
@@ -566,7 +565,13 @@ pub fn workspace<M>(
             .collect(),
         orientation_levels: orientation_level_results(setup.levels.as_ref(), &estimates),
         singularity_free,
+    };
+    let mut outcome = Outcome::new(TaskSpaceRun {
+        domain_volume: setup.region.measure(),
+        estimate: Estimate::from(finest),
+        task_space: result,
     });
+    outcome.artifacts = artifacts;
     summarise(&mut outcome);
     outcome.robot(
         format!("{} at home", model.name()),
@@ -772,12 +777,9 @@ fn home_scene(model: &RobotModel, mode: Option<WorkingMode>) -> Result<Scene, St
     Ok(Scene::new(robot_skeleton(model, &config)))
 }
 
-fn summarise(outcome: &mut Outcome<WorkspaceResult>) {
+fn summarise(outcome: &mut Outcome<TaskSpaceRun>) {
     let r = &outcome.result;
-    let Some(t) = &r.task_space else {
-        return;
-    };
-    let e = &r.estimate;
+    let (t, e) = (&r.task_space, &r.estimate);
     let mut lines = vec![
         format!(
             "{} workspace in ({}): W = {:.6e} ± {:.2e} {u}, η = {:.6e} ± {:.2e} {u}, GCI = {}",

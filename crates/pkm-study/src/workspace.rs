@@ -3,6 +3,7 @@
 //! eq. 8–10), and planar slices of 1/κ as tables and heat maps.
 
 use crate::StudyError;
+pub use crate::estimate::Estimate;
 use crate::outcome::{Artifact, Outcome, Table};
 use crate::registry::StudyMechanism;
 use crate::scene;
@@ -14,8 +15,7 @@ use crate::task_space::{self, TaskSpaceResult, TaskSpaceSpec};
 use pkm_draw::chart::{self, Chart};
 use pkm_traits::{ConstrainedWorkspace, Progress, WorkspaceConstraint};
 use pkm_workspace_indices::{
-    BoundingBox, Dim, ErrorModel, Plane, PointSet, Slice, TranslationalCondition, VolumeEstimate,
-    Workspace,
+    BoundingBox, Dim, Plane, PointSet, Slice, TranslationalCondition, VolumeEstimate, Workspace,
 };
 use serde::{Deserialize, Serialize};
 
@@ -69,48 +69,6 @@ fn default_cells() -> usize {
 
 /// Largest number of cells per slice side.
 pub const MAX_SLICE_CELLS: usize = 1024;
-
-/// The numbers of one workspace estimate.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Estimate {
-    /// Workspace volume W (m³).
-    pub volume: f64,
-    /// Its standard error (m³).
-    pub volume_se: f64,
-    /// η = ∫ 1/κ dW (m³).
-    pub eta: f64,
-    /// Its standard error (m³).
-    pub eta_se: f64,
-    /// GCI = η/W (dimensionless); absent for an empty workspace.
-    pub gci: Option<f64>,
-    /// Points sampled.
-    pub n_points: u64,
-    /// Points inside.
-    pub n_inside: u64,
-    /// `iid` or `replicates`.
-    pub error_model: String,
-    /// W of each replicate (m³).
-    pub replicate_volumes: Vec<f64>,
-}
-
-impl From<&VolumeEstimate> for Estimate {
-    fn from(e: &VolumeEstimate) -> Self {
-        Self {
-            volume: e.volume,
-            volume_se: e.volume_se,
-            eta: e.eta.unwrap_or(0.0),
-            eta_se: e.eta_se.unwrap_or(0.0),
-            gci: e.gci(),
-            n_points: e.n_points,
-            n_inside: e.n_inside,
-            error_model: match e.error_model {
-                ErrorModel::Iid => "iid".into(),
-                ErrorModel::Replicates(r) => format!("replicates({r})"),
-            },
-            replicate_volumes: e.replicate_volumes.clone(),
-        }
-    }
-}
 
 /// A slice's summary.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -245,7 +203,7 @@ pub fn workspace<M: StudyMechanism>(
 ) -> Result<Outcome<WorkspaceResult>, StudyError> {
     let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
     if let Some((robot, spec)) = task_space_of(study)? {
-        return task_space::workspace(study, robot, spec, &constraints, progress);
+        return task_space_workspace(study, robot, spec, &constraints, progress);
     }
     let slices = slice_settings(&study.workspace)?;
     let domain = study.sampling.domain(study.mechanism.reach_region()?)?;
@@ -285,6 +243,37 @@ pub fn workspace<M: StudyMechanism>(
     let scene = scene::design_scene(&study.mechanism, &constraints, Some(domain.region()));
     outcome.robot(format!("{kind} in its workspace"), scene);
     Ok(outcome)
+}
+
+/// A workspace study in the task space of a robot file ([`task_space::workspace`]), without
+/// slices (they cut x, y, z).
+fn task_space_workspace<M>(
+    study: &WorkspaceStudy<M>,
+    robot: &RobotFileSpec,
+    spec: &TaskSpaceSpec,
+    constraints: &[WorkspaceConstraint],
+    progress: &dyn Progress,
+) -> Result<Outcome<WorkspaceResult>, StudyError> {
+    if !study.workspace.slices.is_empty() {
+        return Err(StudyError::invalid(
+            "workspace.slices",
+            "slices in x, y, z belong to translational studies; a [task_space] study maps its \
+             own coordinates",
+        ));
+    }
+    let run = task_space::workspace(robot, spec, &study.sampling, constraints, progress)?;
+    Ok(Outcome {
+        result: WorkspaceResult {
+            title: study.title.clone(),
+            mechanism: robot.kind().into(),
+            domain_volume: run.result.domain_volume,
+            estimate: run.result.estimate,
+            slices: Vec::new(),
+            task_space: Some(run.result.task_space),
+        },
+        artifacts: run.artifacts,
+        summary: run.summary,
+    })
 }
 
 /// The robot file and `[task_space]` section of a task-space study: `None` for a translational

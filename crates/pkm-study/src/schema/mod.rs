@@ -8,5 +8,6 @@ pub mod index;
 mod kinds;
 pub mod mechanism;
 pub mod robot_file;
+mod robot_file_mechanism;
 pub mod sampling;
 pub mod units;

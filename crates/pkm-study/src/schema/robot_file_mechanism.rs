@@ -1,0 +1,143 @@
+//! [`RobotFileSpec`] as a study mechanism: its `[parameters]` the design variables, its
+//! workspace in the platform position (translational studies), its drawing. Kept apart from
+//! the table itself so that the registry can name the table without a module cycle.
+
+use super::constraints::ConstraintsSpec;
+use super::robot_file::{RobotFileSpec, robot_skeleton};
+use crate::StudyError;
+use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
+use crate::registry::{BuildError, WorkspaceVisitor, visit};
+use nalgebra::Vector3;
+use pkm_mechanisms::Skeleton;
+use pkm_traits::WorkspaceConstraint;
+use pkm_workspace_indices::Region;
+use std::borrow::Cow;
+use toml::Value;
+
+impl StudyMechanism for RobotFileSpec {
+    fn kind(&self) -> &'static str {
+        "robot_file"
+    }
+
+    /// The names of `[parameters]`: metres, or degrees for a name ending in `_deg`.
+    fn variables(&self) -> Cow<'static, [Variable]> {
+        let names = self.parameters().into_iter().flat_map(|p| p.keys());
+        let variables = names.map(|name| Variable {
+            unit: if name.ends_with("_deg") {
+                Unit::Angle
+            } else {
+                Unit::Length
+            },
+            name: Cow::Owned(name.clone()),
+        });
+        Cow::Owned(variables.collect())
+    }
+
+    fn get(&self, name: &str) -> Option<f64> {
+        match self.parameters()?.get(name)? {
+            Value::Float(v) => Some(*v),
+            Value::Integer(v) => Some(*v as f64),
+            _ => None,
+        }
+    }
+
+    fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        let parameters = self.parameters_mut()?;
+        let value = parameters.get_mut(name)?;
+        if let Value::Integer(v) = *value {
+            *value = Value::Float(v as f64);
+        }
+        match value {
+            Value::Float(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    /// Revolute when every actuator is an R joint, prismatic otherwise.
+    fn actuation(&self) -> Actuation {
+        if self.actuated_types().iter().all(|t| *t == "R") {
+            Actuation::Revolute
+        } else {
+            Actuation::Prismatic
+        }
+    }
+
+    /// The model and the working modes (a translational study checks the task where it builds
+    /// the workspace; a task-space study takes any task).
+    fn check(&self) -> Result<(), StudyError> {
+        self.working_modes(&self.model()?).map(|_| ())
+    }
+
+    fn robot_file(&self) -> Option<&RobotFileSpec> {
+        Some(self)
+    }
+
+    /// The study's working modes ([`RobotFileSpec::working_modes`]; by default the reference
+    /// mode of the file, its home configuration's): a position belongs to the workspace when
+    /// one of them assembles there.
+    fn with_workspace<V: WorkspaceVisitor>(
+        &self,
+        constraints: &[WorkspaceConstraint],
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        let design = |e: StudyError| BuildError::Design(e.to_string());
+        let robot = self.translational_robot().map_err(design)?;
+        let modes = self.working_modes(robot.model()).map_err(design)?;
+        visit(&robot, &modes, constraints, visitor)
+    }
+
+    /// The box of [`RobotModel::reach_box`]: the intersection of the legs' reach balls, each
+    /// the chain's length from its first joint point (prismatic travel within the file's
+    /// `limits` included), so it holds every reachable position. None when a prismatic joint
+    /// has no limits (its reach is unbounded) or the boxes do not overlap; the study then needs
+    /// `[sampling.region]`.
+    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
+        let robot = self
+            .translational_robot()
+            .map_err(|e| BuildError::Design(e.to_string()))?;
+        Ok(robot
+            .model()
+            .reach_box()
+            .filter(|[lower, upper]| (0..3).all(|a| lower[a] < upper[a]))
+            .map(|[lower, upper]| Region::Box { lower, upper }))
+    }
+
+    /// The robot drawn from its joints ([`robot_skeleton`]) in the first working mode of the
+    /// study that reaches `p`.
+    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
+        let robot = self.translational_robot().map_err(|e| e.to_string())?;
+        let model = robot.model();
+        let modes = self.working_modes(model).map_err(|e| e.to_string())?;
+        let mut last = None;
+        for mode in modes {
+            match model.inverse_kinematics_configuration(p.as_slice(), mode) {
+                Ok(c) => return Ok(robot_skeleton(model, &c)),
+                Err(e) => last = Some(e),
+            }
+        }
+        let at = format!("p = [{}, {}, {}] m", p.x, p.y, p.z);
+        Err(last.map_or_else(
+            || format!("no working mode of the study can be drawn at {at}"),
+            |e| format!("the skeleton at {at}: {e}"),
+        ))
+    }
+
+    /// As for every mechanism, with joint ranges refused for a robot whose actuators are both
+    /// revolute and prismatic (give them as the file's `limits`).
+    fn constraints(&self, spec: &ConstraintsSpec) -> Result<Vec<WorkspaceConstraint>, String> {
+        let types = self.actuated_types();
+        let mixed = types.contains(&"R") && types.iter().any(|t| *t != "R");
+        let ranges = spec.joint_range.is_some()
+            || spec.joint_range_deg.is_some()
+            || !spec.joint_ranges.is_empty()
+            || !spec.joint_ranges_deg.is_empty();
+        if mixed && ranges {
+            return Err(
+                "the actuators of this robot file are revolute and prismatic: give \
+                        their ranges as `limits` in the robot file"
+                    .into(),
+            );
+        }
+        spec.to_library(self.kind(), self.actuation())
+    }
+}
