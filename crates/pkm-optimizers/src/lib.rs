@@ -36,6 +36,9 @@
 //!   grid (a shard of a study split over several runs).
 //! - [`levenberg_marquardt`] and [`augmented_lagrangian`]: local solvers whose results say why
 //!   they stopped ([`Termination`]: converged and by which test, iteration limit, or stalled).
+//! - [`compass_search`]: a derivative-free local search (Kolda, Lewis & Torczon 2003) for
+//!   objectives that cannot be differenced, such as Monte Carlo estimates on common random
+//!   numbers.
 //! - [`multistart`]: any local solver from the seeded starts of a [`Multistart`], in parallel,
 //!   keeping every start's outcome ([`MultistartRun`]); [`multistart_levenberg_marquardt`] is
 //!   its best for Levenberg–Marquardt.
@@ -51,6 +54,7 @@
 mod readme {}
 
 mod augmented_lagrangian;
+mod compass_search;
 mod error;
 pub mod finite_differences;
 mod grid_axis;
@@ -72,6 +76,7 @@ pub use augmented_lagrangian::{
     MAX_PENALTY, MULTIPLIER_TOLERANCE, PENALTY_GROWTH, REQUIRED_VIOLATION_DECREASE,
     augmented_lagrangian,
 };
+pub use compass_search::{CompassResult, CompassSettings, compass_search};
 pub use error::OptimizeError;
 pub use grid_axis::GridAxis;
 pub use grid_search::{

@@ -3,6 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod cancellation;
+mod compass_search;
 mod hock_schittkowski;
 mod kkt;
 mod levenberg_marquardt;
