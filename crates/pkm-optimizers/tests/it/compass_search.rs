@@ -3,6 +3,8 @@
 //! constant, as a Monte Carlo estimate on common random numbers), an infeasible region
 //! (the extreme barrier), the evaluation budget, and refused settings.
 
+#![allow(clippy::float_cmp)] // exact values: a bound reached by clipping, a plateau
+
 use pkm_optimizers::{CompassSettings, OptimizeError, Sense, Termination, compass_search};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Silent};
 use std::sync::atomic::{AtomicUsize, Ordering};
