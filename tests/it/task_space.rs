@@ -311,3 +311,74 @@ fn the_3prs_reachable_set_is_its_closed_form_with_parasitic_motion() {
         "{disagree} of 4096 points disagree ({inside} inside)"
     );
 }
+
+/// A symmetric planar 3-RPR whose base joints lie on a circle of radius $R_b = 1$ m and whose
+/// legs point along $+y$ at home with length $d$ (the parameter), so the platform joint of
+/// leg $i$ is $b_i = \mathrm{Rot}_i\,(R_b, d)$. At orientation $\theta$ the annulus of leg $i$
+/// is centred at $c_i = a_i - R(\theta)\,b_i = \mathrm{Rot}_i\,[(R_b, 0) - R(\theta)(R_b, d)]$,
+/// on a circle of radius $\delta(d)$ with $\delta^2 = (R_b(1 - \cos\theta) + d\sin\theta)^2 +
+/// (R_b\sin\theta + d\cos\theta)^2$, least at $d^\ast = -R_b \sin\theta$ (where
+/// $\partial_d \delta^2 = 2(R_b\sin\theta + d) = 0$), where the annuli are closest to concentric.
+const SYMMETRIC_3RPR: &str =
+    include_str!("../../examples/studies/symmetric_three_rpr_optimize.toml");
+
+/// The exact area of the symmetric 3-RPR's constant-orientation workspace at `theta` for
+/// leg length `d` at home (limits [0.15, 0.9] m).
+fn symmetric_3rpr_area(d: f64, theta: f64) -> f64 {
+    let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), theta);
+    let annuli: Vec<Annulus> = (0..3)
+        .map(|i| {
+            let leg = Rotation3::from_axis_angle(&Vector3::z_axis(), f64::from(i) * TAU / 3.0);
+            let c = leg * (Vector3::new(1.0, 0.0, 0.0) - turn * Vector3::new(1.0, d, 0.0));
+            Annulus {
+                c: [c.x, c.y],
+                r_in: 0.15,
+                r_out: 0.9,
+            }
+        })
+        .collect();
+    intersection_area(&annuli)
+}
+
+#[test]
+fn optimising_a_robot_file_finds_the_known_best_leg_length() {
+    let theta: f64 = -0.25;
+    let best = -theta.sin();
+    // The closed form: the exact area on a fine grid of d peaks at d* = -R_b sin θ.
+    let grid: Vec<(f64, f64)> = (0..=900)
+        .map(|k| 0.15 + 0.45 * f64::from(k) / 900.0)
+        .map(|d| (d, symmetric_3rpr_area(d, theta)))
+        .collect();
+    let (d_max, a_max) = grid
+        .iter()
+        .copied()
+        .fold((0.0, 0.0), |b, p| if p.1 > b.1 { p } else { b });
+    assert!(
+        (d_max - best).abs() < 1e-3,
+        "the exact area peaks at {d_max}, not {best}"
+    );
+    // The study: a compass search per start on the Monte Carlo area (common points).
+    let study: pkm_study::OptimizeStudy = pkm_study::from_toml_str(SYMMETRIC_3RPR).unwrap();
+    let outcome = pkm_study::optimize(&study, &Silent).unwrap();
+    let r = &outcome.result;
+    let d = r.design["d"];
+    let exact_there = symmetric_3rpr_area(d, theta);
+    assert!(
+        (d - best).abs() < 0.02,
+        "optimum d = {d} against {best}: {:?}",
+        outcome.summary
+    );
+    assert!(
+        a_max - exact_there < 2e-3 * a_max,
+        "{exact_there} against {a_max}"
+    );
+    assert!(
+        (r.maximum - exact_there).abs() < 0.01 * a_max,
+        "{} against {exact_there}",
+        r.maximum
+    );
+    assert_eq!(r.unit, "m²");
+    let search = r.search.as_ref().unwrap();
+    assert_eq!(search.indices["volume"].to_bits(), r.maximum.to_bits());
+    assert!(r.starts.converged == 3 && search.final_step < 1e-3);
+}

@@ -41,3 +41,13 @@ def test_a_misfit_setting_raises_with_its_key_path():
     with pytest.raises(pkm.InvalidInput) as caught:
         pkm.workspace(document, progress=False)
     assert caught.value.key_path == "task_space.kind"
+
+
+def test_a_robot_file_optimisation_gives_the_commands_result(pkm_command, tmp_path):
+    study = ROOT / "examples" / "studies" / "symmetric_three_rpr_optimize.toml"
+    subprocess.run([str(pkm_command), "optimize", str(study), "--out", str(tmp_path), "--quiet"], check=True)
+    command = json.loads((tmp_path / "results.json").read_text())
+    outcome = pkm.optimize(str(study), progress=False)
+    assert json.dumps(outcome["result"], sort_keys=True) == json.dumps(command["result"], sort_keys=True)
+    assert outcome["result"]["unit"] == "m²"
+    assert outcome["result"]["search"]["method"] == "compass"

@@ -170,9 +170,8 @@ impl<M: StudyMechanism> Evaluator<M> {
                 StudyError::invalid("task_space", "a [task_space] study takes a robot file")
             })?;
             // Silent: a grid study reports progress per design, not per point.
-            return Ok(task_space
-                .volume_and_eta(robot, &self.constraints, &Silent)?
-                .map(Some));
+            let indices = task_space.indices(robot, &self.constraints, false, &Silent)?;
+            return Ok(indices.map(|i| Some((i.volume, Some(i.eta)))));
         }
         let points = self.points.as_ref().ok_or_else(|| {
             StudyError::invalid("sampling", "workspace indices need a [sampling] section")

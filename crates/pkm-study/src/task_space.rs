@@ -47,7 +47,8 @@ use pkm_robot_file::{
 };
 use pkm_traits::{Progress, WorkspaceConstraint};
 use pkm_workspace_indices::{
-    Sampler, TaskBox, TaskPoints, VolumeEstimate, connected_task_volume, nested_task_volumes,
+    ConnectedVolume, Sampler, TaskBox, TaskPoints, VolumeEstimate, connected_task_volume,
+    nested_task_volumes,
 };
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -684,25 +685,9 @@ fn singularity_free(
     progress: &dyn Progress,
     artifacts: &mut Vec<Artifact>,
 ) -> Result<SingularityFreeResult, StudyError> {
-    let margins = MarginLimits {
-        direct: Some(
-            setup
-                .margins
-                .direct
-                .map_or(sf.min_direct_margin, |d| d.max(sf.min_direct_margin)),
-        ),
-        ..setup.margins
-    };
-    let ws = TaskWorkspace::new(model, modes, constraints, margins).map_err(located)?;
-    let member = |u: &[f64]| {
-        let x = setup.pose(u);
-        match &setup.levels {
-            None => ws.contains(&x),
-            Some(levels) => ws.dexterous_levels(&x, levels) == levels.grid_levels.len(),
-        }
-    };
+    let ws = singularity_free_workspace(model, modes, constraints, setup, sf)?;
     progress.phase("singularity-free region");
-    let connected = connected_task_volume(&setup.region, sf.cells, &from, progress, member)?;
+    let connected = connected_region(&ws, setup, sf, &from, progress)?;
     let svg = (setup.sampled.len() >= 2).then(|| {
         let name = "singularity-free.svg".to_owned();
         artifacts.push(Artifact::Chart {
@@ -719,6 +704,51 @@ fn singularity_free(
         volume_connected: connected.volume_connected,
         svg,
     })
+}
+
+/// The workspace of `setup` with the direct margin of `sf` (or the setup's own, if larger).
+fn singularity_free_workspace<'m>(
+    model: &'m RobotModel,
+    modes: &[WorkingMode],
+    constraints: &[WorkspaceConstraint],
+    setup: &Setup,
+    sf: &SingularityFreeSpec,
+) -> Result<TaskWorkspace<'m>, StudyError> {
+    let margins = MarginLimits {
+        direct: Some(
+            setup
+                .margins
+                .direct
+                .map_or(sf.min_direct_margin, |d| d.max(sf.min_direct_margin)),
+        ),
+        ..setup.margins
+    };
+    TaskWorkspace::new(model, modes, constraints, margins).map_err(located)
+}
+
+/// The cells of `ws` (every orientation of the set held, for a dexterous workspace) connected
+/// to `from` on the grid of `sf` ([`connected_task_volume`]).
+fn connected_region(
+    ws: &TaskWorkspace<'_>,
+    setup: &Setup,
+    sf: &SingularityFreeSpec,
+    from: &[f64],
+    progress: &dyn Progress,
+) -> Result<ConnectedVolume, StudyError> {
+    let member = |u: &[f64]| {
+        let x = setup.pose(u);
+        match &setup.levels {
+            None => ws.contains(&x),
+            Some(levels) => ws.dexterous_levels(&x, levels) == levels.grid_levels.len(),
+        }
+    };
+    Ok(connected_task_volume(
+        &setup.region,
+        sf.cells,
+        from,
+        progress,
+        member,
+    )?)
 }
 
 /// The direct margin on the plane of the first two sampled coordinates through the start
@@ -767,6 +797,13 @@ fn singularity_free_chart(
         sf.min_direct_margin
     );
     Chart::heatmap(title, label(0), label(1), field)
+}
+
+/// The drawing of `robot` at its home pose in its first working mode, or why there is none.
+pub(crate) fn robot_at_home(robot: &RobotFileSpec) -> Result<Scene, String> {
+    let model = robot.model().map_err(|e| e.to_string())?;
+    let modes = robot.working_modes(&model).map_err(|e| e.to_string())?;
+    home_scene(&model, modes.first().copied())
 }
 
 fn home_scene(model: &RobotModel, mode: Option<WorkingMode>) -> Result<Scene, String> {
@@ -819,6 +856,7 @@ fn summarise(outcome: &mut Outcome<TaskSpaceRun>) {
 pub struct TaskSpaceEvaluator {
     spec: TaskSpaceSpec,
     points: TaskPoints,
+    unit: String,
 }
 
 impl TaskSpaceEvaluator {
@@ -834,31 +872,49 @@ impl TaskSpaceEvaluator {
     ) -> Result<Self, StudyError> {
         let model = robot.model()?;
         let setup = spec.setup(&model)?;
+        singularity_free_start(&model, &setup, spec)?;
+        let unit = measure_unit(&model, &setup.sampled);
         let points = task_points(sampling, setup.region)?;
         Ok(Self {
             spec: spec.clone(),
             points,
+            unit,
         })
     }
 
-    /// W and η of the design `robot` under `constraints` (η only when `with_eta`), or why the
-    /// design has none (its model or its settings refused).
+    /// The unit of the volume and η (`m·rad²`), the base design's.
+    pub fn unit(&self) -> &str {
+        &self.unit
+    }
+
+    /// The indices of the design `robot` under `constraints` (the singularity-free volume
+    /// only when `with_singularity_free`), or why the design has none (its model or its
+    /// settings refused).
     ///
     /// # Errors
-    /// [`StudyError::Cancelled`] when `progress` asks to stop, an estimator error.
-    pub fn volume_and_eta(
+    /// [`StudyError::Invalid`] at `task_space.singularity_free` when it is asked for and the
+    /// section has none; [`StudyError::Cancelled`] when `progress` asks to stop, an estimator
+    /// error.
+    pub fn indices(
         &self,
         robot: &RobotFileSpec,
         constraints: &[WorkspaceConstraint],
+        with_singularity_free: bool,
         progress: &dyn Progress,
-    ) -> Result<Result<(f64, Option<f64>), String>, StudyError> {
+    ) -> Result<Result<TaskSpaceIndices, String>, StudyError> {
+        let sf = match (&self.spec.singularity_free, with_singularity_free) {
+            (Some(sf), true) => Some(sf),
+            (None, true) => return Err(invalid("singularity_free", NO_SINGULARITY_FREE)),
+            (_, false) => None,
+        };
         let design = || -> Result<_, StudyError> {
             let model = robot.model()?;
             let modes = robot.working_modes(&model)?;
             let setup = self.spec.setup(&model)?;
-            Ok((model, modes, setup))
+            let start = singularity_free_start(&model, &setup, &self.spec)?;
+            Ok((model, modes, setup, start))
         };
-        let (model, modes, setup) = match design() {
+        let (model, modes, setup, start) = match design() {
             Ok(design) => design,
             Err(e) => return Ok(Err(e.to_string())),
         };
@@ -867,9 +923,38 @@ impl TaskSpaceEvaluator {
             Err(e) => return Ok(Err(located(e).to_string())),
         };
         let estimates = estimate(&ws, &setup, &self.points, progress)?;
-        Ok(estimates
-            .last()
-            .map(|e| (e.volume, e.eta))
-            .ok_or_else(|| "no estimate".to_owned()))
+        let Some(finest) = estimates.last() else {
+            return Ok(Err("no estimate".to_owned()));
+        };
+        let singularity_free_volume = match (sf, start) {
+            (Some(sf), Some(from)) => {
+                let ws = singularity_free_workspace(&model, &modes, constraints, &setup, sf)?;
+                Some(connected_region(&ws, &setup, sf, &from, progress)?.volume_connected)
+            }
+            _ => None,
+        };
+        Ok(Ok(TaskSpaceIndices {
+            volume: finest.volume,
+            eta: finest.eta.unwrap_or(0.0),
+            gci: finest.gci(),
+            singularity_free_volume,
+        }))
     }
+}
+
+/// The refusal of a singularity-free objective without its section.
+const NO_SINGULARITY_FREE: &str = "the singularity-free volume needs \
+    [task_space.singularity_free] with its min_direct_margin";
+
+/// The indices of one design in its task space (units: [`TaskSpaceResult::unit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TaskSpaceIndices {
+    /// The measure W of the workspace.
+    pub volume: f64,
+    /// η = ∫ 1/κ dW.
+    pub eta: f64,
+    /// GCI = η/W; `None` for an empty workspace.
+    pub gci: Option<f64>,
+    /// The singularity-free volume connected to the start, when asked for.
+    pub singularity_free_volume: Option<f64>,
 }

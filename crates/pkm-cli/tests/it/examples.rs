@@ -56,8 +56,12 @@ fn the_example_studies_are_valid() {
     }
     assert!(checked_grid("linear_delta_pareto.toml", "pareto") > 1000);
     assert_eq!(checked_grid("three_prs_sweep.toml", "sweep"), 5);
-    let _: (String, OptimizeStudy) =
-        study::load_study(&example("tsai_volume_optimize.toml")).unwrap();
+    for name in [
+        "tsai_volume_optimize.toml",
+        "symmetric_three_rpr_optimize.toml",
+    ] {
+        let _: (String, OptimizeStudy) = study::load_study(&example(name)).unwrap();
+    }
     for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
         let (_, task): (String, TaskStudy) = study::load_study(&example(name)).unwrap();
         let run = pkm_study::task(&task, &Stop);
@@ -77,7 +81,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        19,
+        20,
         "a new example study needs a check here: {listed:?}"
     );
 }

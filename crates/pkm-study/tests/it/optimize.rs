@@ -106,20 +106,21 @@ fn tsai_volume_optimisation_matches_the_library_run() {
     assert!((d["phi2_deg"] - 120.0).abs() < 1e-12 && (d["phi3_deg"] - 240.0).abs() < 1e-12);
     // W grows with the size (as R³), so the reach constraint is active with a positive
     // multiplier, from the solver and from the least-squares fit of the check alike.
-    assert_eq!(r.optimality.active_constraints, [0]);
-    assert!(r.constraints[0].multiplier > 0.0);
-    assert!(r.optimality.least_squares_multipliers[0] > 0.0);
+    let optimality = r.optimality.as_ref().unwrap();
+    assert_eq!(optimality.active_constraints, [0]);
+    assert!(r.constraints[0].multiplier.unwrap() > 0.0);
+    assert!(optimality.least_squares_multipliers[0] > 0.0);
     // Second order: a maximum, not a saddle (issue 20: with the solver scaling and a fixed first
     // penalty the example stopped at W 1.000777 with a reduced-Hessian eigenvalue of -12.9; now
     // 5.6 and 38.9).
-    assert!(!r.optimality.reduced_hessian_eigenvalues.is_empty());
+    assert!(!optimality.reduced_hessian_eigenvalues.is_empty());
     assert!(
-        r.optimality
+        optimality
             .reduced_hessian_eigenvalues
             .iter()
             .all(|&e| e > 0.0),
         "{:?}",
-        r.optimality.reduced_hessian_eigenvalues
+        optimality.reduced_hessian_eigenvalues
     );
     // The starts table has one row per start, the best one's value being the maximum.
     let pkm_study::Artifact::Table { name, table } = &outcome.artifacts[0] else {
@@ -245,7 +246,7 @@ fn any_check_step_gives_a_typed_error_at_its_key_or_a_finite_check() {
         let study: OptimizeStudy = from_toml_str(&text).unwrap();
         match optimize(&study, &Silent) {
             Ok(outcome) => {
-                let c = &outcome.result.optimality;
+                let c = outcome.result.optimality.as_ref().unwrap();
                 let numbers = c
                     .lagrangian_gradient
                     .iter()
@@ -284,4 +285,135 @@ fn a_run_stopped_on_an_infeasible_outer_iterate_returns_its_last_feasible_one() 
     let reach = r.design["a"] + r.design["b"] - 1.0;
     assert!(reach <= 1e-6, "a + b - 1 = {reach:e}");
     assert!(r.maximum.is_finite() && r.maximum > 0.9, "{}", r.maximum);
+}
+
+fn robot_file_example() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/studies/symmetric_three_rpr_optimize.toml");
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// The robot-file example with fewer points and one start, edited.
+fn cheap_robot_file(edit: &[(&str, &str)]) -> String {
+    let mut text = robot_file_example()
+        .replace("points = 8192", "points = 1024")
+        .replace("starts = { count = 3", "starts = { count = 1");
+    for (from, to) in edit {
+        assert!(text.contains(from), "{from}");
+        text = text.replacen(from, to, 1);
+    }
+    text
+}
+
+#[test]
+fn a_robot_file_optimisation_refuses_every_setting_at_its_key_before_the_first_start() {
+    let task_space = "[task_space]\nkind = \"constant_orientation\"";
+    let objective = "objective = \"volume\"";
+    let starts = "starts = { count = 1, seed = 5 }";
+    let cases: [(&str, &str, &str); 12] = [
+        (
+            task_space,
+            "[not_used]\nkind = \"constant_orientation\"",
+            "",
+        ),
+        ("[sampling]\nseed = 11\npoints = 1024\n", "", "sampling"),
+        ("d = [0.15, 0.6]", "r = [0.15, 0.6]", "optimize.variables.r"),
+        ("d = [0.15, 0.6]", "d = [0.6, 0.15]", "optimize.variables.d"),
+        (
+            objective,
+            "objective = \"singularity_free_volume\"",
+            "task_space.singularity_free",
+        ),
+        (objective, "objective = \"weighted\"", "optimize.weights"),
+        (
+            objective,
+            "objective = \"weighted\"\nweights = { gci = -1.0 }",
+            "optimize.weights.gci",
+        ),
+        (
+            objective,
+            "objective = \"volume\"\nweights = { volume = 1.0 }",
+            "optimize.weights",
+        ),
+        (
+            starts,
+            "starts = { count = 1, seed = 5 }\nsearch = { min_step = 0.5 }",
+            "optimize.search.min_step",
+        ),
+        (
+            starts,
+            "starts = { count = 1, seed = 5 }\ncheck_step = 1e-2",
+            "optimize.check_step",
+        ),
+        (
+            starts,
+            "starts = { count = 1, seed = 5 }\nsolver = { tolerance = 1e-6 }",
+            "optimize.solver",
+        ),
+        (
+            starts,
+            "starts = { count = 1, seed = 5 }\nconstraints = [{ name = \"c\", \
+             coefficients = { q = 1.0 }, at_most = 1.0 }]",
+            "optimize.constraints[0].coefficients.q",
+        ),
+    ];
+    for (from, to, path) in cases {
+        let text = cheap_robot_file(&[(from, to)]);
+        if path.is_empty() {
+            // Without [task_space] the study does not parse ([not_used] is unknown) or names
+            // the section: either way no computation.
+            let parsed: Result<OptimizeStudy, _> = from_toml_str(&text);
+            assert!(parsed.is_err(), "{to}");
+            let no_section = cheap_robot_file(&[(task_space, "[unused]")]).replace(
+                "[unused]\nbox = { x = [-1.0, 1.0], y = [-1.0, 1.0] }\nfixed = { rz_deg = \
+                 -14.32394487827058 }\n",
+                "",
+            );
+            assert_eq!(refused_at(&no_section), "task_space");
+            continue;
+        }
+        assert_eq!(refused_at(&text), path, "{to}");
+    }
+    let bad_box = cheap_robot_file(&[("x = [-1.0, 1.0]", "x = [1.0, -1.0]")]);
+    assert!(refused_at(&bad_box).starts_with("task_space"));
+}
+
+#[test]
+fn a_tsai_study_refuses_the_settings_of_a_robot_file() {
+    let sampling = cheap(&[("[optimize]", "[sampling]\npoints = 64\n\n[optimize]")]);
+    assert_eq!(refused_at(&sampling), "sampling");
+    let weighted = cheap(&[("objective = \"volume\"", "objective = \"weighted\"")]);
+    assert_eq!(refused_at(&weighted), "optimize.objective");
+    let search = cheap(&[(
+        "objective = \"volume\"",
+        "objective = \"volume\"\nsearch = { min_step = 1e-2 }",
+    )]);
+    assert_eq!(refused_at(&search), "optimize.search");
+}
+
+#[test]
+fn a_weighted_robot_file_objective_is_the_sum_of_its_weighted_indices() {
+    let text = cheap_robot_file(&[
+        (
+            "objective = \"volume\"",
+            "objective = \"weighted\"\nweights = { volume = 1.0, gci = 20.0, \
+             singularity_free_volume = 0.5 }\nsearch = { min_step = 0.05 }",
+        ),
+        (
+            "fixed = { rz_deg = -14.32394487827058 }",
+            "fixed = { rz_deg = -14.32394487827058 }\nsingularity_free = { min_direct_margin = \
+             0.01, cells = 16, from = { x = 0.5, y = 0.0 } }",
+        ),
+    ]);
+    let study: OptimizeStudy = from_toml_str(&text).unwrap();
+    let outcome = optimize(&study, &Silent).unwrap();
+    let r = &outcome.result;
+    let i = &r.search.as_ref().unwrap().indices;
+    let sum = i["volume"] + 20.0 * i["gci"] + 0.5 * i["singularity_free_volume"];
+    assert!(close(r.maximum, sum, 1e-12), "{} against {sum}", r.maximum);
+    assert!(i["singularity_free_volume"] > 0.0 && i["singularity_free_volume"] <= 2.0 * 2.0);
+    assert!(r.optimality.is_none() && r.constraints.is_empty());
+    // The same bits on a second run (the starts run in parallel, each search in order).
+    let again = optimize(&study, &Silent).unwrap();
+    assert_eq!(again.result, outcome.result);
 }

@@ -6,20 +6,29 @@
 //! at the optimum ([`pkm_optimizers::kkt::check`] of the maximised criterion with
 //! $g_i = c_i \cdot x - u_i$, the solver's multipliers and the relative step `check_step`).
 //!
+//! A robot file ([`crate::schema::robot_file`]) is optimised in its own task space instead:
+//! its `[parameters]` are the design variables, the objective a workspace index of its
+//! `[task_space]` on common random points, and each start a derivative-free compass search
+//! ([`robot_file`]).
+//!
 //! Every setting is checked before the first start runs, each at its key path.
+
+mod robot_file;
 
 use crate::outcome::{Artifact, Outcome};
 use crate::registry::StudyMechanism;
 use crate::scene;
-use crate::schema::mechanism::MechanismSpec;
+use crate::schema::mechanism::{ConstraintsSpec, MechanismSpec};
+use crate::schema::sampling::SamplingSpec;
 use crate::starts::{self, Reached, ranked_chart};
+use crate::task_space::TaskSpaceSpec;
 use crate::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
 use crate::{KeyPath, StudyError};
 use nalgebra::Vector3;
 use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
 use pkm_optimizers::{
-    AugmentedLagrangianSettings, ConstrainedResult, Multistart, MultistartRun, OptimizeError,
-    Sense, augmented_lagrangian, multistart,
+    AugmentedLagrangianSettings, CompassSettings, ConstrainedResult, LocalResult, Multistart,
+    MultistartRun, OptimizeError, Sense, augmented_lagrangian, multistart,
 };
 use pkm_traits::{Bounds, Progress};
 use pkm_workspace_indices::Sampler;
@@ -35,6 +44,15 @@ pub struct OptimizeStudy<M = MechanismSpec> {
     pub title: Option<String>,
     /// The nominal design (its values hold for the variables that are not optimised).
     pub mechanism: M,
+    /// Robot files: the workspace limits of every design (as in a workspace study).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub constraints: Option<ConstraintsSpec>,
+    /// Robot files: the task space the objective is measured in ([`crate::task_space`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub task_space: Option<TaskSpaceSpec>,
+    /// Robot files: the points of the objective, common to every design.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sampling: Option<SamplingSpec>,
     /// What is optimised and how.
     pub optimize: OptimizeSection,
 }
@@ -44,7 +62,11 @@ pub struct OptimizeStudy<M = MechanismSpec> {
 #[serde(deny_unknown_fields)]
 pub struct OptimizeSection {
     /// What is maximised.
-    pub objective: TsaiObjective,
+    pub objective: OptimizeObjective,
+    /// `objective = "weighted"` (robot files): the weight $w_k \ge 0$ of each index in
+    /// $\sum_k w_k I_k$, by name (`volume`, `eta`, `gci`, `singularity_free_volume`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub weights: BTreeMap<OptimizeObjective, f64>,
     /// Volume: columns per axis of the column quadrature (default 128).
     #[serde(default = "default_columns")]
     pub columns: usize,
@@ -62,13 +84,17 @@ pub struct OptimizeSection {
     pub constraints: Vec<LinearConstraint>,
     /// The multistart.
     pub starts: Multistart,
-    /// Augmented-Lagrangian settings (defaults: the library's).
-    #[serde(default)]
-    pub solver: AugmentedLagrangianSettings,
-    /// Finite-difference step of the optimality checks, relative to each variable's range, in
-    /// $(0, 0.5)$ and large enough to move every design in the box (default 1e-2).
-    #[serde(default = "default_check_step")]
-    pub check_step: f64,
+    /// The Tsai platform: augmented-Lagrangian settings (defaults: the library's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<AugmentedLagrangianSettings>,
+    /// The Tsai platform: finite-difference step of the optimality checks, relative to each
+    /// variable's range, in $(0, 0.5)$ and large enough to move every design in the box
+    /// (default 1e-2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check_step: Option<f64>,
+    /// Robot files: the compass search of each start (defaults: the library's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search: Option<CompassSettings>,
 }
 
 fn default_columns() -> usize {
@@ -80,30 +106,37 @@ fn default_points() -> u64 {
 fn default_points_seed() -> u64 {
     999
 }
-fn default_check_step() -> f64 {
-    1e-2
-}
+/// The step of the optimality checks when the study gives none.
+const DEFAULT_CHECK_STEP: f64 = 1e-2;
 
-/// What is maximised.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+/// What is maximised. For the Tsai platform the volume, η and GCI are Stamper's; for a robot
+/// file they are measured in its task space, in the unit of its sampled coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum TsaiObjective {
-    /// Workspace volume $W$ inside the hemisphere of radius $a + b + d + e$ (eq. 3), m³.
+pub enum OptimizeObjective {
+    /// Workspace volume $W$ (Tsai: inside the hemisphere of radius $a + b + d + e$, eq. 3, m³).
     Volume,
     /// Stamper's "global condition index" of eq. 8, the condition integral
-    /// $\eta = \int_W 1/\kappa \, dW$, m³.
+    /// $\eta = \int_W 1/\kappa \, dW$.
     Eta,
     /// The Gosselin–Angeles global condition index $\eta / W$, dimensionless.
     Gci,
+    /// Robot files: the singularity-free volume connected to the start pose
+    /// (`[task_space.singularity_free]`).
+    SingularityFreeVolume,
+    /// Robot files: $\sum_k w_k I_k$ with the study's `weights`.
+    Weighted,
 }
 
-impl TsaiObjective {
+impl OptimizeObjective {
     /// Name in the report.
     pub fn name(self) -> &'static str {
         match self {
             Self::Volume => "volume",
             Self::Eta => "eta",
             Self::Gci => "gci",
+            Self::SingularityFreeVolume => "singularity_free_volume",
+            Self::Weighted => "weighted",
         }
     }
 }
@@ -127,8 +160,10 @@ pub struct ConstraintValue {
     pub name: String,
     /// $g_i = c_i \cdot x - u_i$ ($\le 0$ when satisfied).
     pub g: f64,
-    /// The solver's multiplier $\mu_i \ge 0$.
-    pub multiplier: f64,
+    /// The solver's multiplier $\mu_i \ge 0$ (the augmented Lagrangian's; none for a compass
+    /// search, which treats constraints as a barrier).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub multiplier: Option<f64>,
 }
 
 /// How the starts ended.
@@ -149,8 +184,11 @@ pub struct StartCounts {
 pub struct OptimizeResult {
     /// The study's title.
     pub title: Option<String>,
-    /// `volume` (m³), `eta` (m³) or `gci` (1).
+    /// `volume`, `eta`, `gci`, `singularity_free_volume` or `weighted`.
     pub objective: String,
+    /// The unit of the volume and η (`m³`, or a robot file's task-space unit such as
+    /// `m·rad²`).
+    pub unit: String,
     /// Its largest value found.
     pub maximum: f64,
     /// The optimised variables, in order.
@@ -165,8 +203,28 @@ pub struct OptimizeResult {
     pub constraints: Vec<ConstraintValue>,
     /// How the starts ended.
     pub starts: StartCounts,
-    /// The first- and second-order checks.
-    pub optimality: OptimalityCheck,
+    /// The first- and second-order checks (the Tsai platform's smooth objective; a Monte
+    /// Carlo objective has no derivatives to check).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub optimality: Option<OptimalityCheck>,
+    /// Robot files: the compass search and every index at the optimum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search: Option<SearchSummary>,
+}
+
+/// How the compass searches of a robot-file optimisation went, and the optimum's indices.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SearchSummary {
+    /// `"compass"`.
+    pub method: String,
+    /// Objective evaluations over every start.
+    pub evaluations: usize,
+    /// Designs of the polls that were infeasible (a linear constraint, no model, no workspace).
+    pub infeasible: usize,
+    /// The best start's last step (a fraction of each variable's range).
+    pub final_step: f64,
+    /// The indices at the optimum, by name (the volume and η in [`OptimizeResult::unit`]).
+    pub indices: BTreeMap<String, f64>,
 }
 
 /// Every setting of a study, checked: the problem's pieces, the start points and the solver
@@ -178,6 +236,7 @@ struct Checked {
     points: Vec<Vector3<f64>>,
     inequalities: Vec<LinearInequality>,
     starts: Vec<Vec<f64>>,
+    solver: AugmentedLagrangianSettings,
     check: KktSettings,
 }
 
@@ -258,11 +317,12 @@ fn inequalities(o: &OptimizeSection) -> Result<Vec<LinearInequality>, StudyError
 /// The criterion and its common points, the quadrature settings checked.
 fn criterion(o: &OptimizeSection) -> Result<(TsaiCriterion, Vec<Vector3<f64>>), StudyError> {
     let criterion = match o.objective {
-        TsaiObjective::Volume => TsaiCriterion::Volume { columns: o.columns },
-        TsaiObjective::Eta => TsaiCriterion::Eta,
-        TsaiObjective::Gci => TsaiCriterion::Gci,
+        OptimizeObjective::Volume => TsaiCriterion::Volume { columns: o.columns },
+        OptimizeObjective::Eta => TsaiCriterion::Eta,
+        OptimizeObjective::Gci => TsaiCriterion::Gci,
+        other => return Err(robot_files_only("optimize.objective", other.name())),
     };
-    if o.objective == TsaiObjective::Volume
+    if o.objective == OptimizeObjective::Volume
         && !(1..=pkm_mechanisms::Tsai3Dof::MAX_COLUMN_GRID).contains(&o.columns)
     {
         return Err(StudyError::invalid(
@@ -274,14 +334,37 @@ fn criterion(o: &OptimizeSection) -> Result<(TsaiCriterion, Vec<Vector3<f64>>), 
         ));
     }
     let points = match o.objective {
-        TsaiObjective::Eta | TsaiObjective::Gci => Sampler::MonteCarlo {
+        OptimizeObjective::Eta | OptimizeObjective::Gci => Sampler::MonteCarlo {
             seed: o.points_seed,
         }
         .unit_hemisphere_points(o.points)
         .map_err(|e| StudyError::invalid("optimize.points", e.to_string()))?,
-        TsaiObjective::Volume => Vec::new(),
+        _ => Vec::new(),
     };
     Ok((criterion, points))
+}
+
+/// The refusal of a robot-file setting in a study of the Tsai platform.
+fn robot_files_only(path: &str, what: &str) -> StudyError {
+    StudyError::invalid(
+        path,
+        format!("{what} belongs to the optimisation of a robot file ([mechanism.robot_file])"),
+    )
+}
+
+/// Refuses the settings of a robot-file optimisation in a study of the Tsai platform.
+fn no_robot_file_settings<M>(study: &OptimizeStudy<M>) -> Result<(), StudyError> {
+    let given = [
+        ("constraints", study.constraints.is_some()),
+        ("task_space", study.task_space.is_some()),
+        ("sampling", study.sampling.is_some()),
+        ("optimize.weights", !study.optimize.weights.is_empty()),
+        ("optimize.search", study.optimize.search.is_some()),
+    ];
+    match given.into_iter().find(|(_, given)| *given) {
+        Some((path, _)) => Err(robot_files_only(path, "this setting")),
+        None => Ok(()),
+    }
 }
 
 /// Checks every setting of `study` (before any start runs).
@@ -290,16 +373,18 @@ fn check<M: StudyMechanism>(study: &OptimizeStudy<M>) -> Result<Checked, StudyEr
         .mechanism
         .smooth_objective()
         .map_err(|m| StudyError::invalid("mechanism", m))?;
+    no_robot_file_settings(study)?;
     let o = &study.optimize;
     let free = free_variables(o)?;
     let inequalities = inequalities(o)?;
-    o.solver
+    let solver = o.solver.clone().unwrap_or_default();
+    solver
         .validate()
         .map_err(|e| refused("optimize.solver", e))?;
     let bounds: Vec<Bounds> = free.iter().map(|(_, b)| *b).collect();
     let check = KktSettings {
-        step: o.check_step,
-        active_tolerance: o.solver.feasibility,
+        step: o.check_step.unwrap_or(DEFAULT_CHECK_STEP),
+        active_tolerance: solver.feasibility,
     };
     check
         .validate_for(&bounds)
@@ -316,6 +401,7 @@ fn check<M: StudyMechanism>(study: &OptimizeStudy<M>) -> Result<Checked, StudyEr
         points,
         inequalities,
         starts,
+        solver,
         check,
     })
 }
@@ -332,9 +418,12 @@ pub fn optimize<M: StudyMechanism>(
     study: &OptimizeStudy<M>,
     progress: &dyn Progress,
 ) -> Result<Outcome<OptimizeResult>, StudyError> {
+    if let Some(robot) = study.mechanism.robot_file() {
+        return robot_file::optimize(study, robot, progress);
+    }
     let c = check(study)?;
     let problem = TsaiProblem::new(c.nominal, c.free, c.criterion, &c.points, c.inequalities);
-    let settings = &study.optimize.solver;
+    let settings = &c.solver;
     let run = multistart(c.starts, progress, |s, cancel| {
         augmented_lagrangian(&problem, Sense::Maximise, s, settings, cancel)
     })?;
@@ -372,7 +461,7 @@ pub fn optimize<M: StudyMechanism>(
 }
 
 /// The error when no start reached a feasible design, with the last start's reason.
-fn no_feasible(run: &MultistartRun<ConstrainedResult>) -> StudyError {
+fn no_feasible<R>(run: &MultistartRun<R>) -> StudyError {
     let last = run.outcomes.iter().rev().find_map(|o| o.as_ref().err());
     StudyError::invalid(
         "optimize.starts",
@@ -407,7 +496,7 @@ fn result_of<M>(
         .map(|(i, c)| ConstraintValue {
             name: c.name.clone(),
             g: best.constraints[i],
-            multiplier: best.multipliers[i],
+            multiplier: Some(best.multipliers[i]),
         })
         .collect();
     let count = |f: &dyn Fn(&Result<ConstrainedResult, OptimizeError>) -> bool| {
@@ -416,6 +505,7 @@ fn result_of<M>(
     OptimizeResult {
         title: study.title.clone(),
         objective: o.objective.name().to_owned(),
+        unit: "m³".to_owned(),
         maximum: best.value,
         variables: problem.names().iter().map(|n| (*n).to_owned()).collect(),
         design,
@@ -428,40 +518,49 @@ fn result_of<M>(
             at_iteration_limit: count(&|o| o.as_ref().is_ok_and(|r| !r.termination.converged())),
             failed: count(&|o| o.is_err()),
         },
-        optimality,
+        optimality: Some(optimality),
+        search: None,
     }
 }
 
 /// The two summary lines: the optimum, and the first- and second-order checks.
-fn summarise(outcome: &mut Outcome<OptimizeResult>, names: &[&str], best: &ConstrainedResult) {
+fn summarise<R: LocalResult>(outcome: &mut Outcome<OptimizeResult>, names: &[&str], best: &R) {
     let r = &outcome.result;
+    let unit = match r.objective.as_str() {
+        "volume" | "eta" | "singularity_free_volume" => format!(" {}", r.unit),
+        _ => String::new(),
+    };
     let optimum = format!(
-        "max {} = {:.6} from start {} of {} ({}): {}",
+        "max {} = {:.6}{unit} from start {} of {} ({}): {}",
         r.objective,
-        best.value,
+        best.value(),
         r.best_start,
         r.starts.total,
-        best.termination,
+        best.termination(),
         names
             .iter()
-            .zip(&best.design)
+            .zip(best.design())
             .map(|(n, v)| format!("{n} = {v:.5}"))
             .collect::<Vec<_>>()
             .join(", ")
     );
+    outcome.summary.push(optimum);
+    let Some(optimality) = &outcome.result.optimality else {
+        return;
+    };
     let checks = format!(
         "first order: projected gradient {:.2e} (solver multipliers), stationarity {:.2e} \
          (least-squares multipliers); second order: reduced Hessian eigenvalues [{}]",
-        r.optimality.projected_gradient_max,
-        r.optimality.stationarity_residual,
-        r.optimality
+        optimality.projected_gradient_max,
+        optimality.stationarity_residual,
+        optimality
             .reduced_hessian_eigenvalues
             .iter()
             .map(|v| format!("{v:.3e}"))
             .collect::<Vec<_>>()
             .join(", ")
     );
-    outcome.summary.extend([optimum, checks]);
+    outcome.summary.push(checks);
 }
 
 /// `starts.csv` (each start and where it ended, with its largest constraint violation) and
