@@ -51,3 +51,13 @@ def test_a_robot_file_optimisation_gives_the_commands_result(pkm_command, tmp_pa
     assert json.dumps(outcome["result"], sort_keys=True) == json.dumps(command["result"], sort_keys=True)
     assert outcome["result"]["unit"] == "m²"
     assert outcome["result"]["search"]["method"] == "compass"
+
+
+def test_a_robot_file_task_study_gives_the_commands_result(pkm_command, tmp_path):
+    study = ROOT / "examples" / "studies" / "three_prs_task_synthesis.toml"
+    subprocess.run([str(pkm_command), "task", str(study), "--out", str(tmp_path), "--quiet"], check=True)
+    command = json.loads((tmp_path / "results.json").read_text())
+    outcome = pkm.task(str(study), progress=False)
+    assert json.dumps(outcome["result"], sort_keys=True) == json.dumps(command["result"], sort_keys=True)
+    assert outcome["result"]["mechanism"] == "robot_file"
+    assert outcome["result"]["wrench_matrix"]["rank"] == 6

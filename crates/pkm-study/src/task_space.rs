@@ -34,11 +34,11 @@
 //! ([`connected_task_volume`]): the region the robot can move through from home without
 //! crossing a type II singularity.
 
-use crate::StudyError;
 use crate::estimate::Estimate;
 use crate::outcome::{Artifact, Outcome};
 use crate::schema::robot_file::{RobotFileSpec, robot_skeleton};
 use crate::schema::sampling::{SamplerKind, SamplingSpec};
+use crate::{KeyPath, StudyError};
 use pkm_draw::Scene;
 use pkm_draw::chart::{self, Chart};
 use pkm_robot_file::{
@@ -251,25 +251,38 @@ fn located(e: RobotFileError) -> StudyError {
 
 /// The task index of the coordinate keyed `key` and the factor to SI units and radians.
 fn coordinate(model: &RobotModel, at: &str, key: &str) -> Result<(usize, f64), StudyError> {
+    task_coordinate(model, &format!("{KEY}.{at}"), key)
+}
+
+/// The index of the task coordinate that the study key `key` names (`z`, or `tilt_x_deg` for
+/// an angle in degrees) and the factor from the key's unit to the library's (1, or π/180).
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `<at>.<key>` for a name that is not in the task, an angle not
+/// in degrees or a length in degrees.
+pub(crate) fn task_coordinate(
+    model: &RobotModel,
+    at: &str,
+    key: &str,
+) -> Result<(usize, f64), StudyError> {
     let names = model.task_names();
+    let path = KeyPath::parse(at).field(key);
     let (name, degrees) = key
         .strip_suffix("_deg")
         .map_or((key, false), |name| (name, true));
     let k = names.iter().position(|n| *n == name).ok_or_else(|| {
-        invalid(
-            format!("{at}.{key}"),
-            format!("not a task coordinate of this robot: its task is {names:?}"),
-        )
+        let m = format!("not a task coordinate of this robot: its task is {names:?}");
+        StudyError::invalid(path.clone(), m)
     })?;
     match (model.task_is_angle(k), degrees) {
         (true, true) => Ok((k, std::f64::consts::PI / 180.0)),
         (false, false) => Ok((k, 1.0)),
-        (true, false) => Err(invalid(
-            format!("{at}.{key}"),
+        (true, false) => Err(StudyError::invalid(
+            path,
             format!("`{name}` is an angle: give it in degrees as `{name}_deg`"),
         )),
-        (false, true) => Err(invalid(
-            format!("{at}.{key}"),
+        (false, true) => Err(StudyError::invalid(
+            path,
             format!("`{name}` is a length: give it in metres as `{name}`"),
         )),
     }

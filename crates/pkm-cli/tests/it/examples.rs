@@ -62,7 +62,11 @@ fn the_example_studies_are_valid() {
     ] {
         let _: (String, OptimizeStudy) = study::load_study(&example(name)).unwrap();
     }
-    for name in ["stewart_task_synthesis.toml", "three_upu_singularity.toml"] {
+    for name in [
+        "stewart_task_synthesis.toml",
+        "three_upu_singularity.toml",
+        "three_prs_task_synthesis.toml",
+    ] {
         let (_, task): (String, TaskStudy) = study::load_study(&example(name)).unwrap();
         let run = pkm_study::task(&task, &Stop);
         assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
@@ -81,7 +85,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        20,
+        21,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -15,6 +15,7 @@
 
 mod problem;
 mod report;
+mod robot_file;
 mod schema;
 
 pub use problem::{STEWART_VARIABLES, UPU_VARIABLES, UpuProblem, stewart_problem};
@@ -26,8 +27,9 @@ pub use schema::{Goal, PoseSpec, TaskSection, TaskStudy, TwistSpec, TwistSpecErr
 use crate::outcome::Outcome;
 use crate::registry::StudyMechanism;
 use crate::schema::mechanism::{MechanismSpec, StewartSpec, ThreeUpuSpec};
+use crate::schema::robot_file::RobotFileSpec;
 use crate::{KeyPath, StudyError, scene};
-use nalgebra::{Isometry3, Matrix6};
+use nalgebra::{DMatrix, Isometry3, Matrix6};
 use pkm_draw::Scene;
 use pkm_mechanisms::{Skeleton, StewartDesign, StewartGough, WrenchSystem};
 use pkm_optimizers::{
@@ -79,9 +81,11 @@ impl TaskMechanism for MechanismSpec {
         match self {
             Self::StewartGough(spec) => spec.task_run(task, twists, progress),
             Self::ThreeUpu(spec) => spec.task_run(task, twists, progress),
+            Self::RobotFile(spec) => spec.task_run(task, twists, progress),
             other => Err(no_wrench_system(
                 other.kind(),
-                ": expected [mechanism.stewart_gough] or [mechanism.three_upu]",
+                ": expected [mechanism.stewart_gough], [mechanism.three_upu] or \
+                 [mechanism.robot_file]",
             )),
         }
     }
@@ -95,6 +99,17 @@ impl TaskMechanism for StewartSpec {
         progress: &dyn Progress,
     ) -> Result<TaskRun, StudyError> {
         stewart(self, task, twists, progress)
+    }
+}
+
+impl TaskMechanism for RobotFileSpec {
+    fn task_run(
+        &self,
+        task: &TaskSection,
+        twists: &[(f64, Twist)],
+        progress: &dyn Progress,
+    ) -> Result<TaskRun, StudyError> {
+        robot_file::robot_file_task(self, task, twists, progress)
     }
 }
 
@@ -121,6 +136,10 @@ pub fn task<M: TaskMechanism>(
     study: &TaskStudy<M>,
     progress: &dyn Progress,
 ) -> Result<Outcome<TaskResult>, StudyError> {
+    if study.mechanism.robot_file().is_none() && !study.task.at.is_empty() {
+        let m = "`at` gives a robot file's nominal pose by task coordinate; use [task.pose]";
+        return Err(StudyError::invalid("task.at", m));
+    }
     let twists = weighted_twists(&study.task)?;
     let mut found = study.mechanism.task_run(&study.task, &twists, progress)?;
     found.result.title.clone_from(&study.title);
@@ -343,7 +362,7 @@ fn stewart(
         pose: PoseReport::from(&pose),
         twists: twist_values(&mechanism, &pose, twists)?,
         leg_lengths: Some(leg_lengths(&mechanism, &pose)),
-        wrench_matrix: wrench_matrix(&objective_rows(&mechanism, &pose)?, |t| {
+        wrench_matrix: wrench_matrix(&dynamic(&objective_rows(&mechanism, &pose)?), |t| {
             task_f(&mechanism, &pose, t)
         })?,
         optimality: Optimality::from(&best),
@@ -371,6 +390,11 @@ fn objective_rows(
     Ok(mechanism
         .wrench_rows(pose)
         .map_err(pkm_traits::ObjectiveError::from)?)
+}
+
+/// The rows of a 6 × 6 wrench matrix as the report takes them.
+fn dynamic(rows: &Matrix6<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(6, 6, |i, j| rows[(i, j)])
 }
 
 /// The design in the study's units: radii, then the separations in degrees.
@@ -427,7 +451,7 @@ fn upu(
         pose: PoseReport::from(&pose),
         twists: twist_values(&mechanism, &pose, twists)?,
         leg_lengths: None,
-        wrench_matrix: wrench_matrix(&rows, |t| task_f(&mechanism, &pose, t))?,
+        wrench_matrix: wrench_matrix(&dynamic(&rows), |t| task_f(&mechanism, &pose, t))?,
         optimality: Optimality::from(&best),
         starts: run.starts.len(),
     };

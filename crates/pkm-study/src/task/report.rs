@@ -1,12 +1,11 @@
 //! What a task study reports: the result types of `results.json`, the wrench rows at the
 //! optimum, the summary lines, and the starts as a table and a chart.
 
-use super::problem::smallest_singular_value;
 use super::schema::Goal;
 use crate::StudyError;
 use crate::outcome::{Artifact, Outcome, short};
 use crate::starts::{self, Reached, ranked_chart};
-use nalgebra::{Isometry3, Matrix6, Vector3, Vector6};
+use nalgebra::{DMatrix, Isometry3, Matrix6, Vector3, Vector6};
 use pkm_optimizers::{ActiveBound, LocalOptimum, MultistartRun};
 use pkm_screw_theory::{ScrewError, Twist, line_set_rank};
 use serde::{Deserialize, Serialize};
@@ -68,15 +67,17 @@ impl From<&Isometry3<f64>> for PoseReport {
     }
 }
 
-/// The 6×6 matrix of wrench rows at the optimum.
+/// The matrix of wrench rows at the optimum (6 × 6 for the papers' robots; a robot file has one
+/// row per actuation wrench and per constraint wrench of every leg).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WrenchMatrix {
     /// Rank of the rows (relative tolerance 1e-9).
     pub rank: usize,
     /// Smallest singular value.
     pub sigma_min: f64,
-    /// Determinant.
-    pub det: f64,
+    /// Determinant (six rows only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub det: Option<f64>,
     /// The unit twist most nearly reciprocal to every row ($[\omega; v]$, rad/s and m/s):
     /// the swapped right singular vector of $\sigma_{min}$.
     pub most_reciprocal_twist: [f64; 6],
@@ -126,24 +127,28 @@ pub struct TaskResult {
     pub starts: usize,
 }
 
-/// The wrench matrix report of `rows`, with $F$ of the most reciprocal twist by `objective`.
+/// The wrench matrix report of `rows` (six or more rows of six), with $F$ of the most
+/// reciprocal twist by `objective`.
 ///
 /// # Errors
-/// [`StudyError::Screw`] when the rank cannot be computed or the SVD does not converge;
-/// `objective`'s error.
+/// [`StudyError::Screw`] when there are fewer than six rows, the rank cannot be computed or the
+/// SVD does not converge; `objective`'s error.
 pub(super) fn wrench_matrix(
-    rows: &Matrix6<f64>,
+    rows: &DMatrix<f64>,
     objective: impl Fn(&Twist) -> Result<f64, StudyError>,
 ) -> Result<WrenchMatrix, StudyError> {
-    let lines: Vec<Vector6<f64>> = rows.row_iter().map(|r| r.transpose()).collect();
+    let not_converged = || StudyError::Screw(ScrewError::SvdNotConverged { rows: rows.nrows() });
+    let lines: Vec<Vector6<f64>> = rows
+        .row_iter()
+        .map(|r| Vector6::from_iterator(r.iter().copied()))
+        .collect();
     let rank = line_set_rank(&lines, 1e-9).map_err(StudyError::Screw)?;
-    let twist = most_reciprocal_twist(rows)
-        .ok_or(StudyError::Screw(ScrewError::SvdNotConverged { rows: 6 }))?;
+    let (sigma_min, twist) = least_singular_twist(rows).ok_or_else(not_converged)?;
     let v = twist.as_vector();
     Ok(WrenchMatrix {
         rank,
-        sigma_min: smallest_singular_value(rows),
-        det: rows.determinant(),
+        sigma_min,
+        det: (rows.nrows() == 6).then(|| rows.determinant()),
         most_reciprocal_twist: [v[0], v[1], v[2], v[3], v[4], v[5]],
         most_reciprocal_f: objective(&twist)?,
     })
@@ -152,13 +157,22 @@ pub(super) fn wrench_matrix(
 /// The unit twist most nearly reciprocal to every row: the rows act on the swapped twist
 /// ($r = W\,\Delta\chi$), so $\chi$ is the swapped right singular vector of $\sigma_{min}$.
 pub fn most_reciprocal_twist(rows: &Matrix6<f64>) -> Option<Twist> {
-    let svd = rows.svd(false, true);
+    least_singular_twist(&DMatrix::from_fn(6, 6, |i, j| rows[(i, j)])).map(|(_, t)| t)
+}
+
+/// $\sigma_{min}$ of `rows` (six or more rows of six; an SVD of at most 1000 sweeps) and the
+/// swapped right singular vector of it, as in [`most_reciprocal_twist`]; `None` for fewer
+/// than six rows, a non-finite entry or an SVD that does not converge.
+pub(super) fn least_singular_twist(rows: &DMatrix<f64>) -> Option<(f64, Twist)> {
+    if rows.nrows() < 6 || rows.ncols() != 6 || !rows.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let svd = rows.clone().try_svd(false, true, f64::EPSILON, 1000)?;
     let v_t = svd.v_t?;
     let k = (0..6).min_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]))?;
     let y = v_t.row(k).transpose();
-    Some(Twist::from_vector(Vector6::new(
-        y[3], y[4], y[5], y[0], y[1], y[2],
-    )))
+    let twist = Twist::from_vector(Vector6::new(y[3], y[4], y[5], y[0], y[1], y[2]));
+    Some((svd.singular_values[k], twist))
 }
 
 /// The four summary lines: the optimum, the variables, the pose with the rows' rank, and the

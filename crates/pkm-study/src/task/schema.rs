@@ -32,6 +32,10 @@ pub struct TaskSection {
     pub pose: PoseSpec,
     /// Stewart–Gough only: the orientation is free within $|\alpha| \le$ this (degrees).
     pub max_angle_deg: Option<Degrees>,
+    /// Robot files: the nominal pose by task coordinate (`z = 0.5`, `tilt_x_deg = 10.0`; lengths
+    /// in m, angles in degrees), home for the coordinates not given.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub at: BTreeMap<String, f64>,
     /// The optimised variables and their ranges `[lower, upper]`, in the unit of the key.
     pub variables: BTreeMap<String, [f64; 2]>,
     /// The task twists (none with a singularity goal).

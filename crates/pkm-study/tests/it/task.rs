@@ -11,6 +11,9 @@ use pkm_mechanisms::{
 };
 use pkm_optimizers::{LmSettings, Multistart, Sense, multistart_levenberg_marquardt};
 use pkm_screw_theory::Twist;
+use pkm_study::schema::robot_file::RobotFileSpec;
+use pkm_study::schema::units::{Degrees, Metres};
+use pkm_study::task::PoseSpec;
 use pkm_study::{Artifact, StudyError, TaskResult, TaskStudy, from_toml_str, task};
 use pkm_traits::{Bounds, Objective, ObjectiveError, Progress, Residuals, Silent, Task};
 use std::path::Path;
@@ -245,7 +248,7 @@ fn three_upu_singularity_search_matches_the_library_multistart() {
     let chi = Twist::from_vector(Vector6::from(w.most_reciprocal_twist));
     let upu = ThreeUpu::new(upu_design()).unwrap();
     assert!(upu.task_objective(&pose_of(&r), &chi).unwrap() < 1e-12);
-    assert!(w.rank < 6 && w.det.abs() < 1e-6);
+    assert!(w.rank < 6 && w.det.unwrap().abs() < 1e-6);
 }
 
 #[test]
@@ -405,9 +408,9 @@ fn the_three_upu_table_is_one_for_every_study() {
     };
     assert_eq!(spec.get("gamma1_deg"), Some(30.0));
     let park = ThreeUpuSpec {
-        gamma1_deg: pkm_study::schema::units::Degrees(0.0),
-        gamma2_deg: pkm_study::schema::units::Degrees(0.0),
-        gamma3_deg: pkm_study::schema::units::Degrees(0.0),
+        gamma1_deg: Degrees(0.0),
+        gamma2_deg: Degrees(0.0),
+        gamma3_deg: Degrees(0.0),
         ..spec.clone()
     };
     let pose = Isometry3::translation(0.0, 0.0, 0.2);
@@ -419,4 +422,181 @@ fn the_three_upu_table_is_one_for_every_study() {
         .wrench_rows(&pose)
         .unwrap();
     assert!((tilted - direct).norm() < 1e-12);
+}
+
+fn robot_table(file: &str) -> toml::Table {
+    let path = format!(
+        "{}/../../examples/robots/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    toml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The study `hand` (a papers' mechanism) with the robot file `robot` in its place and the
+/// nominal pose left to the file's home.
+fn on_robot_file(hand: &str, robot: &str) -> TaskStudy {
+    let mut study: TaskStudy = from_toml_str(hand).unwrap();
+    study.mechanism =
+        pkm_study::MechanismSpec::RobotFile(RobotFileSpec::inline(robot_table(robot)));
+    study.task.pose = PoseSpec::default();
+    study
+}
+
+const TWIST_2_2_1: &str = r#"
+[[task.twists]]
+axis = [2.0, 2.0, 1.0]
+point = [0.02, 0.03, 0.06]
+pitch = 0.01
+"#;
+
+#[test]
+fn a_robot_file_task_study_is_the_hand_written_one_on_the_same_robot() {
+    // Wolf & Shoham §4.1's Stewart–Gough (examples/robots/stewart_gough.toml is its same-pattern
+    // layout in metres) at zero rotation: the actuation wrenches of the robot file are the unit
+    // leg lines of the hand-written model, so both formulations have the same optimum.
+    let stewart = |goal: &str| {
+        format!(
+            "[mechanism.stewart_gough]\nbase_radius = 0.12\nplatform_radius = 0.08\n\
+             base_separation_deg = 30.0\nplatform_separation_deg = 8.0\n\n[task]\n\
+             goal = \"{goal}\"\nvariables = {{ x = [-0.1, 0.1], y = [-0.1, 0.1], z = [0.2, \
+             0.5] }}\nstarts = {{ count = 8, seed = 2006 }}\n{TWIST_2_2_1}"
+        )
+    };
+    for goal in ["maximise", "minimise"] {
+        let hand = stewart(goal);
+        let expected = run_text(&hand);
+        let study = on_robot_file(&hand, "stewart_gough.toml");
+        let outcome = task(&study, &Silent).unwrap();
+        let r = &outcome.result;
+        assert_eq!(r.mechanism, "robot_file");
+        assert!(
+            close(r.objective, expected.objective, 1e-9),
+            "{goal}: {} against {}",
+            r.objective,
+            expected.objective
+        );
+        for (name, value) in &r.optimum {
+            let hand_value = expected.optimum[name];
+            assert!(
+                (value - hand_value).abs() < 1e-6,
+                "{goal} {name}: {value} against {hand_value}"
+            );
+        }
+        let w = &r.wrench_matrix;
+        assert!(close(w.sigma_min, expected.wrench_matrix.sigma_min, 1e-9));
+        assert_eq!(w.rank, expected.wrench_matrix.rank);
+        let sum: f64 = r.twists.iter().map(|t| t.weight * t.f).sum();
+        assert!(
+            close(r.objective, sum, 1e-12),
+            "{} against {sum}",
+            r.objective
+        );
+    }
+}
+
+#[test]
+fn the_robot_file_3upu_rows_at_home_are_those_of_eq_18() {
+    // The translational 3-UPU of examples/robots/three_upu.toml at home: its rows (three leg
+    // lines, one constraint couple per leg) give the hand-written eq. 18's F for any twist
+    // when the hand-written model has the file's upper U-joint axes. (Away from home they
+    // differ by design: eq. 18 keeps the upper axes fixed in the platform, while a robot file
+    // takes the joints' current axes, the middle one turning with the leg.)
+    let text = std::fs::read_to_string(format!(
+        "{}/../../examples/robots/three_upu.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let table: toml::Table = toml::from_str(&text).unwrap();
+    let model = pkm_robot_file::RobotModel::from_toml(&text).unwrap();
+    let config = model
+        .inverse_kinematics_configuration(&model.home_task(), model.home_mode())
+        .unwrap();
+    let jacobians = model.screw_jacobians(&config).unwrap();
+    let axes = |leg: usize| -> [Vector3<f64>; 2] {
+        let upper = &table["legs"][leg]["joints"][2]["axes"];
+        std::array::from_fn(|k| {
+            let a = upper[k].as_array().unwrap();
+            Vector3::from_fn(|i, _| a[i].as_float().unwrap())
+        })
+    };
+    let upu = ThreeUpu::new(ThreeUpuDesign {
+        base_radius: 0.2,
+        platform_radius: 0.1,
+        azimuths: [-90.0_f64, 30.0, 150.0].map(f64::to_radians),
+        upper: std::array::from_fn(|i| {
+            let [u1, u2] = axes(i);
+            UJointAxes { u1, u2 }
+        }),
+    })
+    .unwrap();
+    let pose = Isometry3::translation(0.0, 0.0, 0.3);
+    let twists = [
+        section_4_1_twist(),
+        Twist::from_vector(Vector6::new(0.3, -0.2, 0.9, 0.05, 0.01, -0.02)),
+        Twist::from_vector(Vector6::new(0.0, 0.0, 0.0, 1.0, 0.0, 0.0)),
+    ];
+    for twist in twists {
+        let chi = twist.as_vector();
+        let f_file: f64 = [&jacobians.j_a, &jacobians.j_c]
+            .iter()
+            .flat_map(|m| m.row_iter().map(|r| r.iter().copied().collect::<Vec<_>>()))
+            .map(|w| {
+                (0..3)
+                    .map(|j| w[j] * chi[3 + j] + w[3 + j] * chi[j])
+                    .sum::<f64>()
+                    .powi(2)
+            })
+            .sum();
+        let f_hand = upu.task_objective(&pose, &twist).unwrap();
+        assert!(close(f_file, f_hand, 1e-12), "{f_file} against {f_hand}");
+    }
+}
+
+#[test]
+fn a_robot_file_task_study_refuses_what_does_not_fit_at_its_key() {
+    let base = format!(
+        "[mechanism.stewart_gough]\nbase_radius = 0.12\nplatform_radius = 0.08\n\
+         base_separation_deg = 30.0\nplatform_separation_deg = 8.0\n\n[task]\n\
+         goal = \"maximise\"\nvariables = {{ x = [-0.1, 0.1] }}\n\
+         starts = {{ count = 2, seed = 1 }}\n{TWIST_2_2_1}"
+    );
+    let refused = |edit: &dyn Fn(&mut TaskStudy)| {
+        let mut study = on_robot_file(&base, "stewart_gough.toml");
+        edit(&mut study);
+        let e = task(&study, &Silent).expect_err("refused");
+        e.path().unwrap().to_string()
+    };
+    let variables =
+        |names: &[(&str, [f64; 2])]| names.iter().map(|(n, b)| ((*n).to_owned(), *b)).collect();
+    assert_eq!(
+        refused(&|s| s.task.variables = variables(&[("tilt_x_deg", [0.0, 1.0])])),
+        "task.variables.tilt_x_deg"
+    );
+    assert_eq!(
+        refused(&|s| s.task.variables = variables(&[("rx", [0.0, 0.1])])),
+        "task.variables.rx"
+    );
+    assert_eq!(
+        refused(&|s| s.task.at = [("rz".to_owned(), 1.0)].into()),
+        "task.at.rz"
+    );
+    assert_eq!(
+        refused(&|s| s.task.pose.position[2] = Metres(0.3)),
+        "task.pose"
+    );
+    assert_eq!(
+        refused(&|s| s.task.max_angle_deg = Some(Degrees(10.0))),
+        "task.max_angle_deg"
+    );
+    // `at` belongs to robot files.
+    let mut hand: TaskStudy = from_toml_str(&base).unwrap();
+    hand.task.at = [("z".to_owned(), 0.3)].into();
+    assert_eq!(
+        task(&hand, &Silent)
+            .unwrap_err()
+            .path()
+            .unwrap()
+            .to_string(),
+        "task.at"
+    );
 }
