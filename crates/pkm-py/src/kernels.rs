@@ -97,7 +97,7 @@ fn row(points: &ArrayView2<'_, f64>, i: usize) -> Vector3<f64> {
 
 /// `f(i, out)` for every row `i < n` in parallel, writing `width` (≥ 1) values to `out`: NaN
 /// and `false` where `f` returns `None`.
-fn map_rows<F>(n: usize, width: usize, f: F) -> (Vec<f64>, Vec<bool>)
+pub(crate) fn map_rows<F>(n: usize, width: usize, f: F) -> (Vec<f64>, Vec<bool>)
 where
     F: Fn(usize, &mut [f64]) -> Option<()> + Sync,
 {

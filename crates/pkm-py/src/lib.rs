@@ -5,8 +5,9 @@
 //! layer ([`pkm_study`]) and the library crates compute, Python values out (dicts, NumPy
 //! arrays) and one exception hierarchy ([`errors`]). The package holds no science of its own.
 //!
-//! - [`mechanism`]: `pkm.Mechanism`, kinematics vectorised over N × 3 arrays on rayon threads
-//!   with the GIL released ([`points`] reads and checks the arrays);
+//! - [`mechanism`]: `pkm.Mechanism`, kinematics vectorised over N × 3 arrays (N × n in a robot
+//!   file's own task coordinates, [`task_kernels`]) on rayon threads with the GIL released
+//!   ([`points`] reads and checks the arrays);
 //! - [`studies`]: one function per study kind, the study read as given ([`source`]), run off
 //!   the main thread so that Ctrl-C cancels it ([`bridge`]), results as plain Python objects
 //!   ([`convert`]); a dynamics trajectory from an array or a CSV file ([`trajectory`]).
@@ -21,6 +22,7 @@ mod points;
 mod presets;
 mod source;
 mod studies;
+mod task_kernels;
 mod trajectory;
 
 use pyo3::prelude::*;

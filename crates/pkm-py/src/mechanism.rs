@@ -1,11 +1,13 @@
 //! `pkm.Mechanism`: one design (a preset name or a `[mechanism.<kind>]` dict) under its
-//! workspace constraints, with its kinematics vectorised over N × 3 arrays.
+//! workspace constraints, with its kinematics vectorised over N × 3 arrays of positions, or
+//! N × n arrays of its own task coordinates for a robot file whose task is not the position.
 //!
 //! Every kernel reads the array in place, releases the GIL and maps the rows on rayon threads;
 //! a row the library puts outside the workspace (no working mode assembles within the
 //! constraints, or Newton does not converge) is NaN with `False` in the mask beside it.
 
 use crate::kernels::{self, Kernel, Op};
+use crate::task_kernels::TaskSpaceModel;
 use crate::{convert, errors, points, presets};
 use pkm_study::StudyError;
 use pkm_study::StudyMechanism as _;
@@ -38,6 +40,8 @@ pub(crate) struct Mechanism {
     constraints_spec: Option<ConstraintsSpec>,
     constraints: Vec<WorkspaceConstraint>,
     joints: usize,
+    /// A robot file whose task is not `["x", "y", "z"]`: its task-space kernels.
+    task_space: Option<TaskSpaceModel>,
 }
 
 #[pymethods]
@@ -71,10 +75,21 @@ impl Mechanism {
         self.spec.kind()
     }
 
-    /// The number of actuated joints (3, or 6 for the Stewart–Gough platform).
+    /// The number of actuated joints (3, or 6 for the Stewart–Gough platform; a robot file's
+    /// legs).
     #[getter]
     fn joints(&self) -> usize {
         self.joints
+    }
+
+    /// The task coordinates, the columns of every `points` array: `["x", "y", "z"]` (m), or a
+    /// robot file's own (`["z", "tilt_x", "tilt_y"]`: lengths in m, angles in rad).
+    #[getter]
+    fn task(&self) -> Vec<&'static str> {
+        match &self.task_space {
+            Some(ts) => ts.model.task_names(),
+            None => vec!["x", "y", "z"],
+        }
     }
 
     /// The design variables a sweep may vary.
@@ -121,7 +136,8 @@ impl Mechanism {
         ))
     }
 
-    /// The velocity Jacobian J = -J_q⁻¹ J_x (q̇ = J ẋ) at each position: N × joints × 3, and
+    /// The velocity Jacobian J = -J_q⁻¹ J_x (q̇ = J ẋ) at each position: N × joints × 3 (× n
+    /// for a robot file in its task space), and
     /// the mask of the rows where the point is inside the workspace and J is defined (not at
     /// an inverse-kinematic singularity); the other rows are NaN.
     fn velocity_jacobian<'py>(
@@ -130,13 +146,16 @@ impl Mechanism {
         points: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
         let (values, mask, n) = self.run(py, points, Op::Jacobian)?;
-        let shape = [n, self.joints, 3];
+        let shape = [n, self.joints, self.task().len()];
         Ok((points::array(py, values, &shape)?, points::mask(py, mask)))
     }
 
     /// The local index of the workspace studies at each position: `"inverse_condition"`
     /// (1/κ of J in [0, 1], 0 where J_q is singular; the value the workspace study
-    /// integrates) and `"inside"` (the mask; outside rows are NaN).
+    /// integrates; for a robot file in its task space, of the homogenised J) and `"inside"`
+    /// (the mask; outside rows are NaN). A robot file in its task space adds its three
+    /// singularity margins, `"inverse_margin"`, `"direct_margin"` and `"constraint_margin"`
+    /// (NaN without constraint wrenches).
     fn local_indices<'py>(
         &self,
         py: Python<'py>,
@@ -146,6 +165,22 @@ impl Mechanism {
         let out = PyDict::new(py);
         out.set_item("inverse_condition", points::array(py, values, &[n])?)?;
         out.set_item("inside", points::mask(py, mask))?;
+        if let Some(ts) = &self.task_space {
+            let array = points::rows(points, "points", ts.dimension())?;
+            let view = array.as_array();
+            let (margins, _) = py
+                .detach(|| ts.margins(&view))
+                .map_err(|m| errors::invalid(py, m))?;
+            let columns: Vec<Vec<f64>> = (0..3)
+                .map(|c| margins.iter().skip(c).step_by(3).copied().collect())
+                .collect();
+            for (name, column) in ["inverse_margin", "direct_margin", "constraint_margin"]
+                .into_iter()
+                .zip(columns)
+            {
+                out.set_item(name, points::array(py, column, &[n])?)?;
+            }
+        }
         Ok(out)
     }
 
@@ -171,8 +206,12 @@ impl Mechanism {
         joints: &Bound<'py, PyAny>,
         guess: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-        let q = points::rows(joints, "joints", 3)?;
-        let g = points::rows(guess, "guess", 3)?;
+        let (legs, n) = match &self.task_space {
+            Some(ts) => (ts.joints(), ts.dimension()),
+            None => (3, 3),
+        };
+        let q = points::rows(joints, "joints", legs)?;
+        let g = points::rows(guess, "guess", n)?;
         let (q, g) = (q.as_array(), g.as_array());
         if q.nrows() != g.nrows() {
             return Err(errors::invalid(
@@ -182,12 +221,18 @@ impl Mechanism {
         }
         kernels::require_finite(py, &q, "joints")?;
         kernels::require_finite(py, &g, "guess")?;
-        let n = q.nrows();
-        let spec = &self.spec;
+        let rows = q.nrows();
+        let (spec, task_space) = (&self.spec, &self.task_space);
         let (values, mask) = py
-            .detach(|| kernels::forward(spec, q, g))
+            .detach(|| match task_space {
+                Some(ts) => ts.forward(&q, &g),
+                None => kernels::forward(spec, q, g),
+            })
             .map_err(|m| errors::invalid(py, m))?;
-        Ok((points::array(py, values, &[n, 3])?, points::mask(py, mask)))
+        Ok((
+            points::array(py, values, &[rows, n])?,
+            points::mask(py, mask),
+        ))
     }
 
     /// For benches/python: seconds the `local_indices` kernel takes on a Rust-owned copy of
@@ -221,15 +266,44 @@ impl Mechanism {
         }
         let constraints = constraints_of(&spec, design.constraints.as_ref())
             .map_err(|e| errors::study_error(py, &e))?;
-        let joints = spec
-            .with_workspace(&constraints, kernels::JointCount)
-            .map_err(|e| errors::study_error(py, &StudyError::from(e)))?;
+        let task_space =
+            Self::task_space(&spec, &constraints).map_err(|e| errors::study_error(py, &e))?;
+        let joints = match &task_space {
+            Some(ts) => ts.joints(),
+            None => spec
+                .with_workspace(&constraints, kernels::JointCount)
+                .map_err(|e| errors::study_error(py, &StudyError::from(e)))?,
+        };
         Ok(Self {
             spec,
             constraints_spec: design.constraints,
             constraints,
             joints,
+            task_space,
         })
+    }
+
+    /// The task-space model of a robot file whose task is not the position, its constraints
+    /// checked; `None` for every other design.
+    fn task_space(
+        spec: &MechanismSpec,
+        constraints: &[WorkspaceConstraint],
+    ) -> Result<Option<TaskSpaceModel>, StudyError> {
+        let MechanismSpec::RobotFile(robot) = spec else {
+            return Ok(None);
+        };
+        let model = robot.model()?;
+        if model.task_names() == ["x", "y", "z"] {
+            return Ok(None);
+        }
+        let modes = robot.working_modes(&model)?;
+        pkm_robot_file::TaskWorkspace::new(&model, &modes, constraints, Default::default())
+            .map_err(|e| StudyError::invalid("constraints", e.to_string()))?;
+        Ok(Some(TaskSpaceModel {
+            model,
+            modes,
+            constraints: constraints.to_vec(),
+        }))
     }
 
     /// Runs `op` on the rows of `points` with the GIL released: the values (row-major), the
@@ -240,10 +314,20 @@ impl Mechanism {
         points: &Bound<'_, PyAny>,
         op: Op,
     ) -> PyResult<(Vec<f64>, Vec<bool>, usize)> {
-        let array = points::rows(points, "points", 3)?;
+        let columns = self
+            .task_space
+            .as_ref()
+            .map_or(3, TaskSpaceModel::dimension);
+        let array = points::rows(points, "points", columns)?;
         let view = array.as_array();
         kernels::require_finite(py, &view, "points")?;
         let n = view.nrows();
+        if let Some(ts) = &self.task_space {
+            let (values, mask) = py
+                .detach(|| ts.run(&view, op))
+                .map_err(|m| errors::invalid(py, m))?;
+            return Ok((values, mask, n));
+        }
         let (spec, constraints) = (&self.spec, &self.constraints);
         let (values, mask) = py
             .detach(|| spec.with_workspace(constraints, Kernel { points: view, op }))

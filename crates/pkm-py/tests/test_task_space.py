@@ -61,3 +61,60 @@ def test_a_robot_file_task_study_gives_the_commands_result(pkm_command, tmp_path
     assert json.dumps(outcome["result"], sort_keys=True) == json.dumps(command["result"], sort_keys=True)
     assert outcome["result"]["mechanism"] == "robot_file"
     assert outcome["result"]["wrench_matrix"]["rank"] == 6
+
+
+def robot(name):
+    return pkm.Mechanism({"robot_file": {"file": str(ROOT / "examples" / "robots" / name)}})
+
+
+@pytest.mark.parametrize(
+    "name, task, lower, upper",
+    [
+        ("three_prs.toml", ["z", "tilt_x", "tilt_y"], [0.4, -0.3, -0.3], [0.6, 0.3, 0.3]),
+        (
+            "stewart_gough.toml",
+            ["x", "y", "z", "rx", "ry", "rz"],
+            [-0.02, -0.02, 0.28, -0.05, -0.05, -0.05],
+            [0.02, 0.02, 0.32, 0.05, 0.05, 0.05],
+        ),
+        ("five_bar.toml", ["x", "y"], [-0.1, 0.2], [0.1, 0.3]),
+        ("agile_eye.toml", None, [-0.3, -0.3, -0.3], [0.3, 0.3, 0.3]),
+    ],
+)
+def test_a_robot_file_takes_arrays_of_its_own_task_coordinates(name, task, lower, upper):
+    import numpy as np
+
+    m = robot(name)
+    n = len(m.task)
+    if task is not None:
+        assert m.task == task
+    x = np.random.default_rng(4).uniform(lower, upper, (64, n))
+    q, inside = m.inverse_kinematics(x)
+    assert q.shape == (64, m.joints) and inside.sum() > 8
+    np.testing.assert_array_equal(inside, m.contains(x))
+    k = m.local_indices(x)
+    assert ((k["inverse_condition"][inside] >= 0) & (k["inverse_condition"][inside] <= 1)).all()
+    assert np.isfinite(k["direct_margin"][inside]).all() and np.isnan(k["direct_margin"][~inside]).all()
+    # Forward kinematics from a nearby guess returns the points (a round trip).
+    back, ok = m.forward_kinematics(q[inside], x[inside] + 1e-4)
+    assert ok.all()
+    np.testing.assert_allclose(back, x[inside], atol=1e-9)
+    # The velocity Jacobian against central differences of the inverse kinematics.
+    some = x[inside][:8]
+    j, defined = m.velocity_jacobian(some)
+    assert j.shape == (8, m.joints, n) and defined.all()
+    h = 1e-6
+    for c in range(n):
+        step = np.zeros(n)
+        step[c] = h
+        qp, _ = m.inverse_kinematics(some + step)
+        qm, _ = m.inverse_kinematics(some - step)
+        np.testing.assert_allclose(j[:, :, c], (qp - qm) / (2 * h), atol=1e-6)
+
+
+def test_arrays_of_the_wrong_width_raise():
+    m = robot("stewart_gough.toml")
+    with pytest.raises(pkm.InvalidInput):
+        m.inverse_kinematics([[0.0, 0.0, 0.3]])
+    with pytest.raises(pkm.InvalidInput):
+        m.forward_kinematics([[0.3] * 6], [[0.0, 0.0, 0.3]])
