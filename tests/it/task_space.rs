@@ -382,3 +382,51 @@ fn optimising_a_robot_file_finds_the_known_best_leg_length() {
     assert_eq!(search.indices["volume"].to_bits(), r.maximum.to_bits());
     assert!(r.starts.converged == 3 && search.final_step < 1e-3);
 }
+
+#[test]
+fn a_3rpr_map_is_blank_exactly_outside_the_intersection_of_annuli() {
+    // The map of examples/studies/three_rpr_constant_orientation.toml (the direct margin over
+    // (x, y) at rz = 0.2 rad): its inside cells are those whose centre lies in all three annuli.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/studies/three_rpr_constant_orientation.toml");
+    let (_, study): (String, pkm_study::WorkspaceStudy) =
+        pkm_cli::study::load_study(&path).unwrap();
+    let outcome = pkm_study::workspace(&study, &Silent).unwrap();
+    let model = with_limits("three_rpr.toml", [0.4, 1.1]);
+    let rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), 0.2);
+    let annuli: Vec<Annulus> = anchors(&model)
+        .iter()
+        .map(|(a, b)| {
+            let c = a - rotation * b;
+            Annulus {
+                c: [c.x, c.y],
+                r_in: 0.4,
+                r_out: 1.1,
+            }
+        })
+        .collect();
+    let table = outcome
+        .artifacts
+        .iter()
+        .find_map(|a| match a {
+            pkm_study::Artifact::Table { name, table } if name.starts_with("task-map-1") => {
+                Some(table)
+            }
+            _ => None,
+        })
+        .expect("the map's table");
+    let column = |name: &str| table.column(name).unwrap();
+    let (x, y, margin) = (column("x"), column("y"), column("direct_margin"));
+    assert_eq!(x.len(), 64 * 64);
+    let mut inside = 0;
+    for k in 0..x.len() {
+        let p = [x[k].unwrap(), y[k].unwrap()];
+        let exact = annuli.iter().all(|a| a.holds(p));
+        assert_eq!(margin[k].is_some(), exact, "cell {k} at {p:?}");
+        inside += usize::from(exact);
+    }
+    assert!(inside > 500, "{inside} cells inside");
+    let maps = &outcome.result.task_space.as_ref().unwrap().maps;
+    assert_eq!(maps.len(), 1);
+    assert!((maps[0].inside_fraction - inside as f64 / 4096.0).abs() < 1e-15);
+}

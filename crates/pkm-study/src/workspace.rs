@@ -258,7 +258,7 @@ fn task_space_workspace<M>(
         return Err(StudyError::invalid(
             "workspace.slices",
             "slices in x, y, z belong to translational studies; a [task_space] study maps its \
-             own coordinates",
+             own coordinates with [[task_space.maps]]",
         ));
     }
     let run = task_space::workspace(robot, spec, &study.sampling, constraints, progress)?;

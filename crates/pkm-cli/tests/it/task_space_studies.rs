@@ -255,6 +255,44 @@ fn settings_that_do_not_fit_the_robot_are_refused_at_their_key_path() {
             )],
             "task_space.orientations",
         ),
+        // Maps: an axis that is not sampled, the same axis twice, a value off its side, a
+        // value on the plane, too few cells, an unknown index.
+        (
+            prs,
+            vec![(
+                "axes = [\"tilt_x_deg\", \"tilt_y_deg\"]",
+                "axes = [\"x\", \"tilt_y_deg\"]",
+            )],
+            "task_space.maps[0].axes.x",
+        ),
+        (
+            prs,
+            vec![(
+                "axes = [\"tilt_x_deg\", \"tilt_y_deg\"]",
+                "axes = [\"tilt_y_deg\", \"tilt_y_deg\"]",
+            )],
+            "task_space.maps[0].axes",
+        ),
+        (
+            prs,
+            vec![("at = { z = 0.55 }", "at = { z = 0.95 }")],
+            "task_space.maps[0].at.z",
+        ),
+        (
+            prs,
+            vec![("at = { tilt_y_deg = 0.0 }", "at = { tilt_x_deg = 0.0 }")],
+            "task_space.maps[1].at.tilt_x_deg",
+        ),
+        (
+            prs,
+            vec![("cells = 48\nindex", "cells = 1\nindex")],
+            "task_space.maps[1].cells",
+        ),
+        (
+            prs,
+            vec![("index = \"direct_margin\"", "index = \"volume\"")],
+            "task_space.maps",
+        ),
         // A region of [sampling] beside the box.
         (
             prs,

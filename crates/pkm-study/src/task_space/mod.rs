@@ -39,6 +39,9 @@ use crate::outcome::{Artifact, Outcome};
 use crate::schema::robot_file::{RobotFileSpec, robot_skeleton};
 use crate::schema::sampling::{SamplerKind, SamplingSpec};
 use crate::{KeyPath, StudyError};
+
+mod maps;
+pub use maps::{MAX_MAP_CELLS, MapIndex, TaskMapResult, TaskMapSpec};
 use pkm_draw::Scene;
 use pkm_draw::chart::{self, Chart};
 use pkm_robot_file::{
@@ -108,6 +111,9 @@ pub struct TaskSpaceSpec {
     pub min_constraint_margin: Option<f64>,
     /// The singularity-free workspace connected to home.
     pub singularity_free: Option<SingularityFreeSpec>,
+    /// Maps of a local index on planes of two sampled coordinates (workspace studies).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub maps: Vec<TaskMapSpec>,
 }
 
 /// `[task_space.orientations]`: tilt up to `max_tilt_deg` at every azimuth, torsion in
@@ -177,6 +183,9 @@ pub struct TaskSpaceResult {
     /// The singularity-free workspace connected to the start pose.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub singularity_free: Option<SingularityFreeResult>,
+    /// The maps, in the order of the section.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub maps: Vec<TaskMapResult>,
 }
 
 /// A dexterous workspace on one orientation grid.
@@ -537,6 +546,7 @@ pub fn workspace(
     let model = robot.model()?;
     let modes = robot.working_modes(&model)?;
     let setup = spec.setup(&model)?;
+    let plans = maps::plans(&model, &setup, &spec.maps)?;
     let points = task_points(sampling, setup.region.clone())?;
     let ws = TaskWorkspace::new(&model, &modes, constraints, setup.margins).map_err(located)?;
     let start = singularity_free_start(&model, &setup, spec)?;
@@ -562,6 +572,12 @@ pub fn workspace(
         )?),
         _ => None,
     };
+    progress.phase("maps");
+    let mut maps = Vec::with_capacity(plans.len());
+    for (k, plan) in plans.iter().enumerate() {
+        progress.check()?;
+        maps.push(maps::map(&model, &ws, &setup, plan, k + 1, &mut artifacts));
+    }
     let names = model.task_names();
     let unit_of = |k: usize| if model.task_is_angle(k) { "rad" } else { "m" };
     let result = TaskSpaceResult {
@@ -579,6 +595,7 @@ pub fn workspace(
             .collect(),
         orientation_levels: orientation_level_results(setup.levels.as_ref(), &estimates),
         singularity_free,
+        maps,
     };
     let mut outcome = Outcome::new(TaskSpaceRun {
         domain_volume: setup.region.measure(),
@@ -859,6 +876,15 @@ fn summarise(outcome: &mut Outcome<TaskSpaceRun>) {
             sf.min_direct_margin, sf.cells, sf.volume_connected, t.unit, sf.volume_above_margin
         ));
     }
+    for map in &t.maps {
+        lines.push(format!(
+            "map of {} over ({}): {:.1} % inside, largest {}",
+            map.index_key(),
+            map.axes.join(", "),
+            100.0 * map.inside_fraction,
+            map.max_value.map_or("-".into(), |v| format!("{v:.4}"))
+        ));
+    }
     outcome.summary.extend(lines);
 }
 
@@ -883,6 +909,10 @@ impl TaskSpaceEvaluator {
         spec: &TaskSpaceSpec,
         sampling: &SamplingSpec,
     ) -> Result<Self, StudyError> {
+        if !spec.maps.is_empty() {
+            let m = "maps belong to a workspace study of one design";
+            return Err(invalid("maps", m));
+        }
         let model = robot.model()?;
         let setup = spec.setup(&model)?;
         singularity_free_start(&model, &setup, spec)?;
