@@ -293,6 +293,12 @@ fn settings_that_do_not_fit_the_robot_are_refused_at_their_key_path() {
             vec![("index = \"direct_margin\"", "index = \"volume\"")],
             "task_space.maps",
         ),
+        // A box whose corners turn beyond 180° (rotation vectors of norm > π).
+        (
+            "agile_eye_orientation.toml",
+            vec![("rx_deg = [-90.0, 90.0]", "rx_deg = [-170.0, 170.0]")],
+            "task_space.box",
+        ),
         // A region of [sampling] beside the box.
         (
             prs,

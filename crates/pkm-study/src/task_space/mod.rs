@@ -321,6 +321,65 @@ fn checked_value(model: &RobotModel, at: &str, value: f64, k: usize) -> Result<f
     }
 }
 
+/// Refuses a box whose orientation coordinates leave the robot file's chart of one turn
+/// (`OrientationKind::rotation_angle` at most π: a rotation vector of norm ≤ π, a tilt ≤ π):
+/// the robot file refuses such poses, so they would count as outside the workspace although
+/// they are rotations the chart already holds. The angle is a convex function of the
+/// coordinates (a norm, or the larger of a norm and an absolute value), so its largest value
+/// over the box is at a corner.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `task_space.box` naming the corner and its angle.
+fn within_one_turn(
+    model: &RobotModel,
+    sampled: &[usize],
+    base: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+) -> Result<(), StudyError> {
+    let kind = model.orientation();
+    let pose_names = kind.coordinate_names();
+    let task_names = model.task_names();
+    let mut task = base.to_vec();
+    for corner in 0..1_usize << sampled.len() {
+        for (i, &k) in sampled.iter().enumerate() {
+            task[k] = if corner >> i & 1 == 0 {
+                lower[i]
+            } else {
+                upper[i]
+            };
+        }
+        let mut pose = model.home();
+        for (k, name) in task_names.iter().enumerate() {
+            if let Some(j) = pose_names.iter().position(|n| n == name) {
+                pose[j] = task[k];
+            }
+        }
+        let angle = kind.rotation_angle(&nalgebra::Vector3::new(pose[3], pose[4], pose[5]));
+        if angle > std::f64::consts::PI * (1.0 + 1e-12) {
+            let at: Vec<String> = sampled
+                .iter()
+                .map(|&k| match model.task_is_angle(k) {
+                    true => format!("{} = {:.2}°", task_names[k], task[k].to_degrees()),
+                    false => format!("{} = {} m", task_names[k], task[k]),
+                })
+                .collect();
+            return Err(invalid(
+                "box",
+                format!(
+                    "the corner ({}) turns {:.2}°: orientation coordinates describe one turn \
+                     (rotation or tilt angle at most 180°), and poses beyond it are refused by \
+                     the robot, not outside its workspace; shrink the box (for rotation \
+                     vectors: corners within a norm of 180°)",
+                    at.join(", "),
+                    angle.to_degrees()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The sampled task indices of `kind` for `model`.
 fn sampled_of(model: &RobotModel, kind: WorkspaceKind) -> Result<Vec<usize>, StudyError> {
     let n = model.task_names().len();
@@ -401,6 +460,7 @@ impl TaskSpaceSpec {
             }
             base[k] = checked_value(model, &at, value * scale, k)?;
         }
+        within_one_turn(model, &sampled, &base, &lower, &upper)?;
         let region = TaskBox::new(lower, upper)?;
         let levels = self.orientation_levels(model)?;
         let margins = MarginLimits {
