@@ -418,7 +418,8 @@ pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
 }
 
 /// The drawing of the study's design `values` (in the order of its variables), under the
-/// study's constraints, in its sampling region if it gives one.
+/// study's constraints, in its sampling region if it gives one; a robot file rated in its task
+/// space is drawn at its home pose.
 ///
 /// # Errors
 /// As [`crate::scene::design_scene`].
@@ -428,6 +429,9 @@ pub fn design_scene<M: StudyMechanism>(
     values: &[f64],
 ) -> Result<pkm_draw::Scene, String> {
     let spec = prepared.evaluator.mechanism_at(values)?;
+    if let (Some(_), Some(robot)) = (&study.task_space, spec.robot_file()) {
+        return crate::task_space::robot_at_home(robot);
+    }
     let region = study
         .sampling
         .as_ref()

@@ -199,10 +199,10 @@ impl RobotFileSpec {
             return Err(StudyError::invalid(
                 format!("{KEY_PATH}.task").as_str(),
                 format!(
-                    "sweep, pareto and optimize studies sample platform positions and rate \
-                     them by 1/κ of J: the task must be [\"x\", \"y\", \"z\"], this robot's is \
-                     {task:?} (a workspace study measures it in its own task space with \
-                     [task_space])"
+                    "without [task_space] a study samples platform positions and rates them \
+                     by 1/κ of J: the task must be [\"x\", \"y\", \"z\"], this robot's is \
+                     {task:?}; give [task_space] (its kind and box) to measure it in its own \
+                     task space"
                 ),
             ));
         }
