@@ -49,18 +49,23 @@ class Mechanism:
     @property
     def variables(self) -> List[str]:
         """The design variables a sweep may vary."""
+    @property
+    def task(self) -> List[str]:
+        """The task coordinates, the columns of every ``points`` array: ``["x", "y", "z"]`` (m), or
+        a robot file's own (``["z", "tilt_x", "tilt_y"]``: m and rad)."""
     def design(self) -> Dict[str, Any]:
         """The ``[mechanism]`` and ``[constraints]`` tables as a dict."""
     def inverse_kinematics(self, points: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
         """Joints (N × joints) and the inside mask; outside rows are NaN."""
     def velocity_jacobian(self, points: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-        """J = -J_q⁻¹ J_x (N × joints × 3) and the mask of rows where it is defined."""
+        """J = -J_q⁻¹ J_x (N × joints × n, n = len(task)) and the mask of rows where it is defined."""
     def local_indices(self, points: Points) -> Dict[str, npt.NDArray[Any]]:
-        """``{"inverse_condition": (N,), "inside": (N,) bool}``."""
+        """``{"inverse_condition": (N,), "inside": (N,) bool}``; a robot file in its own task
+        coordinates adds ``"inverse_margin"``, ``"direct_margin"``, ``"constraint_margin"``."""
     def contains(self, points: Points) -> npt.NDArray[np.bool_]:
         """Whether each point belongs to the workspace."""
     def forward_kinematics(self, joints: Points, guess: Points) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-        """Positions (N × 3) closing the loops from ``guess`` and the converged mask (NaN rows
+        """Task coordinates (N × n) closing the loops from ``guess`` and the converged mask (NaN rows
         where Newton does not converge). For a robot file (``{"robot_file": {"file": ...}}``),
         damped Newton on the closure of every leg from the assembly at ``guess``."""
 
