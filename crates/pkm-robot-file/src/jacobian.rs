@@ -163,7 +163,10 @@ impl RobotModel {
         // J_c Δ (T_task + T_dep R) = 0  ⇒  R = −(J_c Δ T_dep)⁺ J_c Δ T_task.
         let a = j_c * reciprocal_swap(&dep);
         let b = j_c * reciprocal_swap(&task);
-        let svd = a.svd(true, true);
+        let svd = bounded_svd(a, true, true).ok_or(KinematicsError::Singular {
+            matrix: "J_c T_dep",
+            sigma_min: f64::NAN,
+        })?;
         let smallest = svd
             .singular_values
             .iter()
@@ -220,10 +223,12 @@ impl RobotModel {
         let direct = smallest_singular_value(&direct_matrix, free.ncols());
         let expected = free.ncols().saturating_sub(self.legs.len());
         let constraint = (expected > 0).then(|| {
-            let sv = homogenise(&jac.j_c).singular_values();
-            let mut sorted: Vec<f64> = sv.iter().copied().collect();
-            sorted.sort_by(|a, b| b.total_cmp(a));
-            sorted.get(expected - 1).copied().unwrap_or(0.0)
+            let j_c = homogenise(&jac.j_c);
+            let k = expected.min(j_c.nrows());
+            if k < expected {
+                return 0.0;
+            }
+            singular_value(j_c, k)
         });
         Ok(SingularityMargins {
             inverse,
@@ -251,10 +256,13 @@ impl RobotModel {
         if !rows.is_empty() {
             // Zero rows pad A to 6 × 6, so that the SVD returns all six right singular vectors.
             let a = DMatrix::from_fn(6, 6, |r, c| rows.get(r).map_or(0.0, |row| row[c]));
-            let svd = a.svd(false, true);
-            if let Some(v_t) = svd.v_t {
+            if let Some(v_t) = bounded_svd(a.clone(), false, true).and_then(|svd| {
+                let v_t = svd.v_t?;
+                Some((svd.singular_values, v_t))
+            }) {
+                let (singular_values, v_t) = v_t;
                 let mut order: Vec<usize> = (0..6).collect();
-                order.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
+                order.sort_by(|&i, &j| singular_values[j].total_cmp(&singular_values[i]));
                 let complement: Vec<_> = order[rows.len()..]
                     .iter()
                     .map(|&k| v_t.row(k).transpose())
@@ -296,12 +304,42 @@ fn stack_rows(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
 }
 
 /// The `k`-th largest singular value (the smallest of a full-rank `· × k` matrix), 0 when the
-/// matrix has fewer than `k` rows.
+/// matrix has fewer than `k` rows or its SVD cannot be computed ([`bounded_svd`]).
 fn smallest_singular_value(m: &DMatrix<f64>, k: usize) -> f64 {
     if m.nrows() < k || k == 0 {
         return 0.0;
     }
-    let mut sv: Vec<f64> = m.singular_values().iter().copied().collect();
+    singular_value(m.clone(), k)
+}
+
+/// The `k`-th largest singular value of `m` (`k` ≥ 1), 0 when there is none or the SVD fails.
+fn singular_value(m: DMatrix<f64>, k: usize) -> f64 {
+    let Some(svd) = bounded_svd(m, false, false) else {
+        return 0.0;
+    };
+    let mut sv: Vec<f64> = svd.singular_values.iter().copied().collect();
     sv.sort_by(|a, b| b.total_cmp(a));
-    sv.get(k - 1).copied().unwrap_or(0.0)
+    k.checked_sub(1)
+        .and_then(|i| sv.get(i).copied())
+        .unwrap_or(0.0)
+}
+
+/// Most sweeps of an SVD of the robot file (nalgebra's `SVD::try_new`): a matrix that does not
+/// converge within them is reported, never iterated forever.
+pub(crate) const MAX_SVD_SWEEPS: usize = 1000;
+
+/// The SVD of `m` when every entry is finite and it converges within [`MAX_SVD_SWEEPS`];
+/// `None` otherwise. Every decomposition of the crate goes through it (or an explicit bound),
+/// so an infinite or NaN entry can never make one loop.
+pub(crate) fn bounded_svd(
+    m: DMatrix<f64>,
+    compute_u: bool,
+    compute_v: bool,
+) -> Option<nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
+    if !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    // nalgebra's own tolerance of `Matrix::svd` (5 ε), so a bounded SVD gives its bits.
+    let eps = 5.0 * f64::EPSILON;
+    nalgebra::SVD::try_new(m, compute_u, compute_v, eps, MAX_SVD_SWEEPS)
 }

@@ -65,7 +65,10 @@ pub use file::{HomeSpec, JointSpec, JointType, LegSpec, RobotFile, SymmetrySpec}
 pub use fk::{AssemblyMode, EnumerationSettings};
 pub use jacobian::{ScrewJacobians, SingularityMargins};
 pub use lm::SolverSettings;
-pub use model::{CoordinateRole, MAX_JOINTS_PER_LEG, MAX_LEGS, RobotModel, WorkingMode};
+pub use model::{
+    CoordinateRole, MAX_JOINTS_PER_LEG, MAX_LEGS, MIN_CHARACTERISTIC_LENGTH, RobotModel,
+    WorkingMode,
+};
 pub use points::{LegPoint, LegPointKind, LegPoints, LegSegment};
 pub use pose::{OrientationKind, PoseCoordinates, platform_pose};
 pub use robot::{Robot, task_of};

@@ -79,8 +79,12 @@ pub(crate) fn check_mobility(
         }
     }
     let selected = DMatrix::from_fn(free.len(), system.len(), |r, c| rates[(free[r], c)]);
-    let sv = selected.singular_values();
-    let smallest = sv.iter().copied().fold(f64::INFINITY, f64::min);
+    let smallest = crate::jacobian::bounded_svd(selected, false, false).map_or(0.0, |svd| {
+        svd.singular_values
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    });
     if free.is_empty() || !(smallest > 1e-7 * scale) {
         return Err(fail(format!(
             "the task and idle coordinates do not parametrise the twist system (smallest singular value {smallest:.3e})"

@@ -16,6 +16,11 @@ pub const MAX_JOINTS_PER_LEG: usize = 16;
 /// every digit.
 const MAX_COORDINATE: f64 = 1e6;
 
+/// Smallest `characteristic_length` (m): with coordinates of at most [`MAX_COORDINATE`], the
+/// homogenised moments $m/L$ stay below $10^{12}$ times the forces, finite and far from
+/// overflow (a subnormal $L$ once put infinities into the margins' SVD).
+pub const MIN_CHARACTERISTIC_LENGTH: f64 = 1e-6;
+
 /// What a pose coordinate is in a robot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CoordinateRole {
@@ -99,12 +104,12 @@ impl RobotModel {
         crate::name::check_name(&file.name, &legs)?;
         let size = robot_size(&legs, &home_pose);
         let characteristic_length = match file.characteristic_length {
-            Some(l) if l.is_finite() && l > 0.0 && l <= MAX_COORDINATE => l,
+            Some(l) if (MIN_CHARACTERISTIC_LENGTH..=MAX_COORDINATE).contains(&l) => l,
             Some(l) => {
                 return Err(RobotFileError::invalid(
                     "characteristic_length",
                     l,
-                    "must be finite, > 0 and at most 1e6 m",
+                    "must be finite, at least 1e-6 m and at most 1e6 m",
                 ));
             }
             None => default_characteristic_length(&legs, &home_pose),
@@ -595,7 +600,8 @@ fn robot_size(legs: &[LegChain], home: &Isometry3<f64>) -> f64 {
         .max(1e-3)
 }
 
-/// Mean distance from the platform origin of each leg's last joint point (1 m if zero).
+/// Mean distance from the platform origin of each leg's last joint point (1 m if it is below
+/// [`MIN_CHARACTERISTIC_LENGTH`]).
 fn default_characteristic_length(legs: &[LegChain], home: &Isometry3<f64>) -> f64 {
     let origin = home.translation.vector;
     let distances: Vec<f64> = legs
@@ -604,5 +610,9 @@ fn default_characteristic_length(legs: &[LegChain], home: &Isometry3<f64>) -> f6
         .map(|p| (p - origin).norm())
         .collect();
     let mean = distances.iter().sum::<f64>() / distances.len().max(1) as f64;
-    if mean > 1e-9 { mean } else { 1.0 }
+    if mean >= MIN_CHARACTERISTIC_LENGTH {
+        mean
+    } else {
+        1.0
+    }
 }

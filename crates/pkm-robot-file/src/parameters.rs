@@ -106,10 +106,67 @@ impl Visitor<'_> for NumberVisitor {
     }
 }
 
+/// An array of exactly `N` elements: serde's `[T; N]` reads the first `N` entries of a longer
+/// array and drops the rest, so a file's `axis = [0, 0, 1, 7]` would load as `[0, 0, 1]`.
+/// Extra entries are counted (not kept, so a huge array allocates nothing more) and refused
+/// with the count.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Exactly<T, const N: usize>(pub(crate) [T; N]);
+
+impl<'de, T: Deserialize<'de> + Copy + Default, const N: usize> Deserialize<'de> for Exactly<T, N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_seq(ExactlyVisitor(std::marker::PhantomData))
+    }
+}
+
+struct ExactlyVisitor<T, const N: usize>(std::marker::PhantomData<T>);
+
+impl<'de, T: Deserialize<'de> + Copy + Default, const N: usize> Visitor<'de>
+    for ExactlyVisitor<T, N>
+{
+    type Value = Exactly<T, N>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "an array of exactly {N} entries")
+    }
+
+    fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        let mut out = [T::default(); N];
+        for (i, slot) in out.iter_mut().enumerate() {
+            *slot = seq
+                .next_element()?
+                .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+        }
+        let mut extra = 0_usize;
+        while seq.next_element::<de::IgnoredAny>()?.is_some() {
+            extra += 1;
+        }
+        if extra > 0 {
+            return Err(de::Error::invalid_length(N + extra, &self));
+        }
+        Ok(Exactly(out))
+    }
+}
+
+impl<T: Default + Copy, const N: usize> Default for Exactly<T, N> {
+    fn default() -> Self {
+        Self([T::default(); N])
+    }
+}
+
+impl Default for Number {
+    fn default() -> Self {
+        Self(0.0)
+    }
+}
+
 /// `deserialize_with` helpers: the fields of the schema keep their plain float types.
 pub(crate) mod fields {
-    use super::Number;
+    use super::{Exactly, Number};
     use serde::{Deserialize, Deserializer};
+
+    /// `N` numbers, exactly.
+    type Numbers<const N: usize> = Exactly<Number, N>;
 
     /// A number.
     pub(crate) fn scalar<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -123,30 +180,31 @@ pub(crate) mod fields {
         Ok(Option::<Number>::deserialize(d)?.map(|n| n.0))
     }
 
-    /// Three numbers.
+    /// Three numbers, exactly.
     pub(crate) fn vector<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 3], D::Error> {
-        <[Number; 3]>::deserialize(d).map(|v| v.map(|n| n.0))
+        Numbers::<3>::deserialize(d).map(|v| v.0.map(|n| n.0))
     }
 
-    /// Three optional numbers.
+    /// Three optional numbers, exactly.
     pub(crate) fn optional_vector<'de, D: Deserializer<'de>>(
         d: D,
     ) -> Result<Option<[f64; 3]>, D::Error> {
-        Ok(Option::<[Number; 3]>::deserialize(d)?.map(|v| v.map(|n| n.0)))
+        Ok(Option::<Numbers<3>>::deserialize(d)?.map(|v| v.0.map(|n| n.0)))
     }
 
-    /// Two optional vectors (the axes of a U joint).
+    /// Two optional vectors (the axes of a U joint), exactly.
     pub(crate) fn optional_axes<'de, D: Deserializer<'de>>(
         d: D,
     ) -> Result<Option<[[f64; 3]; 2]>, D::Error> {
-        Ok(Option::<[[Number; 3]; 2]>::deserialize(d)?.map(|a| a.map(|v| v.map(|n| n.0))))
+        let axes = Option::<Exactly<Numbers<3>, 2>>::deserialize(d)?;
+        Ok(axes.map(|a| a.0.map(|v| v.0.map(|n| n.0))))
     }
 
-    /// An optional pair (actuator limits).
+    /// An optional pair (actuator limits), exactly.
     pub(crate) fn optional_pair<'de, D: Deserializer<'de>>(
         d: D,
     ) -> Result<Option<[f64; 2]>, D::Error> {
-        Ok(Option::<[Number; 2]>::deserialize(d)?.map(|v| v.map(|n| n.0)))
+        Ok(Option::<Numbers<2>>::deserialize(d)?.map(|v| v.0.map(|n| n.0)))
     }
 }
 

@@ -210,3 +210,71 @@ fn hostile_poses_and_joints_are_typed_errors() {
         })
     ));
 }
+
+/// Issue 29: a subnormal `characteristic_length` loaded and then made `singularity_margins`
+/// and `assembly_modes` loop forever (an infinity in the margins' SVD). Scales are bounded at
+/// load, with the key, and every decomposition runs with an iteration bound: at both ends of
+/// the admissible range the margins are finite and come back.
+#[test]
+fn extreme_scales_are_refused_or_give_finite_margins() {
+    for bad in ["5e-324", "1e-310", "1e-300", "1e-7", "1e7", "inf"] {
+        let r = edited(
+            "characteristic_length = 0.2",
+            &format!("characteristic_length = {bad}"),
+        );
+        match r {
+            Err(RobotFileError::Invalid { ref key, .. }) => {
+                assert_eq!(key, "characteristic_length", "{bad}")
+            }
+            other => panic!("{bad}: {other:?}"),
+        }
+    }
+    for good in ["1e-6", "1e6"] {
+        let model = edited(
+            "characteristic_length = 0.2",
+            &format!("characteristic_length = {good}"),
+        )
+        .unwrap();
+        let home = model
+            .inverse_kinematics_configuration(&model.home_task(), model.home_mode())
+            .unwrap();
+        let m = model.singularity_margins(&home).unwrap();
+        let values = [m.inverse, m.direct, m.constraint.unwrap_or(0.0)];
+        assert!(
+            values.iter().all(|v| v.is_finite() && *v >= 0.0),
+            "{good}: {m:?}"
+        );
+    }
+}
+
+/// Issue 29: fixed-length arrays with extra entries (`axis = [0, 0, 1, 7, "junk"]`) loaded
+/// with the extra entries dropped. Every fixed-length array refuses them, naming the length
+/// it got, never quoting a huge array.
+#[test]
+fn fixed_length_arrays_refuse_extra_and_missing_entries() {
+    for (from, to) in [
+        (
+            "position = [0.0, 0.37, 0.0]",
+            "position = [0.0, 0.37, 0.0, 5.0]",
+        ),
+        ("position = [0.0, 0.37, 0.0]", "position = [0.0, 0.37]"),
+        (
+            "axis = [0.0, 0.0, 1.0]",
+            "axis = [0.0, 0.0, 1.0, 7.0, \"junk\"]",
+        ),
+        ("axis = [0.0, 0.0, 1.0]", "axis = [0.0, 0.0]"),
+    ] {
+        let e = edited(from, to).expect_err(to);
+        let text = e.to_string();
+        assert!(text.contains("exactly"), "{to}: {text}");
+    }
+    let huge = format!("axis = [0.0, 0.0, 1.0{}]", ", 0.0".repeat(100_000));
+    let e = edited("axis = [0.0, 0.0, 1.0]", &huge)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("100003") && e.len() < 400,
+        "{}",
+        &e[..e.len().min(400)]
+    );
+}
