@@ -564,11 +564,12 @@ fn check_scalars(key: &str, spec: &JointSpec) -> Result<(), RobotFileError> {
         ));
     }
     if let Some([lo, hi]) = spec.limits {
-        if !(lo.is_finite() && hi.is_finite() && lo <= spec.offset && spec.offset <= hi) {
+        let bounded = |v: f64| v.is_finite() && v.abs() <= MAX_COORDINATE;
+        if !(bounded(lo) && bounded(hi) && lo <= spec.offset && spec.offset <= hi) {
             return Err(RobotFileError::invalid(
                 format!("{key}.limits"),
                 [lo, hi],
-                "must be finite with min <= offset <= max",
+                "must be finite, within ±1e6 (m or rad), with min <= offset <= max",
             ));
         }
         if !spec.actuated {

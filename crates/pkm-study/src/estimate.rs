@@ -48,3 +48,21 @@ impl From<&VolumeEstimate> for Estimate {
         }
     }
 }
+
+impl Estimate {
+    /// The warning of an estimate with no sample inside the workspace, over a domain of
+    /// measure `domain` (in `unit`): zero hits of N bound the inside fraction by 3/N at 95 %
+    /// confidence (the rule of three), so the workspace measures less than about 3·domain/N,
+    /// which says nothing when the domain is far larger than the robot. `None` when some
+    /// sample is inside.
+    pub fn resolution_warning(&self, domain: f64, unit: &str) -> Option<String> {
+        (self.n_inside == 0 && self.n_points > 0).then(|| {
+            let bound = 3.0 * domain / self.n_points as f64;
+            format!(
+                "warning: no sample fell inside the workspace: its measure is below about \
+                 {bound:.3e} {unit} (95 %), not 0; sample a region near the robot \
+                 ([sampling.region] or a smaller [task_space] box) to measure it"
+            )
+        })
+    }
+}

@@ -333,6 +333,8 @@ fn summarise(outcome: &mut Outcome<WorkspaceResult>) {
         ),
     ];
     outcome.summary.extend(lines);
+    let warning = e.resolution_warning(r.domain_volume, "m³");
+    outcome.summary.extend(warning);
 }
 
 const AXIS_NAMES: [&str; 3] = ["x (m)", "y (m)", "z (m)"];

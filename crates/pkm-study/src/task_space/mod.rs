@@ -936,6 +936,7 @@ fn summarise(outcome: &mut Outcome<TaskSpaceRun>) {
             sf.min_direct_margin, sf.cells, sf.volume_connected, t.unit, sf.volume_above_margin
         ));
     }
+    lines.extend(e.resolution_warning(r.domain_volume, &t.unit));
     for map in &t.maps {
         lines.push(format!(
             "map of {} over ({}): {:.1} % inside, largest {}",

@@ -765,3 +765,33 @@ fn leg_clearance_limits_a_robot_file_as_the_rotary_delta() {
     println!("rotary Delta members: {free} free, {limited} with 0.2 m clearance");
     assert!(100 < limited && limited < free, "{limited} {free}");
 }
+
+/// Issue 29: the Orthoglide with actuator limits of ±1e5 m samples a reach box of about 1e16 m³
+/// where no sample lands in its 0.13 m³ workspace: the study says so, with the 95 % bound,
+/// instead of reporting a bare 0; limits beyond ±1e6 are refused at their key.
+#[test]
+fn a_study_that_cannot_resolve_its_workspace_says_so() {
+    let text = std::fs::read_to_string(format!(
+        "{}/../../examples/robots/orthoglide.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let huge = text.replace("limits = [-0.6, 0.0]", "limits = [-1e5, 1e5]");
+    let hand = "[mechanism.tsai]\na = 0.44\nb = 0.56\n[sampling]\npoints = 256\n";
+    let mut study: WorkspaceStudy = from_toml_str(hand).unwrap();
+    study.mechanism = robot_spec(toml::from_str(&huge).unwrap());
+    let outcome = workspace(&study, &Silent).unwrap();
+    assert_eq!(outcome.result.estimate.n_inside, 0);
+    let warning = outcome
+        .summary
+        .iter()
+        .find(|l| l.starts_with("warning: no sample"));
+    assert!(
+        warning.is_some_and(|w| w.contains("below about")),
+        "{:?}",
+        outcome.summary
+    );
+    let beyond = text.replace("limits = [-0.6, 0.0]", "limits = [-1e300, 1e300]");
+    let (path, _) = error_path(&beyond);
+    assert!(path.ends_with(".limits"), "{path}");
+}
