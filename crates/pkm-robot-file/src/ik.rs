@@ -17,6 +17,14 @@ const NUMERIC_LEG_STARTS: u64 = 8;
 /// Steps of the continuation from home when the dependent coordinates do not converge directly.
 const CONTINUATION_STEPS: usize = 8;
 
+/// The memo of [`RobotModel::solve_dependent`]: per thread, the model's identity, the bits of
+/// the task coordinates and the result.
+type DependentMemo = Option<(u64, Vec<u64>, Result<Configuration, KinematicsError>)>;
+
+thread_local! {
+    static LAST_DEPENDENT: std::cell::RefCell<DependentMemo> = const { std::cell::RefCell::new(None) };
+}
+
 impl RobotModel {
     /// The full pose of the task coordinates `x`: task coordinates from `x`, constant and idle
     /// ones at home, dependent ones solved from the legs' constraints.
@@ -61,6 +69,11 @@ impl RobotModel {
     }
 
     /// The configuration with the dependent coordinates solved (all joints free, from home).
+    ///
+    /// The solution does not depend on the working mode, and a study tries every mode of a
+    /// point in turn on one thread: the last solution of each thread is kept, keyed by the
+    /// model's identity and the bits of `x`, so the numerical solve (and, out of reach, its
+    /// continuation) runs once per point instead of once per mode.
     fn solve_dependent(&self, x: &[f64]) -> Result<Configuration, KinematicsError> {
         let pose = self.pose_with_task(x)?;
         let dependent: Vec<usize> = (0..6)
@@ -71,6 +84,29 @@ impl RobotModel {
         if dependent.is_empty() {
             return Ok(config);
         }
+        let key: Vec<u64> = x.iter().map(|v| v.to_bits()).collect();
+        let id = self.identity.0;
+        let hit = LAST_DEPENDENT.with(|last| {
+            let last = last.borrow();
+            last.as_ref()
+                .filter(|(i, k, _)| *i == id && *k == key)
+                .map(|(_, _, r)| r.clone())
+        });
+        if let Some(result) = hit {
+            return result;
+        }
+        let result = self.solve_dependent_from(config, pose, dependent);
+        LAST_DEPENDENT.with(|last| *last.borrow_mut() = Some((id, key, result.clone())));
+        result
+    }
+
+    /// [`RobotModel::solve_dependent`] without the memo.
+    fn solve_dependent_from(
+        &self,
+        config: Configuration,
+        pose: PoseCoordinates,
+        dependent: Vec<usize>,
+    ) -> Result<Configuration, KinematicsError> {
         let problem = ClosureProblem {
             model: self,
             legs: (0..self.legs.len()).collect(),

@@ -78,6 +78,28 @@ pub struct RobotModel {
     pub(crate) size: f64,
     pub(crate) home_mode: WorkingMode,
     pub(crate) twist_system: Vec<[f64; 6]>,
+    /// Which load this model comes from, for the memo of its dependent coordinates.
+    pub(crate) identity: Identity,
+}
+
+/// The identity of a loaded model: every load gets a fresh one and its clones share it (they
+/// are the same model), so that a per-thread memo keyed by it and the task coordinates returns
+/// exactly what the model computes ([`RobotModel::full_pose`]). Not part of the model's value:
+/// models compare equal whatever their identities.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Identity(pub(crate) u64);
+
+impl Identity {
+    fn fresh() -> Self {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        Self(NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+impl PartialEq for Identity {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl RobotModel {
@@ -147,6 +169,7 @@ impl RobotModel {
             size,
             home_mode: WorkingMode::default(),
             twist_system,
+            identity: Identity::fresh(),
         };
         model.home_mode = model.mode_of_home();
         Ok(model)
