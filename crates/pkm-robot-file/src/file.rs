@@ -143,6 +143,7 @@ impl RobotFile {
     /// [`RobotFileError::Parse`] with the line and column of the offending text (an unknown
     /// parameter name included).
     pub fn from_toml(text: &str) -> Result<Self, RobotFileError> {
+        check_size(text.len())?;
         let parse_error = |e: toml::de::Error| {
             let (line, column) = e
                 .span()
@@ -201,6 +202,26 @@ fn line_and_column(text: &str, offset: usize) -> (usize, usize) {
     let line = before.matches('\n').count() + 1;
     let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     (line, column)
+}
+
+/// Largest robot file read (bytes): 4 MiB, two orders of magnitude above the largest robot
+/// the counts admit (64 legs of 12 joints), so that a huge file is refused before it is parsed
+/// (a 50 MB file once took 29 s to be refused for its leg count).
+pub const MAX_FILE_BYTES: usize = 4 << 20;
+
+/// Refuses a robot file of `bytes` bytes above [`MAX_FILE_BYTES`].
+///
+/// # Errors
+/// [`RobotFileError::Invalid`] at `file` with the size.
+pub fn check_size(bytes: usize) -> Result<(), RobotFileError> {
+    if bytes > MAX_FILE_BYTES {
+        return Err(RobotFileError::invalid(
+            "file",
+            bytes,
+            format!("at most {MAX_FILE_BYTES} bytes (4 MiB) for a robot file"),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

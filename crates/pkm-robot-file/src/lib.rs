@@ -61,7 +61,9 @@ mod workspace;
 pub use chain::{Joint, LegChain};
 pub use closure::Configuration;
 pub use error::RobotFileError;
-pub use file::{HomeSpec, JointSpec, JointType, LegSpec, RobotFile, SymmetrySpec};
+pub use file::{
+    HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, RobotFile, SymmetrySpec, check_size,
+};
 pub use fk::{AssemblyMode, EnumerationSettings};
 pub use jacobian::{ScrewJacobians, SingularityMargins};
 pub use lm::SolverSettings;

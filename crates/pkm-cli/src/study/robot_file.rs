@@ -129,6 +129,16 @@ fn parse_study_source<T: DeserializeOwned>(
         let message = format!("{key}: cannot read {}: {e}", robot_path.display());
         error_at(path, &source.text, locate(&source.text, &key), &message)
     })?;
+    if let Err(e) = pkm_study::schema::robot_file::check_robot_file_size(robot_text.len()) {
+        let key = KeyPath::parse("mechanism.robot_file.file");
+        let message = format!("{key}: {}: {e}", robot_path.display());
+        return Err(error_at(
+            path,
+            &source.text,
+            locate(&source.text, &key),
+            &message,
+        ));
+    }
     let robot = toml::from_str::<Table>(&robot_text).map_err(|e| {
         let span = e.span().unwrap_or(0..0);
         error_at(&robot_path, &robot_text, span, e.message().trim_end())

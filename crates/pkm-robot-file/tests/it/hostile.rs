@@ -306,3 +306,16 @@ fn the_kept_dependent_solution_is_exactly_the_computed_one() {
         assert_eq!(format!("{fresh_a:?}"), format!("{again:?}"));
     }
 }
+
+/// Issue 29: a 50 MB file was refused for its leg count only after it was parsed (8.7–29 s).
+/// A file above `MAX_FILE_BYTES` is refused by its size before anything is parsed.
+#[test]
+fn an_oversized_file_is_refused_by_its_size_first() {
+    let text = common::robot_text("five_bar.toml");
+    let huge = format!("{text}\n{}", "#".repeat(pkm_robot_file::MAX_FILE_BYTES));
+    match RobotModel::from_toml(&huge) {
+        Err(RobotFileError::Invalid { key, .. }) => assert_eq!(key, "file"),
+        other => panic!("{other:?}"),
+    }
+    assert!(RobotModel::from_toml(&text).is_ok());
+}

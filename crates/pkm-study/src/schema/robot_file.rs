@@ -24,6 +24,9 @@ use pkm_robot_file::{
 use serde::{Deserialize, Serialize};
 use toml::{Table, Value};
 
+/// The size check of a robot file's text, for front ends that read the file themselves.
+pub use pkm_robot_file::check_size as check_robot_file_size;
+
 /// The key path of the table in a study.
 pub const KEY_PATH: &str = "mechanism.robot_file";
 
@@ -67,6 +70,7 @@ impl RobotFileSpec {
         self.only_file()?;
         let at = |m: String| StudyError::invalid(format!("{KEY_PATH}.file").as_str(), m);
         let text = read(&file).map_err(|e| at(format!("cannot read {file}: {e}")))?;
+        pkm_robot_file::check_size(text.len()).map_err(|e| at(format!("{file}: {e}")))?;
         let mut table = toml::from_str::<Table>(&text).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
