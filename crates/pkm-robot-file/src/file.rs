@@ -145,14 +145,21 @@ impl RobotFile {
     pub fn from_toml(text: &str) -> Result<Self, RobotFileError> {
         check_size(text.len())?;
         let parse_error = |e: toml::de::Error| {
-            let (line, column) = e
-                .span()
-                .map(|span| line_and_column(text, span.start))
-                .unwrap_or((0, 0));
+            let start = e.span().map(|span| span.start);
+            let (line, column) = start.map_or((0, 0), |s| line_and_column(text, s));
+            let mut message = e.message().trim_end().to_string();
+            if message.starts_with("unknown field")
+                && let Some(header) = start.and_then(|s| header_above(text, s))
+            {
+                message.push_str(&format!(
+                    " (read as a key of `{header}`, the table header above it: is a header \
+                     such as `[symmetry]` missing?)"
+                ));
+            }
             RobotFileError::Parse {
                 line,
                 column,
-                message: e.message().to_string(),
+                message,
             }
         };
         let parameters = toml::from_str::<ParametersOnly>(text).map_err(parse_error)?;
@@ -197,6 +204,19 @@ fn checked(parameters: BTreeMap<String, f64>) -> Result<BTreeMap<String, f64>, R
 }
 
 /// Line and column (from 1) of byte `offset` in `text`.
+/// The last table header (`[home]`, `[[legs]]`) before byte `offset` of `text`, if any.
+fn header_above(text: &str, offset: usize) -> Option<&str> {
+    text.get(..offset)?.lines().rev().map(str::trim).find(|l| {
+        let name = l.trim_start_matches('[').trim_end_matches(']');
+        l.starts_with('[')
+            && l.ends_with(']')
+            && !name.is_empty()
+            && name
+                .chars()
+                .all(|c| c.is_alphanumeric() || matches!(c, '_' | '-' | '.'))
+    })
+}
+
 fn line_and_column(text: &str, offset: usize) -> (usize, usize) {
     let before = text.get(..offset).unwrap_or(text);
     let line = before.matches('\n').count() + 1;

@@ -319,3 +319,17 @@ fn an_oversized_file_is_refused_by_its_size_first() {
     }
     assert!(RobotModel::from_toml(&text).is_ok());
 }
+
+/// Issue 29: a dropped `[symmetry]` header put its keys into `[home]` and the error said only
+/// "unknown field"; it now names the table the key was read in.
+#[test]
+fn an_unknown_key_names_the_table_it_was_read_in() {
+    let text = common::robot_text("three_prs.toml");
+    assert!(text.contains("[symmetry]\n"));
+    let e = RobotModel::from_toml(&text.replacen("[symmetry]\n", "", 1)).unwrap_err();
+    let message = e.to_string();
+    assert!(
+        message.contains("[home]") && message.contains("header"),
+        "{message}"
+    );
+}
