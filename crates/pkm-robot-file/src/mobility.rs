@@ -31,6 +31,7 @@ pub(crate) fn check_mobility(
     roles: &[CoordinateRole; 6],
 ) -> Result<Vec<[f64; 6]>, RobotFileError> {
     let mut wrenches = Vec::new();
+    let mut per_leg = Vec::with_capacity(legs.len());
     for leg in legs {
         let twists: Vec<_> = leg
             .twists(&leg.home_values())
@@ -38,8 +39,23 @@ pub(crate) fn check_mobility(
             .iter()
             .map(|t| t.1)
             .collect();
-        wrenches.extend(constraint_wrenches(&twists));
+        let constraints = constraint_wrenches(&twists);
+        per_leg.push(constraints.len());
+        wrenches.extend(constraints);
     }
+    let names = orientation.coordinate_names();
+    let declared = |role: CoordinateRole| -> Vec<&str> {
+        (0..6)
+            .filter(|&k| roles[k] == role)
+            .map(|k| names[k])
+            .collect()
+    };
+    let legs_say = per_leg
+        .iter()
+        .enumerate()
+        .map(|(i, n)| format!("legs[{i}]: {n}"))
+        .collect::<Vec<_>>()
+        .join(", ");
     let system = reciprocal_screw_system(&wrenches, RANK_TOLERANCE).unwrap_or_default();
     let basis: Vec<[f64; 6]> = system.iter().map(|t| (*t).into()).collect();
     let fail = |reason: String| RobotFileError::Mobility {
@@ -52,8 +68,14 @@ pub(crate) fn check_mobility(
         .collect();
     if system.len() != free.len() {
         return Err(fail(format!(
-            "the file declares {} task and idle coordinates",
-            free.len()
+            "the legs leave the platform {} degrees of freedom, the file declares {} task and \
+             idle coordinates (`task` = {:?}, `idle` = {:?}); constraint wrenches per leg at \
+             home: {legs_say} (a leg with too few joints constrains more, one with a joint too \
+             many constrains less)",
+            system.len(),
+            free.len(),
+            declared(CoordinateRole::Task),
+            declared(CoordinateRole::Idle),
         )));
     }
     // Pose-coordinate rates of each basis twist: ẋ = H⁻¹ [ω; v_O + ω × p].
@@ -74,7 +96,10 @@ pub(crate) fn check_mobility(
         let moved = rates.row(k).amax();
         if moved > 1e-7 * scale {
             return Err(fail(format!(
-                "pose coordinate {k} is not declared but the legs let it move (rate {moved:.3e})"
+                "the legs let `{}` move (rate {moved:.3e}) but the file does not declare it: \
+                 put it in `task`, `dependent` or `idle`; constraint wrenches per leg at home: \
+                 {legs_say}",
+                names[k]
             )));
         }
     }
@@ -87,7 +112,10 @@ pub(crate) fn check_mobility(
     });
     if free.is_empty() || !(smallest > 1e-7 * scale) {
         return Err(fail(format!(
-            "the task and idle coordinates do not parametrise the twist system (smallest singular value {smallest:.3e})"
+            "the task and idle coordinates ({:?}) do not parametrise the twist system (smallest \
+             singular value {smallest:.3e}): the legs move the platform along other coordinates; \
+             constraint wrenches per leg at home: {legs_say}",
+            free.iter().map(|&k| names[k]).collect::<Vec<_>>()
         )));
     }
     Ok(basis)

@@ -125,10 +125,14 @@ fn a_wrong_mobility_is_refused_with_the_twist_system() {
         Err(RobotFileError::Mobility {
             found,
             twist_system,
-            ..
+            reason,
         }) => {
             assert_eq!(found, 6);
             assert_eq!(twist_system.len(), 6);
+            // Issue 29: the error names the keys and each leg's constraints.
+            for part in ["`task`", "legs[0]: 0", "legs[2]: 0"] {
+                assert!(reason.contains(part), "{part} in {reason}");
+            }
         }
         other => panic!("{other:?}"),
     }
