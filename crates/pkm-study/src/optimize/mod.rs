@@ -444,9 +444,14 @@ pub fn optimize<M: StudyMechanism>(
     let result = result_of(study, &problem, &run, (best_start, best), optimality);
     let mut outcome = Outcome::new(result);
     summarise(&mut outcome, &problem.names(), best);
-    outcome
-        .artifacts
-        .extend(starts_artifacts(&problem.names(), &outcome.result, &run));
+    outcome.artifacts.extend(starts_artifacts(
+        &problem.names(),
+        &outcome.result,
+        &run,
+        ("max_violation", |r: &ConstrainedResult| {
+            r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g))
+        }),
+    ));
     let scene = scene::optimum_scene(
         &study.mechanism,
         TSAI_VARIABLES
@@ -563,26 +568,24 @@ fn summarise<R: LocalResult>(outcome: &mut Outcome<OptimizeResult>, names: &[&st
     outcome.summary.push(checks);
 }
 
-/// `starts.csv` (each start and where it ended, with its largest constraint violation) and
-/// `starts.svg` (the values reached, best first).
-fn starts_artifacts(
+/// `starts.csv` (each start, where it ended, the value and a second number `extra` names and
+/// computes) and `starts.svg` (the values reached, best first).
+fn starts_artifacts<R: LocalResult>(
     names: &[&str],
     result: &OptimizeResult,
-    run: &MultistartRun<ConstrainedResult>,
+    run: &MultistartRun<R>,
+    (extra, number): (&str, impl Fn(&R) -> f64),
 ) -> [Artifact; 2] {
     let quantity = result.objective.as_str();
     let rows = starts::start_rows(run, names.len() + 2, |r| Reached {
-        design: &r.design,
-        numbers: vec![
-            r.value,
-            r.constraints.iter().fold(0.0_f64, |a, g| a.max(*g)),
-        ],
-        termination: &r.termination,
+        design: r.design(),
+        numbers: vec![r.value(), number(r)],
+        termination: r.termination(),
     });
     let values = run
         .outcomes
         .iter()
-        .filter_map(|o| o.as_ref().ok().map(|r| r.value));
+        .filter_map(|o| o.as_ref().ok().map(R::value));
     let chart = ranked_chart(
         format!("{quantity} reached from each start"),
         quantity,
@@ -590,5 +593,5 @@ fn starts_artifacts(
         true,
         result.best_start,
     );
-    starts::starts_artifacts(names, &[quantity, "max_violation"], rows, chart)
+    starts::starts_artifacts(names, &[quantity, extra], rows, chart)
 }

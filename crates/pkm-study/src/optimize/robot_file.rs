@@ -13,12 +13,12 @@
 
 use super::{
     ConstraintValue, OptimizeObjective, OptimizeResult, OptimizeStudy, SearchSummary, StartCounts,
-    no_feasible, refused, summarise,
+    no_feasible, refused, starts_artifacts, summarise,
 };
-use crate::outcome::{Artifact, Outcome};
+use crate::outcome::Outcome;
 use crate::registry::StudyMechanism;
 use crate::schema::robot_file::RobotFileSpec;
-use crate::starts::{self, Reached, ranked_chart};
+use crate::starts;
 use crate::task_space::{TaskSpaceEvaluator, TaskSpaceIndices, robot_at_home};
 use crate::workspace::constraints_of;
 use crate::{KeyPath, StudyError};
@@ -342,9 +342,9 @@ pub(super) fn optimize<M: StudyMechanism>(
     let mut outcome = Outcome::new(result);
     summarise(&mut outcome, &names, best);
     summarise_indices(&mut outcome);
-    outcome
-        .artifacts
-        .extend(starts_artifacts(&names, &outcome.result, &run));
+    let evaluations = ("evaluations", |r: &CompassResult| r.evaluations as f64);
+    let artifacts = starts_artifacts(&names, &outcome.result, &run, evaluations);
+    outcome.artifacts.extend(artifacts);
     let caption = format!("the {} optimum at home", study.optimize.objective.name());
     outcome.robot(caption, robot_at_home(&optimum));
     Ok(outcome)
@@ -430,30 +430,4 @@ fn summarise_indices(outcome: &mut Outcome<OptimizeResult>) {
         search.final_step
     );
     outcome.line(line);
-}
-
-/// `starts.csv` (each start, where it ended, its value and evaluations) and `starts.svg`.
-fn starts_artifacts(
-    names: &[&str],
-    result: &OptimizeResult,
-    run: &MultistartRun<CompassResult>,
-) -> [Artifact; 2] {
-    let quantity = result.objective.as_str();
-    let rows = starts::start_rows(run, names.len() + 2, |r| Reached {
-        design: &r.design,
-        numbers: vec![r.value, r.evaluations as f64],
-        termination: &r.termination,
-    });
-    let values = run
-        .outcomes
-        .iter()
-        .filter_map(|o| o.as_ref().ok().map(|r| r.value));
-    let chart = ranked_chart(
-        format!("{quantity} reached from each start"),
-        quantity,
-        values.collect(),
-        true,
-        result.best_start,
-    );
-    starts::starts_artifacts(names, &[quantity, "evaluations"], rows, chart)
 }
