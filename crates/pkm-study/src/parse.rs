@@ -28,12 +28,20 @@ pub fn from_toml_str<T: DeserializeOwned>(text: &str) -> Result<T, StudyError> {
     })
 }
 
-/// Reads a study from JSON text.
+/// Reads a study from JSON text: one JSON value and nothing after it but whitespace.
 ///
 /// # Errors
-/// [`StudyError::Schema`] when `text` is not JSON or not a study of this shape.
+/// [`StudyError::Schema`] when `text` is not JSON, not a study of this shape, or has anything
+/// after the value (`{...} garbage`).
 pub fn from_json_str<T: DeserializeOwned>(text: &str) -> Result<T, StudyError> {
-    from_deserializer(&mut serde_json::Deserializer::from_str(text))
+    let mut deserializer = serde_json::Deserializer::from_str(text);
+    let study = from_deserializer(&mut deserializer)?;
+    deserializer.end().map_err(|e| StudyError::Schema {
+        path: KeyPath::root(),
+        message: format!("after the study: {e}"),
+        span: None,
+    })?;
+    Ok(study)
 }
 
 /// Reads a study from any serde deserializer (a Python dict, YAML, a `serde_json::Value`, ...).

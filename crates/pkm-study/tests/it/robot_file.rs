@@ -795,3 +795,16 @@ fn a_study_that_cannot_resolve_its_workspace_says_so() {
     let (path, _) = error_path(&beyond);
     assert!(path.ends_with(".limits"), "{path}");
 }
+
+/// Issue 29: `from_json_str` read one JSON value and ignored what followed it.
+#[test]
+fn a_json_study_with_trailing_text_is_refused() {
+    let study = r#"{"mechanism": {"tsai": {"a": 0.44, "b": 0.56}}, "sampling": {"points": 64}}"#;
+    let ok: Result<WorkspaceStudy, _> = from_json_str(&format!("{study}\n  "));
+    assert!(ok.is_ok(), "{ok:?}");
+    for trailing in [" garbage", " {}", "]", " 1"] {
+        let e = from_json_str::<WorkspaceStudy>(&format!("{study}{trailing}")).unwrap_err();
+        assert!(matches!(e, StudyError::Schema { .. }), "{trailing}: {e}");
+        assert!(e.to_string().contains("after the study"), "{e}");
+    }
+}
