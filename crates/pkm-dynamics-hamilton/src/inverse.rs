@@ -23,20 +23,29 @@ pub enum Differencing {
 }
 
 impl Differencing {
-    /// The derivative of `f` sampled every `dt` (needs at least 3 samples).
-    pub fn apply(self, f: &[Vector6<f64>], dt: f64) -> Vec<Vector6<f64>> {
+    /// The derivative of `f` sampled every `dt`.
+    ///
+    /// # Errors
+    /// [`InvalidInput`] for fewer than 3 samples (the one-sided second-order ends need three)
+    /// or a step that is not finite and positive.
+    pub fn apply(self, f: &[Vector6<f64>], dt: f64) -> Result<Vec<Vector6<f64>>, InvalidInput> {
         let n = f.len();
+        if n < 3 {
+            return Err(InvalidInput::new("samples", n as f64, "at least 3"));
+        }
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(InvalidInput::new("dt", dt, "finite and > 0"));
+        }
         let (inv, half_inv) = (1.0 / dt, 0.5 / dt);
-        (0..n)
+        Ok((0..n)
             .map(|k| match self {
-                _ if n < 3 => Vector6::zeros(),
                 Self::Backward if k == 0 => (f[1] - f[0]) * inv,
                 Self::Backward => (f[k] - f[k - 1]) * inv,
                 Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) * half_inv,
                 Self::Central if k + 1 == n => (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) * half_inv,
                 Self::Central => (f[k + 1] - f[k - 1]) * half_inv,
             })
-            .collect()
+            .collect())
     }
 }
 
@@ -164,8 +173,8 @@ pub fn sample_positions(
         .iter()
         .map(|(_, p)| Vector6::new(p.x, p.y, p.z, 0.0, 0.0, 0.0))
         .collect();
-    let velocities = Differencing::Central.apply(&padded, dt);
-    let accelerations = Differencing::Central.apply(&velocities, dt);
+    let velocities = Differencing::Central.apply(&padded, dt)?;
+    let accelerations = Differencing::Central.apply(&velocities, dt)?;
     let head = |v: &Vector6<f64>| Vector3::new(v[0], v[1], v[2]);
     (positions.iter().zip(&velocities).zip(&accelerations))
         .map(|(((t, p), v), a)| {
@@ -193,7 +202,7 @@ pub fn hamilton(
     let momenta: Vec<_> = (configurations.iter().zip(samples))
         .map(|(c, (_, s))| c.momentum(&s.qd))
         .collect();
-    let rates = differencing.apply(&momenta, dt);
+    let rates = differencing.apply(&momenta, dt)?;
     (configurations.iter().zip(samples).zip(&rates))
         .map(|((c, (t, s)), r)| c.hamilton_torques(&s.qd, r).map_err(|e| e.at(*t)))
         .collect()
@@ -216,7 +225,7 @@ pub fn lagrange(
         Accelerations::Differenced(d) => {
             let dt = sample_step(samples)?;
             let qd: Vec<_> = samples.iter().map(|(_, s)| s.qd).collect();
-            d.apply(&qd, dt)
+            d.apply(&qd, dt)?
         }
     };
     (samples.iter().zip(&qdd))
@@ -325,7 +334,7 @@ mod tests {
         let momenta: Vec<_> = (samples.iter())
             .map(|(_, s)| model.mass_matrix(&s.q) * s.qd)
             .collect();
-        let rates = Differencing::Central.apply(&momenta, dt);
+        let rates = Differencing::Central.apply(&momenta, dt).unwrap();
         let tau = hamilton(&model, &samples, Differencing::Central).unwrap();
         for ((t, s), (r, tau)) in samples.iter().zip(rates.iter().zip(&tau)) {
             let by_hand = torques(&model, &s.q, &s.qd, r).unwrap();

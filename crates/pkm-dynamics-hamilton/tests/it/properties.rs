@@ -191,3 +191,27 @@ proptest! {
         }
     }
 }
+
+/// Issue 29: `Differencing::apply` returned zeros for fewer than 3 samples (its docs say it
+/// needs 3) and divided by any step. Both are typed errors now; 3 samples of a line give its
+/// slope exactly.
+#[test]
+fn differencing_refuses_too_few_samples_and_bad_steps() {
+    use nalgebra::Vector6;
+    let line = |k: usize| Vector6::repeat(2.0 * k as f64);
+    let two = [line(0), line(1)];
+    for d in [Differencing::Backward, Differencing::Central] {
+        assert!(d.apply(&two, 0.1).is_err());
+        assert!(d.apply(&[], 0.1).is_err());
+        let three = [line(0), line(1), line(2)];
+        for dt in [0.0, -0.1, f64::NAN, f64::INFINITY] {
+            assert!(d.apply(&three, dt).is_err(), "{dt}");
+        }
+        let slope = d.apply(&three, 0.5).unwrap();
+        assert!(
+            slope
+                .iter()
+                .all(|v| (v - Vector6::repeat(4.0)).amax() < 1e-12)
+        );
+    }
+}

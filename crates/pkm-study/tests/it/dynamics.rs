@@ -104,8 +104,8 @@ fn csv_positions_match_the_library_and_the_analytic_cycle() {
         .iter()
         .map(|r| Vector6::new(r[1], r[2], r[3], 0.0, 0.0, 0.0))
         .collect();
-    let v = Differencing::Central.apply(&p, dt);
-    let a = Differencing::Central.apply(&v, dt);
+    let v = Differencing::Central.apply(&p, dt).unwrap();
+    let a = Differencing::Central.apply(&v, dt).unwrap();
     let three = |x: &Vector6<f64>| Vector3::new(x[0], x[1], x[2]);
     let samples: Vec<_> = (0..p.len())
         .map(|k| {
