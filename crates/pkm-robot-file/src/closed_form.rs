@@ -38,12 +38,7 @@ impl RobotModel {
         branch: u8,
     ) -> Result<ClosedFormLeg, KinematicsError> {
         let class = self.classes[i];
-        let motion = class
-            .solve(pose, branch)
-            .map_err(|e| KinematicsError::Unreachable {
-                leg: i,
-                discriminant: e.0,
-            })?;
+        let motion = self.closed_form_motion(i, pose, branch)?;
         let at = |p: &Vector3<f64>| (pose * Point3::from(*p)).coords;
         let (start, end, actuator_twist) = match class {
             LegClass::Distance {
@@ -105,6 +100,21 @@ impl RobotModel {
         Ok(platform_pose(self.orientation, &self.pose_with_task(x)?))
     }
 
+    /// The actuator motion of leg `i` at `pose` on `branch` alone (membership needs no wrench).
+    fn closed_form_motion(
+        &self,
+        i: usize,
+        pose: &Isometry3<f64>,
+        branch: u8,
+    ) -> Result<f64, KinematicsError> {
+        self.classes[i]
+            .solve(pose, branch)
+            .map_err(|e| KinematicsError::Unreachable {
+                leg: i,
+                discriminant: e.0,
+            })
+    }
+
     /// Actuator coordinates on the closed-form path, handed to `set(leg, q)`.
     pub(crate) fn closed_form_actuators_with(
         &self,
@@ -114,7 +124,7 @@ impl RobotModel {
     ) -> Result<(), KinematicsError> {
         let pose = self.closed_form_pose(x)?;
         for i in 0..self.legs.len() {
-            let q = self.legs[i].offset + self.closed_form_leg(i, &pose, mode.branch(i))?.motion;
+            let q = self.legs[i].offset + self.closed_form_motion(i, &pose, mode.branch(i))?;
             self.check_actuator_limits(i, q)?;
             set(i, q);
         }
