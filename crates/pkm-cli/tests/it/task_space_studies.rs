@@ -340,3 +340,52 @@ fn settings_that_do_not_fit_the_robot_are_refused_at_their_key_path() {
         run.stderr
     );
 }
+
+/// A task-space sweep split in two shards and merged gives the whole run's result, and a
+/// Pareto study of the same designs in their task space finds its front.
+#[test]
+fn task_space_sweeps_merge_their_shards_and_pareto_fronts_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let quick = study_with(
+        "three_prs_sweep.toml",
+        &[
+            ("points = 2048", "points = 128"),
+            (
+                "report = [\"volume\", \"eta\"]",
+                "report = [\"volume\", \"eta\"]\n\n[pareto]\nobjectives = [\"volume\", \"gci\"]\nweights = [[1.0, 0.0], [0.0, 1.0]]",
+            ),
+        ],
+        dir.path(),
+    );
+    let whole = run_study("sweep", &quick, &dir.path().join("whole"), &[]);
+    let shards: Vec<std::path::PathBuf> = (1..=2)
+        .map(|i| {
+            let out = dir.path().join(format!("shard{i}"));
+            run_study("sweep", &quick, &out, &["--shard", &format!("{i}/2")]);
+            out
+        })
+        .collect();
+    let merged = dir.path().join("merged");
+    let run = pkm(&[
+        "merge",
+        shards[0].to_str().unwrap(),
+        shards[1].to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(run.ok, "{}", run.stderr);
+    let text = std::fs::read_to_string(merged.join("results.json")).unwrap();
+    let merged: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(merged["result"], whole["result"]);
+    let pareto = run_study("pareto", &quick, &dir.path().join("pareto"), &[]);
+    assert_eq!(pareto["result"]["nodes"], 5);
+    let front = pareto["result"]["front"].as_array().unwrap();
+    assert!(!front.is_empty() && front.len() <= 5, "{front:?}");
+    assert_eq!(
+        pareto["result"]["weighted_optima"]
+            .as_array()
+            .unwrap()
+            .len(),
+        2
+    );
+}
