@@ -118,3 +118,15 @@ def test_arrays_of_the_wrong_width_raise():
         m.inverse_kinematics([[0.0, 0.0, 0.3]])
     with pytest.raises(pkm.InvalidInput):
         m.forward_kinematics([[0.3] * 6], [[0.0, 0.0, 0.3]])
+
+
+def test_a_task_space_sweep_gives_the_commands_result(pkm_command, tmp_path):
+    text = (ROOT / "examples" / "studies" / "three_prs_sweep.toml").read_text()
+    study = tmp_path / "sweep.toml"
+    study.write_text(text.replace("points = 2048", "points = 128"))
+    out = tmp_path / "out"
+    subprocess.run([str(pkm_command), "sweep", str(study), "--out", str(out), "--quiet"], check=True)
+    command = json.loads((out / "results.json").read_text())
+    outcome = pkm.sweep(str(study), progress=False)
+    assert json.dumps(outcome["result"], sort_keys=True) == json.dumps(command["result"], sort_keys=True)
+    assert outcome["result"]["nodes"] == 5
