@@ -179,6 +179,21 @@ pub struct StartCounts {
     pub failed: usize,
 }
 
+impl StartCounts {
+    /// How the starts of `run` ended.
+    fn of<R: LocalResult>(run: &MultistartRun<R>) -> Self {
+        let ok = run.outcomes.iter().filter_map(|o| o.as_ref().ok());
+        let converged = ok.clone().filter(|r| r.termination().converged()).count();
+        let succeeded = ok.count();
+        Self {
+            total: run.starts.len(),
+            converged,
+            at_iteration_limit: succeeded - converged,
+            failed: run.outcomes.len() - succeeded,
+        }
+    }
+}
+
 /// The result of an optimize study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OptimizeResult {
@@ -488,7 +503,6 @@ fn result_of<M>(
     optimality: OptimalityCheck,
 ) -> OptimizeResult {
     let o = &study.optimize;
-    let outcomes = &run.outcomes;
     let design = TSAI_VARIABLES
         .iter()
         .zip(problem.design_values(&best.design))
@@ -504,9 +518,6 @@ fn result_of<M>(
             multiplier: Some(best.multipliers[i]),
         })
         .collect();
-    let count = |f: &dyn Fn(&Result<ConstrainedResult, OptimizeError>) -> bool| {
-        outcomes.iter().filter(|&o| f(o)).count()
-    };
     OptimizeResult {
         title: study.title.clone(),
         objective: o.objective.name().to_owned(),
@@ -517,12 +528,7 @@ fn result_of<M>(
         best_start,
         termination: best.termination.to_string(),
         constraints,
-        starts: StartCounts {
-            total: run.starts.len(),
-            converged: count(&|o| o.as_ref().is_ok_and(|r| r.termination.converged())),
-            at_iteration_limit: count(&|o| o.as_ref().is_ok_and(|r| !r.termination.converged())),
-            failed: count(&|o| o.is_err()),
-        },
+        starts: StartCounts::of(run),
         optimality: Some(optimality),
         search: None,
     }

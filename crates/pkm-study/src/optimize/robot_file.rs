@@ -375,8 +375,6 @@ fn result_of<M: StudyMechanism>(
         })
         .collect();
     let ok = run.outcomes.iter().filter_map(|o| o.as_ref().ok());
-    let converged = ok.clone().filter(|r| r.termination.converged()).count();
-    let succeeded = ok.clone().count();
     let indices = INDICES
         .iter()
         .zip(index_values(indices))
@@ -392,12 +390,7 @@ fn result_of<M: StudyMechanism>(
         best_start,
         termination: best.termination.to_string(),
         constraints,
-        starts: StartCounts {
-            total: run.starts.len(),
-            converged,
-            at_iteration_limit: succeeded - converged,
-            failed: run.outcomes.len() - succeeded,
-        },
+        starts: StartCounts::of(run),
         optimality: None,
         search: Some(SearchSummary {
             method: "compass".to_owned(),
