@@ -7,23 +7,24 @@
 
 use criterion::{Criterion, Throughput};
 use pkm_study::WorkspaceStudy;
+use pkm_study::load::Format;
 use pkm_traits::Silent;
 
-/// The example study `name` with its robot file named by an absolute path and without the
-/// singularity-free search.
+/// The example study `name` without its singularity-free search, read by the study loader as
+/// `pkm workspace` reads it.
 fn example(name: &str) -> Option<WorkspaceStudy> {
-    let root = env!("CARGO_MANIFEST_DIR");
-    let text = std::fs::read_to_string(format!("{root}/examples/studies/{name}")).ok()?;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/studies")
+        .join(name);
+    let text = std::fs::read_to_string(&path).ok()?;
     let text = text
-        .replace("\"../robots/", &format!("\"{root}/examples/robots/"))
         .lines()
         .filter(|l| !l.starts_with("singularity_free"))
         .collect::<Vec<_>>()
         .join("\n");
-    let mut document: toml::Table = toml::from_str(&text).ok()?;
-    let read = |file: &str| std::fs::read_to_string(file);
-    pkm_study::schema::robot_file::RobotFileSpec::resolve_in_document(&mut document, read).ok()?;
-    pkm_study::from_deserializer(toml::Value::Table(document)).ok()
+    let reader = pkm_study::load::Directory::of_study(&path);
+    let (_, loaded) = pkm_study::load::load(name, text, Format::Toml, &reader).ok()?;
+    Some(loaded.study)
 }
 
 pub(crate) fn stewart_gough(c: &mut Criterion) {

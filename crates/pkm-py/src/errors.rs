@@ -85,7 +85,17 @@ pub(crate) fn invalid(py: Python<'_>, message: impl Into<String>) -> PyErr {
 
 /// The exception of a study error, with its key path.
 pub(crate) fn study_error(py: Python<'_>, e: &StudyError) -> PyErr {
-    let kind = match e {
+    raise(
+        py,
+        kind_of(e),
+        e.to_string(),
+        e.path().map(ToString::to_string),
+    )
+}
+
+/// The exception class of a study error.
+fn kind_of(e: &StudyError) -> Kind {
+    match e {
         StudyError::Schema { .. }
         | StudyError::Invalid { .. }
         | StudyError::Index(_)
@@ -95,8 +105,14 @@ pub(crate) fn study_error(py: Python<'_>, e: &StudyError) -> PyErr {
         StudyError::Optimize(o) => optimize_kind(o),
         StudyError::Cancelled => Kind::Cancelled,
         _ => Kind::Other,
-    };
-    raise(py, kind, e.to_string(), e.path().map(ToString::to_string))
+    }
+}
+
+/// The Python exception for a study that could not be loaded: the study error's class, its
+/// message prefixed with the file, line and column when the loader placed it.
+pub(crate) fn load_error(py: Python<'_>, e: &pkm_study::load::LoadError) -> PyErr {
+    let path = e.error.path().map(ToString::to_string);
+    raise(py, kind_of(&e.error), e.to_string(), path)
 }
 
 fn optimize_kind(e: &pkm_optimizers::OptimizeError) -> Kind {

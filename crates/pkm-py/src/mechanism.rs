@@ -261,7 +261,7 @@ impl Mechanism {
         // as every file name of a study given as a dict.
         if let MechanismSpec::RobotFile(robot) = &mut spec {
             robot
-                .resolve_file(|file: &str| std::fs::read_to_string(file))
+                .resolve_file(&pkm_study::load::Directory::default())
                 .map_err(|e| errors::study_error(py, &e))?;
         }
         let constraints = constraints_of(&spec, design.constraints.as_ref())

@@ -4,8 +4,7 @@
 //! shard of a split study carries, so that `pkm.merge` needs nothing but the parts).
 
 use crate::{convert, errors};
-use pkm_study::schema::robot_file::RobotFileSpec;
-use pkm_study::{StudyError, from_deserializer, from_json_str, from_toml_str};
+use pkm_study::load::{self, Directory, Format};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use serde::de::DeserializeOwned;
@@ -44,47 +43,30 @@ impl<'py> Source<'py> {
         Ok(Self::File { path, text })
     }
 
-    fn is_json(path: &Path) -> bool {
-        path.extension().is_some_and(|e| e == "json")
-    }
-
-    /// The study as the serde type `S`.
+    /// The study as the serde type `S`, read by the study layer's loader as the `pkm` command
+    /// reads it ([`pkm_study::load`]): a robot file named by `[mechanism.robot_file] file` is
+    /// read relative to [`Source::base`] and put in its place, and an error is placed at its
+    /// line in the study file or the robot file.
     ///
     /// # Errors
     /// `pkm.InvalidInput` (or the study error's class) with the key path where it does not fit.
-    ///
-    /// A robot file named by `[mechanism.robot_file] file` is read relative to
-    /// [`Source::base`] and put in its place, as the `pkm` command does
-    /// ([`RobotFileSpec::resolve_in_document`]).
     pub(crate) fn parse<S: DeserializeOwned>(&self, py: Python<'py>) -> PyResult<S> {
-        let base = self.base();
-        let read = |file: &str| std::fs::read_to_string(base.join(file));
-        let study_error = |e: StudyError| errors::study_error(py, &e);
-        match self {
+        let reader = Directory(self.base());
+        let loaded = match self {
             Self::Mapping(m) => match convert::from_python::<toml::Table>(m) {
-                Ok(mut document) if names_robot_file(&document) => {
-                    RobotFileSpec::resolve_in_document(&mut document, read).map_err(study_error)?;
-                    from_deserializer(toml::Value::Table(document)).map_err(study_error)
-                }
-                _ => convert::from_python(m),
+                Ok(document) => load::load_document(document, &reader),
+                // Not a TOML table (a `None` somewhere): the schema says where.
+                Err(_) => return convert::from_python(m),
             },
             Self::File { path, text } => {
-                let document = if Self::is_json(path) {
-                    serde_json::from_str::<toml::Table>(text).ok()
-                } else {
-                    toml::from_str::<toml::Table>(text).ok()
-                };
-                match document {
-                    Some(mut document) if names_robot_file(&document) => {
-                        RobotFileSpec::resolve_in_document(&mut document, read)
-                            .map_err(study_error)?;
-                        from_deserializer(toml::Value::Table(document)).map_err(study_error)
-                    }
-                    _ if Self::is_json(path) => from_json_str(text).map_err(study_error),
-                    _ => from_toml_str(text).map_err(study_error),
-                }
+                let name = path.display().to_string();
+                load::load(&name, text.clone(), Format::of_path(path), &reader)
+                    .map(|(_, loaded)| loaded)
             }
-        }
+        };
+        loaded
+            .map(|l| l.study)
+            .map_err(|e| errors::load_error(py, &e))
     }
 
     /// Where relative file names in the study are read from: the study file's directory, or
@@ -110,7 +92,7 @@ impl<'py> Source<'py> {
                 let unreadable = |e: &dyn std::fmt::Display| {
                     errors::invalid(py, format!("{}: {e}", path.display()))
                 };
-                if Self::is_json(path) {
+                if Format::of_path(path) == Format::Json {
                     let v: serde_json::Value =
                         serde_json::from_str(text).map_err(|e| unreadable(&e))?;
                     convert::to_python(py, &v)?
@@ -124,13 +106,4 @@ impl<'py> Source<'py> {
             .cast_into::<PyDict>()
             .map_err(|_| errors::invalid(py, "study: expected a table of settings"))
     }
-}
-
-/// Whether the document names its robot by `[mechanism.robot_file] file`.
-fn names_robot_file(document: &toml::Table) -> bool {
-    document
-        .get("mechanism")
-        .and_then(|m| m.get("robot_file"))
-        .and_then(|r| r.get("file"))
-        .is_some()
 }

@@ -7,10 +7,11 @@
 use crate::{errors, points};
 use pkm_study::StudyError;
 use pkm_study::dynamics::{DynamicsStudy, MAX_SAMPLES, TrajectoryCsv};
+use pkm_study::load::Directory;
 use pkm_study::schema::units::Real;
 use pyo3::prelude::*;
 use pyo3::types::PyString;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Sampled positions: from an array, or from a CSV file (which knows the line of each row).
 pub(crate) enum Rows {
@@ -30,11 +31,13 @@ pub(crate) fn from_argument(value: &Bound<'_, PyAny>) -> PyResult<Rows> {
     let py = value.py();
     let is_path = value.cast::<PyString>().is_ok() || value.hasattr("__fspath__")?;
     if is_path {
-        let path: PathBuf = py
+        let path: String = py
             .import("os")?
             .call_method1("fspath", (value,))?
             .extract()?;
-        return read_csv(&path).map_err(|e| errors::study_error(py, &e));
+        return TrajectoryCsv::read(&path, &Directory::default())
+            .map(Rows::Csv)
+            .map_err(|e| errors::study_error(py, &e));
     }
     let array = points::rows(value, "trajectory", 4)?;
     let view = array.as_array();
@@ -62,7 +65,7 @@ pub(crate) fn from_study(study: &DynamicsStudy, base: &Path) -> Result<Option<Ro
         .trajectory
         .csv
         .as_ref()
-        .map(|name| read_csv(&base.join(name)))
+        .map(|name| TrajectoryCsv::read(name, &Directory(base.to_path_buf())).map(Rows::Csv))
         .transpose()
 }
 
@@ -86,19 +89,4 @@ pub(crate) fn run(
             pkm_study::dynamics(&resolved, progress)
         }
     }
-}
-
-/// Reads the CSV file `path` as the `pkm` command does (refused unread above
-/// [`TrajectoryCsv::MAX_BYTES`]).
-///
-/// # Errors
-/// [`StudyError::Invalid`] at `trajectory.csv` naming the file (and the line) for a file that
-/// cannot be read, is too large, or has a row that is not four finite numbers.
-fn read_csv(path: &Path) -> Result<Rows, StudyError> {
-    let unreadable = |e: std::io::Error| {
-        StudyError::invalid("trajectory.csv", format!("{}: {e}", path.display()))
-    };
-    TrajectoryCsv::check_size(path, std::fs::metadata(path).map_err(unreadable)?.len())?;
-    let text = std::fs::read_to_string(path).map_err(unreadable)?;
-    TrajectoryCsv::parse(path, &text).map(Rows::Csv)
 }

@@ -3,8 +3,10 @@
 pub mod dynamics;
 mod error;
 mod estimate;
+pub mod files;
 pub mod grid;
 pub mod indices;
+pub mod load;
 pub mod merge;
 pub mod optimize;
 pub mod outcome;

@@ -66,7 +66,8 @@ fn read_shards(dirs: &[PathBuf]) -> Result<Vec<Results<ShardResult>>, CliError> 
         if s.command != first.command {
             return Err(differs("commands"));
         }
-        let robot_text = |r: &Results<ShardResult>| r.study.robot_file.as_ref().map(|f| f.text.clone());
+        let robot_text =
+            |r: &Results<ShardResult>| r.study.robot_file.as_ref().map(|f| f.text.clone());
         if s.study.text != first.study.text || robot_text(s) != robot_text(first) {
             return Err(differs("study files"));
         }
@@ -90,11 +91,9 @@ impl Run for Args {
                 return Err(CliError::Invalid(m));
             }
         };
-        let path = Path::new(&echo.file);
-        let located = |e| study::study_error(path, &echo.text, e);
-        let grid: GridStudy = study::study_from_echo(&echo)?;
+        let (source, grid): (_, GridStudy) = study::study_from_echo(&echo)?;
         let outcome =
-            pkm_study::merge(&grid, kind, parts, &context.progress).map_err(located)?;
+            pkm_study::merge(&grid, kind, parts, &context.progress).map_err(|e| source.error(e))?;
         let mut report = Report {
             lines: outcome.summary,
         };

@@ -42,12 +42,18 @@ pub trait Run {
     fn run(&self, context: &Context) -> Result<Report, CliError>;
 }
 
-/// Declares the subcommand modules, the [`Command`] enum with one variant per module (its
-/// `Args`), and the dispatch.
+pub mod dynamics;
+pub mod merge;
+pub mod optimize;
+pub mod pareto;
+pub mod sweep;
+pub mod task;
+pub mod workspace;
+
+/// Declares the [`Command`] enum with one variant per subcommand module (its `Args`), and the
+/// dispatch. The modules are declared outside the macro, so that rustfmt formats them.
 macro_rules! subcommands {
     ($($(#[$doc:meta])* $variant:ident => $module:ident,)*) => {
-        $(pub mod $module;)*
-
         /// The subcommands of `pkm`.
         #[derive(Debug, clap::Subcommand)]
         pub enum Command {
@@ -116,7 +122,7 @@ pub fn run_library_study<S: DeserializeOwned, R: Serialize>(
     let echo = StudyEcho {
         file: path.display().to_string(),
         robot_file: source.robot_echo(),
-        text: source.text,
+        text: source.text().to_owned(),
     };
     let written = out.finish(command, echo, outcome.result)?;
     report.line(format!("wrote {}", written.display()));

@@ -15,6 +15,11 @@ pub struct Args {
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        super::run_library_study("optimize", &self.file, context, pkm_study::optimize::<pkm_study::MechanismSpec>)
+        super::run_library_study(
+            "optimize",
+            &self.file,
+            context,
+            pkm_study::optimize::<pkm_study::MechanismSpec>,
+        )
     }
 }

@@ -20,8 +20,11 @@ pub struct Args {
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
         let shard = self.shard.unwrap_or(Shard::WHOLE);
-        super::run_library_study("sweep", &self.file, context, |study: &pkm_study::SweepStudy, progress| {
-            pkm_study::sweep(study, shard, progress)
-        })
+        super::run_library_study(
+            "sweep",
+            &self.file,
+            context,
+            |study: &pkm_study::SweepStudy, progress| pkm_study::sweep(study, shard, progress),
+        )
     }
 }

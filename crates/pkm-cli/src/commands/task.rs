@@ -16,6 +16,11 @@ pub struct Args {
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        super::run_library_study("task", &self.file, context, pkm_study::task::<pkm_study::MechanismSpec>)
+        super::run_library_study(
+            "task",
+            &self.file,
+            context,
+            pkm_study::task::<pkm_study::MechanismSpec>,
+        )
     }
 }

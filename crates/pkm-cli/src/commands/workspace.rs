@@ -14,6 +14,11 @@ pub struct Args {
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        super::run_library_study("workspace", &self.file, context, pkm_study::workspace::<pkm_study::MechanismSpec>)
+        super::run_library_study(
+            "workspace",
+            &self.file,
+            context,
+            pkm_study::workspace::<pkm_study::MechanismSpec>,
+        )
     }
 }

@@ -282,3 +282,36 @@ fn results_json_echoes_the_robot_file_and_shards_merge_without_it() {
     );
     assert!(tsai["study"].get("robot_file").is_none());
 }
+
+#[test]
+fn a_json_study_file_runs_as_its_toml_and_reads_its_robot_file_relative_to_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml_study = example("robot_file_workspace.toml");
+    let document: toml::Table =
+        toml::from_str(&std::fs::read_to_string(&toml_study).unwrap()).unwrap();
+    // The same layout as examples/: `../robots/tsai.toml` relative to the study.
+    std::fs::create_dir_all(dir.path().join("robots")).unwrap();
+    std::fs::create_dir_all(dir.path().join("studies")).unwrap();
+    let robot = toml_study.with_file_name("../robots/tsai.toml");
+    std::fs::copy(&robot, dir.path().join("robots/tsai.toml")).unwrap();
+    let json_study = dir.path().join("studies/study.json");
+    std::fs::write(&json_study, serde_json::to_string(&document).unwrap()).unwrap();
+    let from_json = run_study("workspace", &json_study, &dir.path().join("json"), &[]);
+    let from_toml = run_study("workspace", &toml_study, &dir.path().join("toml"), &[]);
+    assert_eq!(from_json["result"], from_toml["result"]);
+    assert_eq!(
+        from_json["study"]["robot_file"]["text"],
+        from_toml["study"]["robot_file"]["text"]
+    );
+    // A JSON error names the file; a schema error its key path.
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, "{\"mechanism\": {\"tsai\": {\"a\": \"x\"}}}").unwrap();
+    let run = pkm(&[
+        "workspace",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.path().join("bad").to_str().unwrap(),
+    ]);
+    assert!(!run.ok);
+    assert!(run.stderr.contains("mechanism.tsai.a"), "{}", run.stderr);
+}

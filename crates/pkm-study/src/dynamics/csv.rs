@@ -4,6 +4,7 @@
 //! placed at the `trajectory.csv` key and names the file and its line.
 
 use super::{DynamicsResult, DynamicsStudy, MAX_SAMPLES, dynamics};
+use crate::load::FileReader;
 use crate::outcome::Outcome;
 use crate::schema::units::Real;
 use crate::{Key, KeyPath, StudyError};
@@ -82,6 +83,19 @@ impl TrajectoryCsv {
         dynamics(&resolved, progress).map_err(|e| self.at_line(e))
     }
 
+    /// Reads the CSV file `name` through `reader` (refused unread above [`Self::MAX_BYTES`]).
+    ///
+    /// # Errors
+    /// [`StudyError::Invalid`] at `trajectory.csv` naming the file (and the line) for a file
+    /// that cannot be read, is too large, or has a row that is not four finite numbers.
+    pub fn read(name: &str, reader: &dyn FileReader) -> Result<Self, StudyError> {
+        let shown = PathBuf::from(reader.display(name));
+        let unreadable = |e: std::io::Error| csv_error(&shown, &e.to_string());
+        Self::check_size(&shown, reader.size(name).map_err(unreadable)?)?;
+        let text = reader.read(name).map_err(unreadable)?;
+        Self::parse(&shown, &text)
+    }
+
     /// Refuses a CSV file of `bytes` bytes larger than [`Self::MAX_BYTES`] (front ends
     /// call it with the file's size before reading it).
     ///
@@ -120,6 +134,22 @@ impl TrajectoryCsv {
 /// An error at `trajectory.csv` about `file`.
 fn csv_error(file: &Path, message: &str) -> StudyError {
     StudyError::invalid("trajectory.csv", format!("{}: {message}", file.display()))
+}
+
+/// Runs a dynamics study, first reading the CSV trajectory it names (`trajectory.csv`) through
+/// `reader`: what every front end calls, so the CSV is read the same way everywhere.
+///
+/// # Errors
+/// As [`TrajectoryCsv::read`] and [`dynamics`].
+pub fn dynamics_reading(
+    study: &DynamicsStudy,
+    reader: &dyn FileReader,
+    progress: &dyn Progress,
+) -> Result<Outcome<DynamicsResult>, StudyError> {
+    match &study.trajectory.csv {
+        Some(name) => TrajectoryCsv::read(name, reader)?.run(study, progress),
+        None => dynamics(study, progress),
+    }
 }
 
 #[cfg(test)]

@@ -13,16 +13,17 @@
 //! differences of the data only.
 //!
 //! **Files are the front end's.** A study may name a CSV file (`trajectory.csv`); the study
-//! layer reads no files, so a front end reads it and hands its rows in as
-//! `trajectory.positions` (the `pkm` command reads it relative to the study file). The schema
-//! stays plain serde: a JSON document or a Python dict gives its positions inline.
+//! layer opens no file itself: [`dynamics_reading`] reads it through the front end's
+//! [`crate::load::FileReader`] (`pkm` and `pkm.dynamics(path)` read it relative to the study
+//! file). The schema stays plain serde: a JSON document or a Python dict gives its positions
+//! inline.
 
 mod artifacts;
 mod csv;
 mod plan;
 pub mod schema;
 
-pub use csv::TrajectoryCsv;
+pub use csv::{TrajectoryCsv, dynamics_reading};
 pub use plan::{MAX_SAMPLES, mass_parameters, path_of};
 pub use schema::{
     DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec, LawSpec,

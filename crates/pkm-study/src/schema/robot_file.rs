@@ -2,9 +2,10 @@
 //! mechanism, with no Rust at all.
 //!
 //! The table holds the robot file's keys inline (so a JSON string or a Python dict is a robot
-//! too), or `file = "path"`, which the caller reads before the study runs: the library reads no
-//! file and never guesses a working directory. The `pkm` command reads it relative to the study
-//! file; [`RobotFileSpec::resolve_file`] puts the text a library caller read in its place.
+//! too), or `file = "path"`, read before the study runs by the study loader ([`crate::load`])
+//! through the front end's reader (relative to the study file for `pkm` and Python): the study
+//! layer opens no file itself and never guesses a working directory.
+//! [`RobotFileSpec::resolve_file`] puts the text a library caller read in its place.
 //!
 //! Its design variables are the names of the robot file's `[parameters]` table (metres, or
 //! degrees for a name ending in `_deg`). Workspace membership is the inverse kinematics in one of
@@ -15,7 +16,9 @@
 //! measured in its own task coordinates by a workspace study with `[task_space]`
 //! ([`crate::task_space`]).
 
+use crate::KeyPath;
 use crate::StudyError;
+use crate::files::{FileReader, NamedFile, Place, locate};
 use nalgebra::Vector3;
 use pkm_mechanisms::{Link, LinkKind, PointKind, Skeleton, SkeletonPoint};
 use pkm_robot_file::{
@@ -52,66 +55,26 @@ impl RobotFileSpec {
         self.table.get("file").and_then(Value::as_str)
     }
 
-    /// Replaces `file = "path"` by the robot file it names, its text given by `read` from the
-    /// path as written (the caller's: `pkm` reads it relative to the study file, e.g.
-    /// `|file| std::fs::read_to_string(study_dir.join(file))`); does nothing for an inline
-    /// robot. The study layer itself reads no file.
+    /// Replaces `file = "path"` by the robot file it names, read by `reader` from the name as
+    /// written (e.g. [`crate::load::Directory`] of the study file, as `pkm` reads it), as the
+    /// study loader does; does nothing for an inline robot. The study layer itself opens no
+    /// file.
     ///
     /// # Errors
-    /// [`StudyError::Invalid`] at `mechanism.robot_file.file` when `read` fails or the text is
-    /// not TOML (with its line), or when `file` comes with other keys.
-    pub fn resolve_file(
-        &mut self,
-        read: impl FnOnce(&str) -> std::io::Result<String>,
-    ) -> Result<(), StudyError> {
+    /// [`StudyError::Invalid`] at `mechanism.robot_file.file` when the file cannot be read, is
+    /// too large or is not TOML (with its line and column), or when `file` comes with other
+    /// keys.
+    pub fn resolve_file(&mut self, reader: &dyn FileReader) -> Result<(), StudyError> {
         let Some(file) = self.file().map(str::to_owned) else {
             return Ok(());
         };
         self.only_file()?;
-        let at = |m: String| StudyError::invalid(format!("{KEY_PATH}.file").as_str(), m);
-        let text = read(&file).map_err(|e| at(format!("cannot read {file}: {e}")))?;
-        pkm_robot_file::check_size(text.len()).map_err(|e| at(format!("{file}: {e}")))?;
-        let mut table = toml::from_str::<Table>(&text).map_err(|e| {
-            let offset = e.span().map_or(0, |s| s.start);
-            let line = text.get(..offset).unwrap_or("").matches('\n').count() + 1;
-            at(format!("{file}:{line}: {}", e.message().trim_end()))
-        })?;
-        if table.contains_key(MODES) {
-            return Err(at(format!(
-                "{file}: `{MODES}` is a key of the study's table, not of a robot file"
-            )));
-        }
+        let mut table = read_robot_file_table(&file, reader)?;
         if let Some(modes) = self.table.get(MODES) {
             table.insert(MODES.into(), modes.clone());
         }
         self.table = table;
         Ok(())
-    }
-
-    /// Replaces `[mechanism.robot_file] file = "path"` of a study document (TOML or any
-    /// serde source turned into a table) by the robot file it names, read by `read` from the
-    /// path as written ([`RobotFileSpec::resolve_file`]); a document without one is unchanged.
-    /// Every front end that reads a study document calls this, so a study names its robot the
-    /// same way wherever it runs.
-    ///
-    /// # Errors
-    /// As [`RobotFileSpec::resolve_file`].
-    pub fn resolve_in_document(
-        document: &mut Table,
-        read: impl FnOnce(&str) -> std::io::Result<String>,
-    ) -> Result<(), StudyError> {
-        let Some(table) = document
-            .get_mut("mechanism")
-            .and_then(Value::as_table_mut)
-            .and_then(|m| m.get_mut("robot_file"))
-            .and_then(Value::as_table_mut)
-        else {
-            return Ok(());
-        };
-        let mut spec = Self::inline(std::mem::take(table));
-        let resolved = spec.resolve_file(read);
-        *table = spec.table;
-        resolved
     }
 
     /// `file` (and the study's `modes`) alone: the robot is either named or given, never both.
@@ -132,9 +95,9 @@ impl RobotFileSpec {
             self.only_file()?;
             return Err(StudyError::invalid(
                 format!("{KEY_PATH}.file").as_str(),
-                "a robot file named by `file` is read by the caller before the study runs \
-                 (`pkm` reads it relative to the study file; library callers use \
-                 RobotFileSpec::resolve_file)",
+                "a robot file named by `file` is read before the study runs (by the study \
+                 loader, pkm_study::load, relative to the study file; library callers with a \
+                 table use RobotFileSpec::resolve_file)",
             ));
         }
         let mut keys = self.table.clone();
@@ -345,4 +308,59 @@ fn polygon(s: &mut Skeleton, corners: &[usize], kind: LinkKind, model: &RobotMod
             kind,
         });
     }
+}
+
+/// The table of the robot file `name` read through `reader` ([`RobotFileSpec::resolve_file`]):
+/// an error in the file names its line and column in the message.
+fn read_robot_file_table(name: &str, reader: &dyn FileReader) -> Result<Table, StudyError> {
+    read_robot_file(name, reader)
+        .map(|(_, table)| table)
+        .map_err(|e| match e {
+            RobotFileFailure::Study(e) => e,
+            RobotFileFailure::InFile(error, p) => StudyError::invalid(
+                format!("{KEY_PATH}.file").as_str(),
+                format!("{}:{}:{}: {}", p.file, p.line, p.column, error.message()),
+            ),
+        })
+}
+
+/// Why a named robot file could not be read: an error at the study's `file` key, or one placed
+/// in the robot file's text.
+pub(crate) enum RobotFileFailure {
+    /// At the study's `mechanism.robot_file.file` (unreadable, too large).
+    Study(StudyError),
+    /// At a place in the robot file (not TOML, a study key in it).
+    InFile(StudyError, Box<Place>),
+}
+
+/// Reads, bounds and parses the robot file `name` through `reader` (refused unread above
+/// [`pkm_robot_file::MAX_FILE_BYTES`]): the file as read and its table.
+pub(crate) fn read_robot_file(
+    name: &str,
+    reader: &dyn FileReader,
+) -> Result<(NamedFile, Table), RobotFileFailure> {
+    let key = format!("{KEY_PATH}.file");
+    let shown = reader.display(name);
+    let at = |m: String| RobotFileFailure::Study(StudyError::invalid(key.as_str(), m));
+    let unreadable = |e: std::io::Error| at(format!("cannot read {shown}: {e}"));
+    let size = usize::try_from(reader.size(name).map_err(unreadable)?).unwrap_or(usize::MAX);
+    check_robot_file_size(size).map_err(|e| at(format!("{shown}: {e}")))?;
+    let text = reader.read(name).map_err(unreadable)?;
+    check_robot_file_size(text.len()).map_err(|e| at(format!("{shown}: {e}")))?;
+    let in_file = |offset: usize, message: String| {
+        let error = StudyError::invalid(key.as_str(), format!("{shown}: {message}"));
+        RobotFileFailure::InFile(error, Box::new(Place::at(&shown, &text, offset)))
+    };
+    let table = toml::from_str::<Table>(&text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        in_file(offset, e.message().trim_end().to_owned())
+    })?;
+    if table.contains_key(MODES) {
+        let offset = locate(&text, &KeyPath::root().field(MODES)).start;
+        return Err(in_file(
+            offset,
+            format!("`{MODES}` is a key of the study's robot_file table, not of a robot file"),
+        ));
+    }
+    Ok((NamedFile { file: shown, text }, table))
 }

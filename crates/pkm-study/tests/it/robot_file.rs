@@ -397,13 +397,13 @@ region = { hemisphere = { center = [0.0, 0.0, 0.0], radius = 1.0 } }
     let studies = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/studies");
     let missing = spec
         .clone()
-        .resolve_file(|file: &str| std::fs::read_to_string(file));
+        .resolve_file(&pkm_study::load::Directory::default());
     let message = missing.unwrap_err().to_string();
     assert!(
         message.contains("cannot read ../robots/tsai.toml"),
         "{message}"
     );
-    spec.resolve_file(|file| std::fs::read_to_string(studies.join(file)))
+    spec.resolve_file(&pkm_study::load::Directory(studies.clone()))
         .unwrap();
     assert!(workspace(&study, &Silent).unwrap().result.estimate.n_inside > 0);
 }
