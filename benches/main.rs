@@ -1,6 +1,11 @@
 //! The criterion benches of pkm (one target, one module per area). Numbers go to
 //! `docs/performance.md`.
 
+#![allow(
+    missing_docs,
+    reason = "criterion_group! defines the undocumented `benches` function"
+)]
+
 use criterion::{criterion_group, criterion_main};
 
 mod delta_kernel;

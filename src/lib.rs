@@ -10,16 +10,17 @@
 //! | [`mechanisms`] | `pkm-mechanisms` | Delta/NUWAR, Linear Delta, Tsai 3-DOF, Stewart–Gough, 3-UPU |
 //! | [`workspace_indices`] | `pkm-workspace-indices` | workspace volume, condition indices, space utilisation |
 //! | [`optimizers`] | `pkm-optimizers` | grid search, Gauss–Newton multistart, constrained optimisation |
+//! | [`design_problems`] | `pkm-design-problems` | the papers' design problems as objectives and constraints (Stamper §5) |
 //! | [`integrators`] | `pkm-integrators` | RK4, Dormand–Prince 5(4), symplectic methods |
 //! | [`dynamics_hamilton`] | `pkm-dynamics-hamilton` | Hamilton's equations in extended space |
 //! | [`draw`] | `pkm-draw` | SVG drawings of a mechanism's skeleton, with axes and workspaces; charts (heat maps, lines, scatter) |
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+pub use pkm_design_problems as design_problems;
 pub use pkm_draw as draw;
 pub use pkm_dynamics_hamilton as dynamics_hamilton;
 pub use pkm_integrators as integrators;

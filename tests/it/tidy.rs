@@ -84,3 +84,162 @@ fn the_python_package_builds_with_the_test_builds_features() {
         differing.join("\n")
     );
 }
+
+/// Every workspace package, from `cargo metadata`: its name, manifest directory and
+/// dependencies (name, kind, rename), and its `[package.metadata.pkm] feature-unification`.
+fn workspace_packages() -> Vec<serde_json::Value> {
+    let output = std::process::Command::new(env!("CARGO"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--offline",
+        ])
+        .output()
+        .unwrap_or_else(|e| panic!("cargo metadata: {e}"));
+    assert!(output.status.success(), "cargo metadata failed");
+    let metadata: serde_json::Value =
+        serde_json::from_slice(&output.stdout).unwrap_or_else(|e| panic!("cargo metadata: {e}"));
+    metadata["packages"].as_array().cloned().unwrap_or_default()
+}
+
+/// The text of every `.rs` file under `dir` (none when it does not exist).
+fn rust_sources(dir: &Path) -> String {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return String::new();
+    };
+    let mut text = String::new();
+    for path in entries.filter_map(|e| e.ok().map(|e| e.path())) {
+        if path.is_dir() {
+            text += &rust_sources(&path);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            text += &std::fs::read_to_string(&path).unwrap_or_default();
+        }
+    }
+    text
+}
+
+/// Whether the code names the crate `name` (a path, a `use`, a macro or a derive).
+fn names_crate(code: &str, name: &str) -> bool {
+    code.match_indices(name).any(|(k, _)| {
+        let before = code[..k].chars().next_back();
+        let after = code[k + name.len()..].chars().next();
+        !before.is_some_and(|c| c.is_alphanumeric() || c == '_')
+            && matches!(after, Some(':' | '!' | ';' | ' ' | ',' | '}'))
+    })
+}
+
+/// No package carries a dependency that its code never names (pkm-cli carried five): a normal
+/// dependency is named in `src/` (or `build.rs`), a dev-dependency anywhere in the package. A
+/// dependency kept only for its features is listed in `[package.metadata.pkm]
+/// feature-unification`.
+#[test]
+fn no_package_has_an_unused_dependency() {
+    let mut unused = Vec::new();
+    for package in workspace_packages() {
+        let manifest = Path::new(package["manifest_path"].as_str().unwrap_or_default());
+        let dir = manifest.parent().unwrap_or(Path::new("."));
+        let name = package["name"].as_str().unwrap_or_default();
+        let src = rust_sources(&dir.join("src"))
+            + &std::fs::read_to_string(dir.join("build.rs")).unwrap_or_default();
+        let all = ["tests", "benches", "examples"]
+            .iter()
+            .fold(src.clone(), |text, d| text + &rust_sources(&dir.join(d)));
+        let kept = &package["metadata"]["pkm"]["feature-unification"];
+        for dependency in package["dependencies"].as_array().into_iter().flatten() {
+            let crate_name = dependency["rename"]
+                .as_str()
+                .or(dependency["name"].as_str())
+                .unwrap_or_default();
+            let in_code = crate_name.replace('-', "_");
+            let code = match dependency["kind"].as_str() {
+                None => &src,
+                Some("dev") => &all,
+                Some(_) => continue,
+            };
+            let listed = kept
+                .as_array()
+                .is_some_and(|k| k.iter().any(|n| n == crate_name));
+            if !listed && !names_crate(code, &in_code) {
+                unused.push(format!("{name}: {crate_name}"));
+            }
+        }
+    }
+    assert!(
+        unused.is_empty(),
+        "unused dependencies:\n{}",
+        unused.join("\n")
+    );
+}
+
+/// The crate table of `docs/ARCHITECTURE.md` has a row for every workspace package, and each
+/// row names exactly the package's pkm dependencies (normal in the second column, dev in the
+/// third).
+#[test]
+fn the_architecture_crate_table_lists_every_package_and_its_pkm_dependencies() {
+    let doc = read_doc("ARCHITECTURE.md");
+    let rows: Vec<Vec<&str>> = doc
+        .lines()
+        .filter(|l| l.starts_with("| `"))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    let mut wrong = Vec::new();
+    for package in workspace_packages() {
+        let name = package["name"].as_str().unwrap_or_default();
+        let cell = format!("`{name}`");
+        let Some(row) = rows.iter().find(|r| r.get(1).is_some_and(|c| *c == cell)) else {
+            wrong.push(format!("{name}: no row"));
+            continue;
+        };
+        for (column, kind) in [(2, None), (3, Some("dev"))] {
+            let text = row.get(column).copied().unwrap_or_default();
+            let listed: std::collections::BTreeSet<&str> = text
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .filter(|s| s.starts_with("pkm"))
+                .map(|s| s.split('/').next().unwrap_or(s))
+                .collect();
+            let actual: std::collections::BTreeSet<&str> = package["dependencies"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter(|d| d["kind"].as_str() == kind)
+                .filter_map(|d| d["name"].as_str())
+                .filter(|d| d.starts_with("pkm"))
+                .collect();
+            if listed != actual {
+                wrong.push(format!(
+                    "{name}: column {column} lists {listed:?}, Cargo.toml {actual:?}"
+                ));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "docs/ARCHITECTURE.md crate table:\n{}",
+        wrong.join("\n")
+    );
+}
+
+/// No module is declared inside a macro (rustfmt never sees such a file: `cargo fmt --check`
+/// passed while six command files were unformatted).
+#[test]
+fn no_module_is_declared_inside_a_macro() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut text = rust_sources(&root.join("src")) + &rust_sources(&root.join("xtask"));
+    for entry in std::fs::read_dir(root.join("crates"))
+        .into_iter()
+        .flatten()
+        .flatten()
+    {
+        text += &rust_sources(&entry.path().join("src"));
+    }
+    let hidden = ["mod $", "mod $module"];
+    assert!(
+        !hidden.iter().any(|h| text.contains(h)),
+        "a `mod` declared by a macro: declare it outside, so rustfmt formats the file"
+    );
+}

@@ -11,7 +11,7 @@
 use crate::report::{git_commit, replace_between_markers};
 use crate::reproduce::workspace_root;
 use anyhow::{Context as _, bail};
-use pkm_frontend::OutputDir;
+use pkm_term::OutputDir;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::path::{Path, PathBuf};

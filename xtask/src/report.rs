@@ -6,7 +6,7 @@ use crate::run::{ExperimentRun, Summary};
 use crate::{figure, table};
 use anyhow::{Context as _, bail};
 use pkm::papers::{Comparison, Figure, Mode, Outcome, Table};
-use pkm_frontend::OutputDir;
+use pkm_term::OutputDir;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;

@@ -4,7 +4,7 @@ use crate::run::{ExperimentRun, Summary};
 use crate::{report, table};
 use anyhow::{Context as _, bail};
 use pkm::papers::{self, Comparison, Context, Experiment, Mode, Verdict};
-use pkm_frontend::{CancelFlag, OutputDir, Spinner};
+use pkm_term::{CancelFlag, OutputDir, Spinner};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;

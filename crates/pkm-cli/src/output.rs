@@ -1,5 +1,5 @@
 //! What a command leaves in `--out DIR`: `results.json` (a versioned schema with the study file
-//! echoed in it), CSV tables and SVG figures, each written atomically by `pkm-frontend`'s
+//! echoed in it), CSV tables and SVG figures, each written atomically by `pkm-term`'s
 //! [`OutputDir`] (a temporary file renamed into place), so an interrupted run never leaves a
 //! half-written file.
 //!
@@ -10,9 +10,9 @@ use crate::CliError;
 use crate::commands::Report;
 use pkm_draw::chart::render_svg as render_chart;
 use pkm_draw::{DrawOptions, Scene, render_svg};
-use pkm_frontend::{OutputDir, OutputError};
 use pkm_study::Artifact;
 use pkm_study::scene::{ROBOT_CSV, ROBOT_SVG};
+use pkm_term::{OutputDir, OutputError};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

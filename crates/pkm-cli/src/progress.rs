@@ -1,4 +1,4 @@
-//! Progress on the terminal and cooperative cancellation on Ctrl-C: `pkm-frontend`'s
+//! Progress on the terminal and cooperative cancellation on Ctrl-C: `pkm-term`'s
 //! [`Spinner`] and [`CancelFlag`], shared with `cargo xtask reproduce`.
 
-pub use pkm_frontend::{CancelFlag, Spinner};
+pub use pkm_term::{CancelFlag, Spinner};

@@ -7,7 +7,6 @@
 //! [`Scene::to_csv`] and [`chart::Chart::to_csv`] write the data behind them.
 //! Every input is checked first: a non-finite or huge coordinate, a link to a missing point, an
 //! empty skeleton or an unusable option is a [`DrawError`], never a panic.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

@@ -9,7 +9,6 @@
 //! | [`model`] | $M(q)$, $L_q$, $\Phi$, $\Phi_q$, $\dot\Phi_q$ in $q = (x, y, z, \theta_1, \theta_2, \theta_3)$ |
 //! | [`inverse`] | inverse dynamics: Hamilton's three steps (§3.3) and Lagrange, from a trajectory or from sampled positions |
 //! | [`forward`] | forward dynamics: eqs. 16–19 with Baumgarte, the acceleration form, and the retrace with drift and energy balance |
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

@@ -39,7 +39,6 @@
 //! [`Rk4::new(1e-3)`](Rk4::new) the same call gives step-aligned samples. Every step works on
 //! fixed-size `SVector<f64, 12>` without allocating; only the returned vectors are allocated,
 //! once.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

@@ -7,7 +7,6 @@
 //! ([`ConstantOrientation`], its standard workspace). Each mechanism is built from a named
 //! design struct (SI units and radians) by `new(design)`; the papers' designs are in
 //! [`presets`].
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

@@ -46,7 +46,6 @@
 //! - [`pareto_front`]: the non-dominated designs of two or more objectives, and for two the
 //!   weights that select each.
 //! - [`WeightedSum`]: least-squares problems over the same variables, weighted and stacked.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

@@ -31,7 +31,6 @@
 //! Lynch & Park, *Modern Robotics* (2017), ch. 4 (product of exponentials); Joshi & Tsai,
 //! "Jacobian analysis of limited-DOF parallel manipulators", ASME J. Mech. Des. 124(2), 2002;
 //! Gosselin & Angeles 1990 (type I/II singularities); `spec/general-robots.md`.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

@@ -16,7 +16,7 @@ pub const MAX_JOINTS_PER_LEG: usize = 16;
 /// every digit.
 const MAX_COORDINATE: f64 = 1e6;
 
-/// Smallest `characteristic_length` (m): with coordinates of at most [`MAX_COORDINATE`], the
+/// Smallest `characteristic_length` (m): with coordinates of at most `MAX_COORDINATE` (1e6 m), the
 /// homogenised moments $m/L$ stay below $10^{12}$ times the forces, finite and far from
 /// overflow (a subnormal $L$ once put infinities into the margins' SVD).
 pub const MIN_CHARACTERISTIC_LENGTH: f64 = 1e-6;

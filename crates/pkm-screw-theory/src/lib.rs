@@ -8,7 +8,6 @@
 //! - the reciprocal product is $a \wedge b = a^\top \Delta b$, $\Delta$ swapping the halves
 //!   (eq. 5); its geometric form is eq. 6;
 //! - rigid motions act on all three by the same adjoint map `[R u; R v + t × R u]`.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

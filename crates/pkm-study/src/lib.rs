@@ -19,7 +19,6 @@ mod starts;
 pub mod sweep;
 pub mod task;
 pub mod task_space;
-pub mod tsai;
 pub mod workspace;
 
 pub use dynamics::{DynamicsResult, DynamicsStudy, dynamics};

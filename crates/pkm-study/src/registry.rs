@@ -262,14 +262,27 @@ macro_rules! design_variables {
 /// The calling crate depends on `serde` (its tables derive its traits too);
 /// `crates/pkm-study/tests/it/adding_a_mechanism.rs` declares one.
 ///
-/// ```text
+/// A registry of two of the papers' tables (a table of your own implements [`StudyMechanism`]
+/// as the gantry does):
+///
+/// ```
+/// use pkm_study::StudyMechanism;
+/// use pkm_study::schema::mechanism::{TsaiSpec, RotaryDeltaSpec};
+///
 /// pkm_study::mechanisms! {
 ///     /// The mechanisms of my study files.
 ///     pub enum MyMechanisms {
-///         /// A gantry.
-///         Gantry(GantrySpec),
+///         /// The Tsai platform.
+///         Tsai(TsaiSpec),
+///         /// A rotary Delta.
+///         RotaryDelta(RotaryDeltaSpec),
 ///     }
 /// }
+///
+/// let table: MyMechanisms = pkm_study::from_toml_str("[tsai]\na = 0.44\nb = 0.56\n")?;
+/// assert_eq!(table.kind(), "tsai");
+/// assert_eq!(table.get("a"), Some(0.44));
+/// # Ok::<(), pkm_study::StudyError>(())
 /// ```
 #[macro_export]
 macro_rules! mechanisms {

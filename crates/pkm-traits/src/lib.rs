@@ -32,7 +32,6 @@
 //! let j = Slider.jacobian(&Vector1::new(0.3), &Vector1::new(0.3)).unwrap();
 //! assert!((j[(0, 0)] - 1.0).abs() < 1e-15);
 //! ```
-#![warn(missing_docs)]
 // docs.rs (nightly, `--cfg docsrs`) marks the `testkit` items with the feature they need.
 #![cfg_attr(docsrs, feature(doc_cfg))]
 

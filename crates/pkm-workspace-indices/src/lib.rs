@@ -63,7 +63,6 @@
 //! The rotary Delta and the Tsai platform have lane kernels; any other mechanism is asked point
 //! by point, as are the closure estimators ([`workspace_volume`], [`hemisphere_estimate`]).
 //! The cross-section indices run [`inverse_condition_number_3x3_lanes`] on the selected path too.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

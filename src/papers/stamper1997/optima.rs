@@ -5,6 +5,7 @@
 use super::problem::{Criterion, design, estimate, stamper_problem};
 use crate::papers::{Comparison, Context, ExperimentError, Figure, Mode, Outcome, Paper, Source};
 use nalgebra::Vector3;
+use pkm_design_problems::tsai::TsaiProblem;
 use pkm_draw::{PathKind, Scene};
 use pkm_mechanisms::{LegBranch, Skeleton};
 use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
@@ -12,7 +13,6 @@ use pkm_optimizers::{
     AugmentedLagrangianSettings, OptimizeError, Sense, augmented_lagrangian, multistart,
     uniform_start_points,
 };
-use pkm_study::tsai::TsaiProblem;
 use pkm_traits::{Bounds, CancelOnly, Objective};
 use pkm_workspace_indices::{HemisphereEstimate, Sampler};
 use rayon::prelude::*;

@@ -7,11 +7,11 @@
 //! solves), with every variable free and the paper's two linear inequalities.
 
 use nalgebra::Vector3;
+use pkm_design_problems::tsai::{LinearInequality, TsaiCriterion, TsaiProblem, tsai_design};
 use pkm_mechanisms::Tsai3Dof;
-use pkm_study::tsai::{LinearInequality, TsaiCriterion, TsaiProblem, tsai_design};
 use pkm_traits::{Bounds, ObjectiveError};
 
-pub(super) use pkm_study::tsai::hemisphere_estimate as estimate;
+pub(super) use pkm_design_problems::tsai::hemisphere_estimate as estimate;
 
 /// What is maximised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -9,7 +9,7 @@
 //! A robot file ([`crate::schema::robot_file`]) is optimised in its own task space instead:
 //! its `[parameters]` are the design variables, the objective a workspace index of its
 //! `[task_space]` on common random points, and each start a derivative-free compass search
-//! ([`robot_file`]).
+//! (`optimize/robot_file.rs`).
 //!
 //! Every setting is checked before the first start runs, each at its key path.
 
@@ -22,9 +22,9 @@ use crate::schema::mechanism::{ConstraintsSpec, MechanismSpec};
 use crate::schema::sampling::SamplingSpec;
 use crate::starts::{self, Reached, ranked_chart};
 use crate::task_space::TaskSpaceSpec;
-use crate::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
 use crate::{KeyPath, StudyError};
 use nalgebra::Vector3;
+use pkm_design_problems::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
 use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
 use pkm_optimizers::{
     AugmentedLagrangianSettings, CompassSettings, ConstrainedResult, LocalResult, Multistart,

@@ -86,7 +86,7 @@ impl StudyMechanism for RobotFileSpec {
         visit(&robot, &modes, constraints, visitor)
     }
 
-    /// The box of [`RobotModel::reach_box`]: the intersection of the legs' reach balls, each
+    /// The box of [`pkm_robot_file::RobotModel::reach_box`]: the intersection of the legs' reach balls, each
     /// the chain's length from its first joint point (prismatic travel within the file's
     /// `limits` included), so it holds every reachable position. None when a prismatic joint
     /// has no limits (its reach is unbounded) or the boxes do not overlap; the study then needs

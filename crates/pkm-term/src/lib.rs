@@ -1,6 +1,6 @@
-//! What a command-line front end of pkm needs, and no science: the two pieces the `pkm` command
-//! and `cargo xtask` share (as ripgrep keeps its terminal helpers in a library crate beside
-//! its binary).
+//! Terminal helpers for pkm's command-line tools, and no science: the two pieces the `pkm`
+//! command and `cargo xtask` share (as ripgrep keeps its terminal helpers in `grep-cli`). The
+//! front ends' shared layer is `pkm-study`; the Python package has its own progress bridge.
 //!
 //! - [`progress`]: a terminal [`Spinner`] implementing [`pkm_traits::Progress`] with indicatif,
 //!   and the [`CancelFlag`] that the first Ctrl-C sets, so a running computation stops at its
@@ -11,7 +11,6 @@
 //!
 //! Library crates never print; they report through `Progress`. This crate is where a front end
 //! turns those reports into a terminal display and a Ctrl-C into cancellation.
-#![warn(missing_docs)]
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]
