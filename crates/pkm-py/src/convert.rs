@@ -1,7 +1,7 @@
 //! Python values to and from the study layer's serde types, and a study's [`Outcome`] as a
 //! plain dict: `result` (exactly the `result` of the `pkm` command's `results.json`),
-//! `summary` (lines), `tables` (name → {column → NumPy array}) and `figures` (the names of the
-//! charts the command writes as SVG).
+//! `summary` (lines), `tables` (name → {column → NumPy array}) and `figures` (name → the SVG
+//! text the command writes under that name; the Python layer wraps each in a `pkm.Figure`).
 
 use crate::errors;
 use pkm_study::{Artifact, Cell, Outcome, StudyError, Table, from_deserializer};
@@ -40,12 +40,22 @@ pub(crate) fn outcome<'py, R: Serialize>(
     out.set_item("result", to_python(py, &outcome.result)?)?;
     out.set_item("summary", PyList::new(py, &outcome.summary)?)?;
     let tables = PyDict::new(py);
-    let figures = PyList::empty(py);
+    let figures = PyDict::new(py);
     for artifact in &outcome.artifacts {
         match artifact {
             Artifact::Table { name, table } => tables.set_item(name, columns(py, table)?)?,
-            Artifact::Chart { name, .. } => figures.append(name)?,
-            Artifact::Robot { .. } => figures.append(pkm_study::scene::ROBOT_SVG)?,
+            Artifact::Chart { name, chart } => {
+                let svg = pkm_draw::chart::render_svg(chart)
+                    .map_err(|e| errors::invalid(py, format!("{name}: {e}")))?;
+                figures.set_item(name, svg)?;
+            }
+            // As in the command, a robot that cannot be drawn is left out, never an error.
+            Artifact::Robot { caption, scene } => {
+                let options = pkm_draw::DrawOptions::titled(caption);
+                if let Ok(svg) = pkm_draw::render_svg(scene, &options) {
+                    figures.set_item(pkm_study::scene::ROBOT_SVG, svg)?;
+                }
+            }
         }
     }
     out.set_item("tables", tables)?;

@@ -103,3 +103,15 @@ def test_keyboard_interrupt_cancels_a_running_study_within_a_second(nuwar_study,
     print(f"cancelled {elapsed - interrupt_at:.2f} s after the interrupt")
     assert timer.finished.is_set()
     assert elapsed - interrupt_at < 1.0, f"cancelled {elapsed - interrupt_at:.2f} s after the interrupt"
+
+
+def test_figures_are_the_commands_svg_files(pkm_command, nuwar_study, tmp_path):
+    _, _ = run_command(pkm_command, "workspace", nuwar_study, tmp_path)
+    figures = pkm.workspace(nuwar_study, progress=False)["figures"]
+    written = sorted(p.name for p in (tmp_path / "out").glob("*.svg"))
+    assert sorted(figures) == written and "robot.svg" in written
+    for name, figure in figures.items():
+        assert isinstance(figure, pkm.Figure) and figure.name == name
+        assert figure._repr_svg_() == (tmp_path / "out" / name).read_text()
+    figures["slice-1-xy.svg"].save(tmp_path / "saved.svg")
+    assert (tmp_path / "saved.svg").read_text().startswith("<svg")

@@ -19,12 +19,15 @@ from ._native import (
     __version__,
     presets,
 )
+from ._figure import Figure
+from ._figure import wrap as _wrap_figures
 from ._progress import progress_bar as _progress_bar
 
 __all__ = [
     "MAX_POINTS",
     "Cancelled",
     "Error",
+    "Figure",
     "Infeasible",
     "InvalidInput",
     "Mechanism",
@@ -45,9 +48,9 @@ def _study(run, progress):
     """Calls ``run(report)`` with a tqdm callback when ``progress`` is true and tqdm is
     installed, else ``run(None)``."""
     if not progress:
-        return run(None)
+        return _wrap_figures(run(None))
     with _progress_bar() as report:
-        return run(report)
+        return _wrap_figures(run(report))
 
 
 def workspace(study, *, progress=True):

@@ -72,8 +72,18 @@ class Mechanism:
 def presets() -> Dict[str, Dict[str, Any]]:
     """The preset designs by name: ``{"description": str, "mechanism": dict}``."""
 
+class Figure:
+    """An SVG figure of a study (a chart or the robot drawing): the text the ``pkm`` command
+    writes under ``name``; Jupyter shows it inline."""
+    name: str
+    svg: str
+    def __init__(self, name: str, svg: str) -> None: ...
+    def _repr_svg_(self) -> str: ...
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Writes the SVG text to ``path`` (UTF-8)."""
+
 Outcome = Dict[str, Any]
-"""``{"result": dict, "summary": list[str], "tables": {name: {column: ndarray}}, "figures": list[str]}``."""
+"""``{"result": dict, "summary": list[str], "tables": {name: {column: ndarray}}, "figures": {name: Figure}}``."""
 
 def workspace(study: Study, *, progress: bool = True) -> Outcome:
     """The workspace study (``pkm workspace``)."""

@@ -1,0 +1,44 @@
+"""A study's figure: the SVG text the ``pkm`` command writes under the same name, shown inline
+by Jupyter (``_repr_svg_``) and written to a file by :meth:`Figure.save`."""
+
+import os
+
+
+class Figure:
+    """An SVG figure of a study (a chart or the robot drawing)."""
+
+    __slots__ = ("name", "svg")
+
+    def __init__(self, name: str, svg: str) -> None:
+        self.name = name
+        self.svg = svg
+
+    def _repr_svg_(self) -> str:
+        return self.svg
+
+    def save(self, path: "str | os.PathLike[str]") -> None:
+        """Writes the SVG text to ``path`` (UTF-8)."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.svg)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Figure) and (self.name, self.svg) == (other.name, other.svg)
+
+    def __hash__(self) -> int:
+        return hash((self.name, self.svg))
+
+    def __repr__(self) -> str:
+        return f"Figure({self.name!r}, {len(self.svg)} characters of SVG)"
+
+    def __getstate__(self):
+        return (self.name, self.svg)
+
+    def __setstate__(self, state):
+        self.name, self.svg = state
+
+
+def wrap(outcome):
+    """The outcome with each figure's SVG text as a :class:`Figure`."""
+    if isinstance(outcome, dict) and isinstance(outcome.get("figures"), dict):
+        outcome["figures"] = {name: Figure(name, svg) for name, svg in outcome["figures"].items()}
+    return outcome
