@@ -7,6 +7,11 @@ sweep or Pareto study). Every
 error is a :class:`pkm.Error`; study errors carry ``.key_path``.
 """
 
+import os
+from typing import Any, Callable, Dict, Iterable, List, Optional, Tuple, TypedDict, Union, cast
+
+import numpy.typing as npt
+
 from . import _native
 from ._native import (
     MAX_POINTS,
@@ -20,8 +25,32 @@ from ._native import (
     presets,
 )
 from ._figure import Figure
-from ._figure import wrap as _wrap_figures
+from ._progress import Report
 from ._progress import progress_bar as _progress_bar
+
+Study = Union[Dict[str, Any], str, "os.PathLike[str]"]
+"""A study: the dict of a study file, or the path of a TOML (or JSON) study file."""
+
+Shard = Tuple[int, int]
+"""``(i, n)``: the i-th (from 1) of n nearly equal blocks of grid nodes."""
+
+
+class Outcome(TypedDict):
+    """What a study returns: ``result`` is exactly the ``result`` of the command's
+    ``results.json``; ``summary`` the lines it prints; ``tables`` each CSV file it writes as
+    ``{column: array}``; ``figures`` each SVG file it writes."""
+
+    result: Dict[str, Any]
+    summary: List[str]
+    tables: Dict[str, Dict[str, Any]]
+    figures: Dict[str, Figure]
+
+
+class Part(Outcome):
+    """A shard of a split sweep or Pareto study (``shard=(i, n)``, n > 1), for :func:`merge`."""
+
+    kind: str
+    study: Dict[str, Any]
 
 __all__ = [
     "MAX_POINTS",
@@ -32,6 +61,10 @@ __all__ = [
     "InvalidInput",
     "Mechanism",
     "NotConverged",
+    "Outcome",
+    "Part",
+    "Shard",
+    "Study",
     "__version__",
     "dynamics",
     "merge",
@@ -44,27 +77,31 @@ __all__ = [
 ]
 
 
-def _study(run, progress):
+def _study(run: Callable[[Report], Dict[str, Any]], progress: bool) -> Outcome:
     """Calls ``run(report)`` with a tqdm callback when ``progress`` is true and tqdm is
-    installed, else ``run(None)``."""
+    installed, else ``run(None)``, and wraps each figure's SVG text in a :class:`Figure`."""
     if not progress:
-        return _wrap_figures(run(None))
-    with _progress_bar() as report:
-        return _wrap_figures(run(report))
+        raw = run(None)
+    else:
+        with _progress_bar() as report:
+            raw = run(report)
+    raw["figures"] = {name: Figure(name, svg) for name, svg in raw["figures"].items()}
+    return cast(Outcome, raw)
 
 
-def workspace(study, *, progress=True):
+def workspace(study: Study, *, progress: bool = True) -> Outcome:
     """The workspace study (``pkm workspace``) of ``study``, a dict or a TOML path.
 
-    Returns ``{"result": ..., "summary": [...], "tables": {name: {column: array}},
-    "figures": [...]}``; ``result`` is the ``result`` of the command's ``results.json``.
+    Returns an :class:`Outcome`: ``{"result": ..., "summary": [...], "tables": {name: {column:
+    array}}, "figures": {name: Figure}}``; ``result`` is the ``result`` of the command's
+    ``results.json``.
     Shows a tqdm bar when tqdm is installed and ``progress`` is true; Ctrl-C cancels the study
     within a fraction of a second and raises ``KeyboardInterrupt``.
     """
     return _study(lambda report: _native.workspace(study, report), progress)
 
 
-def sweep(study, shard=None, *, progress=True):
+def sweep(study: Study, shard: Optional[Shard] = None, *, progress: bool = True) -> Outcome:
     """The sweep study (``pkm sweep``) of ``study``, a dict or a TOML path: an exhaustive grid
     over design variables, a weighted utility Σ wᵢ ηᵢ, refinement around the grid optimum.
 
@@ -81,7 +118,7 @@ def sweep(study, shard=None, *, progress=True):
     return _study(lambda report: _native.sweep(study, shard, report), progress)
 
 
-def pareto(study, shard=None, *, progress=True):
+def pareto(study: Study, shard: Optional[Shard] = None, *, progress: bool = True) -> Outcome:
     """The Pareto study (``pkm pareto``) of ``study``, a dict or a TOML path: the
     non-dominated designs of two or more indices and, for two, the weights that select each.
 
@@ -92,7 +129,7 @@ def pareto(study, shard=None, *, progress=True):
     return _study(lambda report: _native.pareto(study, shard, report), progress)
 
 
-def merge(parts, *, progress=True):
+def merge(parts: Iterable[Outcome], *, progress: bool = True) -> Outcome:
     """Joins the parts of a split study: the return values of ``sweep(study, shard=(i, n))``
     (or :func:`pareto`) for i = 1…n, in any order. Returns exactly what the study returns run
     whole, bit for bit. Raises :class:`pkm.InvalidInput` for parts that are not the n parts of
@@ -101,7 +138,7 @@ def merge(parts, *, progress=True):
     return _study(lambda report: _native.merge(parts, report), progress)
 
 
-def optimize(study, *, progress=True):
+def optimize(study: Study, *, progress: bool = True) -> Outcome:
     """The optimisation study (``pkm optimize``) of ``study``, a dict or a TOML path:
     multistart constrained optimisation of a design with the first- and second-order checks at
     the optimum. Returns the outcome dict of :func:`workspace` (the starts as the table
@@ -110,7 +147,7 @@ def optimize(study, *, progress=True):
     return _study(lambda report: _native.optimize(study, report), progress)
 
 
-def task(study, *, progress=True):
+def task(study: Study, *, progress: bool = True) -> Outcome:
     """The task study (``pkm task``) of ``study``, a dict or a TOML path: Wolf & Shoham's
     task-based objective for a Stewart–Gough platform or a 3-UPU (``[mechanism.<kind>]``), the
     multistart over the chosen pose and design variables with the first- and second-order checks
@@ -120,7 +157,12 @@ def task(study, *, progress=True):
     return _study(lambda report: _native.task(study, report), progress)
 
 
-def dynamics(study, trajectory=None, *, progress=True):
+def dynamics(
+    study: Study,
+    trajectory: Union[None, npt.ArrayLike, str, "os.PathLike[str]"] = None,
+    *,
+    progress: bool = True,
+) -> Outcome:
     """The dynamics study (``pkm dynamics``) of ``study``, a dict or a TOML path: the motor
     torques of a rotary Delta by Hamilton and by Lagrange along a trajectory, and the forward
     retrace when ``[dynamics.forward]`` asks for it.

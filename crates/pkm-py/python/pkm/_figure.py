@@ -2,6 +2,7 @@
 by Jupyter (``_repr_svg_``) and written to a file by :meth:`Figure.save`."""
 
 import os
+from typing import Union
 
 
 class Figure:
@@ -16,7 +17,7 @@ class Figure:
     def _repr_svg_(self) -> str:
         return self.svg
 
-    def save(self, path: "str | os.PathLike[str]") -> None:
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None:
         """Writes the SVG text to ``path`` (UTF-8)."""
         with open(path, "w", encoding="utf-8") as f:
             f.write(self.svg)
@@ -30,15 +31,8 @@ class Figure:
     def __repr__(self) -> str:
         return f"Figure({self.name!r}, {len(self.svg)} characters of SVG)"
 
-    def __getstate__(self):
+    def __getstate__(self) -> "tuple[str, str]":
         return (self.name, self.svg)
 
-    def __setstate__(self, state):
+    def __setstate__(self, state: "tuple[str, str]") -> None:
         self.name, self.svg = state
-
-
-def wrap(outcome):
-    """The outcome with each figure's SVG text as a :class:`Figure`."""
-    if isinstance(outcome, dict) and isinstance(outcome.get("figures"), dict):
-        outcome["figures"] = {name: Figure(name, svg) for name, svg in outcome["figures"].items()}
-    return outcome
