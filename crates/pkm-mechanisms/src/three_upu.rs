@@ -51,6 +51,19 @@ impl UJointAxes {
             u2: Vector3::new(theta.cos(), theta.sin(), 0.0),
         }
     }
+
+    /// Park's axes at the azimuth `theta` tilted by $\beta$ about the radial $u_2$, then by
+    /// $\gamma$ about the tangent $u_1$ (radians), as in Wolf & Shoham §4.4:
+    /// $u_j' = R_{u_2}(\beta)\,R_{u_1}(\gamma)\,u_j$.
+    pub fn park_tilted(theta: f64, beta: f64, gamma: f64) -> Self {
+        let Self { u1, u2 } = Self::park(theta);
+        let tilt = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(u2), beta)
+            * nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(u1), gamma);
+        Self {
+            u1: tilt * u1,
+            u2: tilt * u2,
+        }
+    }
 }
 
 /// The design of a 3-UPU: radii in one length unit (the pose and twist use the same one), joint

@@ -31,7 +31,8 @@ pub use objective::{
     task_objective, task_objective_gradient_rows, task_objective_gradient_twist, task_residuals,
 };
 pub use reciprocal::{
-    CommonNormal, reciprocal_product, reciprocal_product_geometric, reciprocal_product_vectors,
+    CommonNormal, most_reciprocal_twist, reciprocal_product, reciprocal_product_geometric,
+    reciprocal_product_vectors,
 };
 pub use rotation::{rotation_from_axis_angle, skew};
 pub use screw_axis::ScrewAxis;

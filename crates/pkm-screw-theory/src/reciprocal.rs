@@ -1,6 +1,6 @@
 //! The reciprocal product of a wrench and a twist (Wolf & Shoham eq. 5–6).
 
-use nalgebra::{Vector3, Vector6};
+use nalgebra::{DMatrix, Vector3, Vector6};
 
 use crate::ray;
 use crate::screw_axis::ScrewAxis;
@@ -108,4 +108,34 @@ pub fn reciprocal_product_geometric(
     let CommonNormal { distance, angle } = CommonNormal::between(twist_axis, wrench_axis);
     let pitch_sum = twist_axis.pitch() + wrench_axis.pitch();
     wrench_intensity * twist_intensity * (pitch_sum * angle.cos() - distance * angle.sin())
+}
+
+/// The unit twist most nearly reciprocal to every row of a wrench matrix $W$ (six or more rows
+/// of six, each a wrench in Plücker order $[j; \bar j]$), with $\sigma_{min}(W)$: the rows act
+/// on the swapped twist ($r = W\,\Delta\chi$), so $\chi$ is the swapped right singular vector
+/// of $\sigma_{min}$, and $|W\,\Delta\chi| = \sigma_{min}$ (0 when the rows do no work on
+/// $\chi$: a singular configuration). `None` for fewer than six rows, a non-finite entry or
+/// an SVD that does not converge in 1000 sweeps.
+///
+/// # Example
+/// ```
+/// use nalgebra::DMatrix;
+/// use pkm_screw_theory::most_reciprocal_twist;
+/// // Five unit forces along x, y, z through the origin and moments about x, y: nothing
+/// // resists a rotation about z, the twist every row is reciprocal to.
+/// let mut w = DMatrix::<f64>::zeros(6, 6);
+/// for k in 0..5 { w[(k, k)] = 1.0; }
+/// let (sigma, twist) = most_reciprocal_twist(&w).unwrap();
+/// assert!(sigma < 1e-15 && (twist.as_vector()[2].abs() - 1.0).abs() < 1e-15);
+/// ```
+pub fn most_reciprocal_twist(rows: &DMatrix<f64>) -> Option<(f64, Twist)> {
+    if rows.nrows() < 6 || rows.ncols() != 6 || !rows.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let svd = rows.clone().try_svd(false, true, f64::EPSILON, 1000)?;
+    let v_t = svd.v_t?;
+    let k = (0..6).min_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]))?;
+    let y = v_t.row(k).transpose();
+    let twist = Twist::from_vector(Vector6::new(y[3], y[4], y[5], y[0], y[1], y[2]));
+    Some((svd.singular_values[k], twist))
 }

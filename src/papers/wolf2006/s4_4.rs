@@ -6,7 +6,7 @@
 
 use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
-use nalgebra::{Isometry3, Rotation3, Unit, Vector3, Vector6};
+use nalgebra::{Isometry3, Vector3, Vector6};
 use pkm_draw::{Axis, Scene};
 use pkm_mechanisms::{Skeleton, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, presets};
 use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
@@ -52,15 +52,10 @@ fn park_with_axes(upper: [UJointAxes; 3]) -> ThreeUpuDesign {
 
 /// Park's axes of joint i tilted by β about the radial and γ about the tangent (degrees).
 fn tilted_axes(design: &[f64]) -> [UJointAxes; 3] {
-    let park = presets::park_3upu().upper;
+    let azimuths = presets::park_3upu().azimuths;
     std::array::from_fn(|i| {
-        let UJointAxes { u1, u2 } = park[i];
-        let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), design[2 * i].to_radians())
-            * Rotation3::from_axis_angle(&Unit::new_normalize(u1), design[2 * i + 1].to_radians());
-        UJointAxes {
-            u1: tilt * u1,
-            u2: tilt * u2,
-        }
+        let (beta, gamma) = (design[2 * i].to_radians(), design[2 * i + 1].to_radians());
+        UJointAxes::park_tilted(azimuths[i], beta, gamma)
     })
 }
 

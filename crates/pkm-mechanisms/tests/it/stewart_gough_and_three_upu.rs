@@ -366,3 +366,23 @@ fn wrench_systems_share_the_task_objective() {
         sg.task_objective(&pose, &twist).unwrap().to_bits()
     );
 }
+
+#[test]
+fn tilted_park_axes_stay_orthonormal_and_turn_about_the_named_axes() {
+    use pkm_mechanisms::UJointAxes;
+    let theta = 0.7_f64;
+    let park = UJointAxes::park(theta);
+    let untilted = UJointAxes::park_tilted(theta, 0.0, 0.0);
+    assert!((untilted.u1 - park.u1).norm() < 1e-15 && (untilted.u2 - park.u2).norm() < 1e-15);
+    let (beta, gamma) = (0.3_f64, -0.5_f64);
+    let t = UJointAxes::park_tilted(theta, beta, gamma);
+    assert!((t.u1.norm() - 1.0).abs() < 1e-14 && (t.u2.norm() - 1.0).abs() < 1e-14);
+    assert!(t.u1.dot(&t.u2).abs() < 1e-14);
+    // γ alone turns u2 about u1 by γ (u1 fixed); β alone turns u1 about u2 (u2 fixed).
+    let g = UJointAxes::park_tilted(theta, 0.0, gamma);
+    assert!((g.u1 - park.u1).norm() < 1e-15);
+    assert!((g.u2.dot(&park.u2) - gamma.cos()).abs() < 1e-14);
+    let b = UJointAxes::park_tilted(theta, beta, 0.0);
+    assert!((b.u2 - park.u2).norm() < 1e-15);
+    assert!((b.u1.dot(&park.u1) - beta.cos()).abs() < 1e-14);
+}

@@ -8,7 +8,7 @@
 pub use super::constraints::{ConstraintsSpec, HalfSpaceSpec, JointRangeDegSpec, JointRangeSpec};
 use super::units::{Degrees, Metres, NonNegativeMetres, PositiveMetres, Real};
 pub use crate::registry::{BuildError, WorkspaceVisitor};
-use nalgebra::{Rotation3, Unit, Vector3};
+use nalgebra::Vector3;
 use pkm_mechanisms::{
     AngleMode, ConstantOrientation, Elbow, ElbowMode, JointLayout, LinearDelta, LinearDeltaDesign,
     LinearDeltaMode, LinearDeltaRatios, Pairing, Placement, RotaryDelta, RotaryDeltaDesign,
@@ -303,15 +303,8 @@ pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
 /// $u_j' = R_{u_2}(\beta_i)\,R_{u_1}(\gamma_i)\,u_j$.
 pub fn tilted_axes(azimuths: [f64; 3], tilts_deg: &[f64; 6]) -> [UJointAxes; 3] {
     std::array::from_fn(|i| {
-        let UJointAxes { u1, u2 } = UJointAxes::park(azimuths[i]);
-        let beta = tilts_deg[2 * i].to_radians();
-        let gamma = tilts_deg[2 * i + 1].to_radians();
-        let tilt = Rotation3::from_axis_angle(&Unit::new_normalize(u2), beta)
-            * Rotation3::from_axis_angle(&Unit::new_normalize(u1), gamma);
-        UJointAxes {
-            u1: tilt * u1,
-            u2: tilt * u2,
-        }
+        let (beta, gamma) = (tilts_deg[2 * i], tilts_deg[2 * i + 1]);
+        UJointAxes::park_tilted(azimuths[i], beta.to_radians(), gamma.to_radians())
     })
 }
 

@@ -143,7 +143,8 @@ pub(super) fn wrench_matrix(
         .map(|r| Vector6::from_iterator(r.iter().copied()))
         .collect();
     let rank = line_set_rank(&lines, 1e-9).map_err(StudyError::Screw)?;
-    let (sigma_min, twist) = least_singular_twist(rows).ok_or_else(not_converged)?;
+    let (sigma_min, twist) =
+        pkm_screw_theory::most_reciprocal_twist(rows).ok_or_else(not_converged)?;
     let v = twist.as_vector();
     Ok(WrenchMatrix {
         rank,
@@ -154,25 +155,11 @@ pub(super) fn wrench_matrix(
     })
 }
 
-/// The unit twist most nearly reciprocal to every row: the rows act on the swapped twist
-/// ($r = W\,\Delta\chi$), so $\chi$ is the swapped right singular vector of $\sigma_{min}$.
+/// The unit twist most nearly reciprocal to every row of a 6 × 6 wrench matrix
+/// ([`pkm_screw_theory::most_reciprocal_twist`]).
 pub fn most_reciprocal_twist(rows: &Matrix6<f64>) -> Option<Twist> {
-    least_singular_twist(&DMatrix::from_fn(6, 6, |i, j| rows[(i, j)])).map(|(_, t)| t)
-}
-
-/// $\sigma_{min}$ of `rows` (six or more rows of six; an SVD of at most 1000 sweeps) and the
-/// swapped right singular vector of it, as in [`most_reciprocal_twist`]; `None` for fewer
-/// than six rows, a non-finite entry or an SVD that does not converge.
-pub(super) fn least_singular_twist(rows: &DMatrix<f64>) -> Option<(f64, Twist)> {
-    if rows.nrows() < 6 || rows.ncols() != 6 || !rows.iter().all(|v| v.is_finite()) {
-        return None;
-    }
-    let svd = rows.clone().try_svd(false, true, f64::EPSILON, 1000)?;
-    let v_t = svd.v_t?;
-    let k = (0..6).min_by(|&i, &j| svd.singular_values[i].total_cmp(&svd.singular_values[j]))?;
-    let y = v_t.row(k).transpose();
-    let twist = Twist::from_vector(Vector6::new(y[3], y[4], y[5], y[0], y[1], y[2]));
-    Some((svd.singular_values[k], twist))
+    let rows = DMatrix::from_fn(6, 6, |i, j| rows[(i, j)]);
+    pkm_screw_theory::most_reciprocal_twist(&rows).map(|(_, t)| t)
 }
 
 /// The four summary lines: the optimum, the variables, the pose with the rows' rank, and the

@@ -11,7 +11,7 @@
 //! hold the nominal pose (`[task] at`, by default home) and the file's values. The pose is
 //! assembled in the study's first working mode.
 
-use super::report::{Optimality, PoseReport, TaskResult, TwistValue, least_singular_twist};
+use super::report::{Optimality, PoseReport, TaskResult, TwistValue};
 use super::{TaskRun, TaskSection, checked_starts, named, run_starts, wrench_matrix};
 use crate::registry::StudyMechanism;
 use crate::schema::robot_file::{RobotFileSpec, robot_skeleton};
@@ -21,6 +21,7 @@ use crate::{KeyPath, StudyError, scene};
 use nalgebra::{DMatrix, Vector6};
 use pkm_robot_file::{Configuration, RobotModel, WorkingMode, platform_pose};
 use pkm_screw_theory::Twist;
+use pkm_screw_theory::most_reciprocal_twist;
 use pkm_traits::{Bounds, Objective, ObjectiveError, Progress, Residuals};
 
 /// A variable of the problem.
@@ -170,7 +171,7 @@ impl Residuals for RobotFileTask<'_> {
                 }
             }
             Goal6::SigmaMin => {
-                let (sigma, _) = least_singular_twist(&rows)
+                let (sigma, _) = most_reciprocal_twist(&rows)
                     .ok_or_else(|| ObjectiveError::infeasible("the SVD did not converge"))?;
                 r[0] = sigma;
             }
@@ -339,7 +340,7 @@ pub(super) fn robot_file_task(
         optimality: Optimality::from(&best),
         starts: run.starts.len(),
     };
-    let reciprocal_twist = least_singular_twist(&at.rows).map(|(_, t)| t);
+    let reciprocal_twist = most_reciprocal_twist(&at.rows).map(|(_, t)| t);
     let skeleton = Ok(robot_skeleton(&at.model, &at.config));
     let scene = scene::task_scene(skeleton, &pose, twists, reciprocal_twist);
     Ok(TaskRun {
