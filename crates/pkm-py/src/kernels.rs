@@ -7,9 +7,9 @@
 
 use nalgebra::Vector3;
 use numpy::ndarray::ArrayView2;
-use pkm_study::schema::mechanism::{
-    MechanismSpec, WorkspaceVisitor, linear_delta, rotary_delta, three_upu, tsai,
-};
+use pkm_study::StudyMechanism;
+use pkm_study::registry::ForwardVisitor;
+use pkm_study::schema::mechanism::{MechanismSpec, WorkspaceVisitor};
 use pkm_traits::{ConstrainedWorkspace, ForwardKinematics, NewtonSettings};
 use pkm_workspace_indices::{Dim, LANES, TranslationalCondition, Workspace};
 use pyo3::prelude::*;
@@ -142,50 +142,41 @@ where
     (values, mask)
 }
 
-/// Forward kinematics row by row (Newton from `guess`, the library's settings).
+/// Forward kinematics row by row (Newton from `guess`, the library's settings), through the
+/// study layer's forward-kinematics visitor (every kind that has it, robot files included).
 ///
 /// # Errors
-/// A message for a mechanism without forward kinematics in task space, or an invalid design.
+/// A message for a mechanism without forward kinematics in the platform position, or an
+/// invalid design.
 pub(crate) fn forward(
     spec: &MechanismSpec,
     q: ArrayView2<'_, f64>,
     guess: ArrayView2<'_, f64>,
 ) -> Result<(Vec<f64>, Vec<bool>), String> {
-    let built = |e: pkm_study::schema::mechanism::BuildError| e.to_string();
-    match spec {
-        MechanismSpec::RotaryDelta(s) => {
-            Ok(forward_rows(&rotary_delta(s).map_err(built)?, q, guess))
-        }
-        MechanismSpec::Tsai(s) => Ok(forward_rows(&tsai(s).map_err(built)?, q, guess)),
-        MechanismSpec::LinearDelta(s) => {
-            Ok(forward_rows(&linear_delta(s).map_err(built)?, q, guess))
-        }
-        MechanismSpec::ThreeUpu(s) => Ok(forward_rows(&three_upu(s).map_err(built)?, q, guess)),
-        MechanismSpec::StewartGough(_) => Err(
-            "forward_kinematics: the Stewart–Gough platform at a fixed orientation has 6 legs \
-             for 3 coordinates; its forward kinematics is over the 6-D pose"
-                .into(),
-        ),
-        MechanismSpec::RobotFile(s) => {
-            let robot = s.translational_robot().map_err(|e| e.to_string())?;
-            Ok(forward_rows(&robot, q, guess))
-        }
-    }
+    spec.with_forward_kinematics(ForwardRows { q, guess })
+        .map_err(|e| e.to_string())
 }
 
-fn forward_rows<M: ForwardKinematics<3> + Sync>(
-    m: &M,
-    q: ArrayView2<'_, f64>,
-    guess: ArrayView2<'_, f64>,
-) -> (Vec<f64>, Vec<bool>) {
-    let settings = NewtonSettings::default();
-    map_rows(q.nrows(), 3, |i, out| {
-        let x = m
-            .forward_kinematics(&row(&q, i), &row(&guess, i), &settings)
-            .ok()?;
-        out.copy_from_slice(x.as_slice());
-        Some(())
-    })
+/// The rows of `q` solved from the rows of `guess`.
+struct ForwardRows<'a> {
+    q: ArrayView2<'a, f64>,
+    guess: ArrayView2<'a, f64>,
+}
+
+impl ForwardVisitor for ForwardRows<'_> {
+    type Output = (Vec<f64>, Vec<bool>);
+
+    fn visit<M: ForwardKinematics<3> + Sync>(self, m: &M) -> Self::Output {
+        let (q, guess) = (self.q, self.guess);
+        let settings = NewtonSettings::default();
+        map_rows(q.nrows(), 3, |i, out| {
+            let x = m
+                .forward_kinematics(&row(&q, i), &row(&guess, i), &settings)
+                .ok()?;
+            out.copy_from_slice(x.as_slice());
+            Some(())
+        })
+    }
 }
 
 /// `pkm.InvalidInput` naming the first non-finite entry of `values`.

@@ -3,12 +3,9 @@
 //! `pkm.presets()` shows them), so a preset and the same dict build the same mechanism.
 
 use crate::errors;
+use pkm_mechanisms::Placement;
 use pkm_mechanisms::presets as library;
-use pkm_mechanisms::{Elbow, ElbowMode, Placement, RotaryDeltaDesign, StewartDesign, TsaiDesign};
-use pkm_study::schema::mechanism::{
-    MechanismSpec, RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec,
-};
-use pkm_study::schema::units::{Degrees, Metres, NonNegativeMetres, PositiveMetres};
+use pkm_study::schema::mechanism::MechanismSpec;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -30,27 +27,15 @@ const PRESETS: [(&str, &str); 5] = [
     ),
 ];
 
-/// The design of preset `name`, or `None`.
+/// The design of preset `name`, or `None`: the library's design as its study table
+/// (`From`/`TryFrom` of the kind's table).
 pub(crate) fn spec(name: &str) -> Option<MechanismSpec> {
     Some(match name {
-        "nuwar" => rotary(library::nuwar(Placement::canonical())),
-        "delta" => rotary(library::miller_delta(Placement::canonical())),
-        "tsai" => tsai(library::stamper_max_gci()),
-        "three_upu" => {
-            let d = library::park_3upu();
-            MechanismSpec::ThreeUpu(ThreeUpuSpec {
-                base_radius: PositiveMetres(d.base_radius),
-                platform_radius: PositiveMetres(d.platform_radius),
-                azimuths_deg: library::PARK_AZIMUTHS_DEG.map(Degrees),
-                beta1_deg: Degrees(0.0),
-                gamma1_deg: Degrees(0.0),
-                beta2_deg: Degrees(0.0),
-                gamma2_deg: Degrees(0.0),
-                beta3_deg: Degrees(0.0),
-                gamma3_deg: Degrees(0.0),
-            })
-        }
-        "stewart_gough" => stewart(library::wolf_shoham_stewart_s4_1()),
+        "nuwar" => MechanismSpec::RotaryDelta(library::nuwar(Placement::canonical()).into()),
+        "delta" => MechanismSpec::RotaryDelta(library::miller_delta(Placement::canonical()).into()),
+        "tsai" => MechanismSpec::Tsai(library::stamper_max_gci().into()),
+        "three_upu" => MechanismSpec::ThreeUpu(library::park_3upu().try_into().ok()?),
+        "stewart_gough" => MechanismSpec::StewartGough(library::wolf_shoham_stewart_s4_1().into()),
         _ => return None,
     })
 }
@@ -65,46 +50,6 @@ pub(crate) fn unknown(py: Python<'_>, name: &str) -> PyErr {
             names.join(", ")
         ),
     )
-}
-
-fn rotary(d: RotaryDeltaDesign) -> MechanismSpec {
-    MechanismSpec::RotaryDelta(RotaryDeltaSpec {
-        base_radius: PositiveMetres(d.base_radius),
-        plate_offset: Metres(d.plate_offset),
-        arm: PositiveMetres(d.arm),
-        forearm: PositiveMetres(d.forearm),
-        alpha_deg: Degrees(d.alpha.to_degrees()),
-        beta_deg: Degrees(d.beta.to_degrees()),
-        motor_plane_z: Metres(d.placement.motor_plane_z),
-        azimuth_motor_1_deg: Degrees(d.placement.azimuth_motor_1.to_degrees()),
-        turned_plate_offsets: false,
-        elbow: vec![ElbowMode::Out],
-    })
-}
-
-fn tsai(d: TsaiDesign) -> MechanismSpec {
-    MechanismSpec::Tsai(TsaiSpec {
-        a: PositiveMetres(d.a),
-        b: PositiveMetres(d.b),
-        d_plus_e: NonNegativeMetres(d.d_plus_e),
-        c_minus_r: Metres(d.c_minus_r),
-        phi2_deg: Degrees(d.phi2.to_degrees()),
-        phi3_deg: Degrees(d.phi3.to_degrees()),
-        modes: vec![[Elbow::Out; 3]],
-    })
-}
-
-fn stewart(d: StewartDesign) -> MechanismSpec {
-    MechanismSpec::StewartGough(StewartSpec {
-        base_radius: PositiveMetres(d.base_radius),
-        platform_radius: PositiveMetres(d.platform_radius),
-        base_separation_deg: Degrees(d.base_separation.to_degrees()),
-        platform_separation_deg: Degrees(d.platform_separation.to_degrees()),
-        pairing: d.layout.pairing,
-        angle_mode: d.layout.angle_mode,
-        offset_deg: Degrees(d.layout.offset_deg),
-        rotation_deg: [Degrees(0.0); 3],
-    })
 }
 
 /// The preset designs by name, each as its `[mechanism]` table (a dict that

@@ -12,7 +12,7 @@ pub use crate::schema::constraints::Actuation;
 use crate::schema::constraints::ConstraintsSpec;
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
-use pkm_traits::{ConstrainedWorkspace, WorkspaceConstraint};
+use pkm_traits::{ConstrainedWorkspace, ForwardKinematics, WorkspaceConstraint};
 use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -136,6 +136,23 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
         ))
     }
 
+    /// Builds the mechanism and hands it to `visitor` as a [`ForwardKinematics`] in the platform
+    /// position $x$ (the capability of `pkm.Mechanism.forward_kinematics`).
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] for an invalid design, or for a mechanism without forward
+    /// kinematics in $x$ (the default, with the mechanism's kind).
+    fn with_forward_kinematics<V: ForwardVisitor>(
+        &self,
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        let _ = visitor;
+        Err(BuildError::Design(format!(
+            "{} has no forward kinematics in the platform position",
+            self.kind()
+        )))
+    }
+
     /// The robot file of a `[mechanism.robot_file]` table (default: none), whose studies may
     /// run in its own task space ([`crate::task_space`]).
     fn robot_file(&self) -> Option<&crate::schema::robot_file::RobotFileSpec> {
@@ -182,6 +199,15 @@ pub trait WorkspaceVisitor {
     ) -> Self::Output
     where
         Dim<NQ>: TranslationalCondition<NQ>;
+}
+
+/// Receives a built mechanism with forward kinematics in the platform position, whatever its
+/// type ([`StudyMechanism::with_forward_kinematics`]).
+pub trait ForwardVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Works on `mechanism` (`NQ` actuated joints).
+    fn visit<M: ForwardKinematics<3> + Sync>(self, mechanism: &M) -> Self::Output;
 }
 
 /// Why a design has no workspace: an invalid design (recorded as infeasible in sweeps) or a
@@ -356,6 +382,12 @@ macro_rules! mechanisms {
             }
             fn robot_file(&self) -> Option<&$crate::schema::robot_file::RobotFileSpec> {
                 match self { $(Self::$variant(m) => m.robot_file(),)* }
+            }
+            fn with_forward_kinematics<V: $crate::registry::ForwardVisitor>(
+                &self,
+                visitor: V,
+            ) -> Result<V::Output, $crate::registry::BuildError> {
+                match self { $(Self::$variant(m) => m.with_forward_kinematics(visitor),)* }
             }
         }
     };

@@ -15,7 +15,7 @@
 
 use crate::outcome::short;
 use crate::registry::StudyMechanism;
-use crate::schema::mechanism::WorkspaceVisitor;
+use crate::registry::WorkspaceVisitor;
 use nalgebra::{Isometry3, Vector3};
 use pkm_draw::{Axis, PathKind, Scene};
 use pkm_mechanisms::Skeleton;

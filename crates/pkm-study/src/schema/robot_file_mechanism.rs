@@ -6,7 +6,7 @@ use super::constraints::ConstraintsSpec;
 use super::robot_file::{RobotFileSpec, robot_skeleton};
 use crate::StudyError;
 use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
-use crate::registry::{BuildError, WorkspaceVisitor, visit};
+use crate::registry::{BuildError, ForwardVisitor, WorkspaceVisitor, visit};
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
 use pkm_traits::WorkspaceConstraint;
@@ -17,6 +17,18 @@ use toml::Value;
 impl StudyMechanism for RobotFileSpec {
     fn kind(&self) -> &'static str {
         "robot_file"
+    }
+
+    /// The robot in its platform position (a robot file whose task is `["x", "y", "z"]`):
+    /// damped Newton on the closure of every leg.
+    fn with_forward_kinematics<V: ForwardVisitor>(
+        &self,
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        let robot = self
+            .translational_robot()
+            .map_err(|e| BuildError::Design(e.to_string()))?;
+        Ok(visitor.visit(&robot))
     }
 
     /// The names of `[parameters]`: metres, or degrees for a name ending in `_deg`.

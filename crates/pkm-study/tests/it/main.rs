@@ -7,6 +7,7 @@ mod dynamics;
 mod grid_studies;
 mod module_graph;
 mod optimize;
+mod presets;
 mod robot_file;
 mod task;
 mod workspace;

@@ -19,7 +19,8 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The node of a source file: `schema::<file>` under `schema/`, the top folder or file else.
+/// The node of a source file: `schema::<file>` (or `schema::<folder>`) under `schema/`, the top
+/// folder or file else.
 fn node_of(src: &Path, file: &Path) -> String {
     let rel: Vec<String> = file
         .strip_prefix(src)
@@ -30,6 +31,8 @@ fn node_of(src: &Path, file: &Path) -> String {
         .collect();
     match rel.as_slice() {
         [schema, m] if schema == "schema" && m != "mod" => format!("schema::{m}"),
+        // A folder of schema (`schema/kinds/`) is one module.
+        [schema, m, _] if schema == "schema" => format!("schema::{m}"),
         [first, ..] => first.clone(),
         [] => unreachable!("a file has a name"),
     }
