@@ -8,12 +8,14 @@
 //! never given another design's values, however close the nodes of a sweep.
 
 use crate::StudyError;
-use crate::registry::StudyMechanism;
+use crate::registry::{CrossSectionVisitor, StudyMechanism};
 use crate::schema::grid::{IndexName, IndexSettings};
 use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use crate::task_space::TaskSpaceEvaluator;
-use pkm_mechanisms::{LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios};
-use pkm_traits::{ConstrainedWorkspace, ObjectiveError, Silent, WorkspaceConstraint};
+use pkm_traits::{
+    ConstrainedWorkspace, CrossSectionWorkspace, DesignError, InvalidInput, ObjectiveError, Silent,
+    WorkspaceConstraint,
+};
 use pkm_workspace_indices::{
     Dim, Eta1Rule, IndexError, PointSet, SectionIndex, SectionIndexCache, TranslationalCondition,
     Workspace,
@@ -194,9 +196,6 @@ impl<M: StudyMechanism> Evaluator<M> {
         index: IndexName,
         settings: IndexSettings,
     ) -> Result<f64, Infeasible> {
-        let ratios = spec
-            .section_ratios()
-            .ok_or_else(|| format!("{} is an index of linear_delta only", index.key()))?;
         let index = match index {
             IndexName::Eta1 => SectionIndex::Eta1(settings.eta1_rule()),
             IndexName::Eta2 => SectionIndex::Eta2,
@@ -205,18 +204,53 @@ impl<M: StudyMechanism> Evaluator<M> {
                 return Err("workspace index without points".to_owned());
             }
         };
-        // The study's design of Y_R = 1 (the ratios are the design variables).
-        let build = || {
-            let ratios = LinearDeltaRatios::from_slice(&ratios);
-            LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 })
+        let visitor = SectionValue {
+            cache: &self.cache,
+            index,
         };
-        let values = self
-            .cache
-            .values(&ratios, &[index], LinearDeltaMode::PAPER, build);
-        match values.into_iter().next() {
-            Some(value) => value.map_err(|e| infeasible(e).to_string()),
-            None => Err("no value".to_owned()),
-        }
+        let value = spec.with_cross_section(visitor).ok_or_else(|| {
+            format!(
+                "{} is an index of a mechanism with an exact cross-section (linear_delta), \
+                 not of {}",
+                index_key(index),
+                spec.kind()
+            )
+        })?;
+        value.map_err(|e| infeasible(e).to_string())
+    }
+}
+
+/// The key of a cross-section index in a study.
+fn index_key(index: SectionIndex) -> &'static str {
+    match index {
+        SectionIndex::Eta1(_) => IndexName::Eta1.key(),
+        SectionIndex::Eta2 => IndexName::Eta2.key(),
+        SectionIndex::Area => IndexName::Area.key(),
+    }
+}
+
+/// One cross-section index of a mechanism, through the study's cache (keyed by the design and
+/// the working mode the mechanism gives).
+struct SectionValue<'a> {
+    cache: &'a SectionIndexCache,
+    index: SectionIndex,
+}
+
+impl CrossSectionVisitor for SectionValue<'_> {
+    type Output = Result<f64, IndexError>;
+
+    fn visit<M: CrossSectionWorkspace>(
+        self,
+        key: &[f64],
+        mode: M::WorkingMode,
+        build: impl FnOnce() -> Result<M, DesignError>,
+    ) -> Self::Output {
+        // One value per index asked for.
+        let values = self.cache.values(key, &[self.index], mode, build);
+        values
+            .into_iter()
+            .next()
+            .unwrap_or_else(|| Err(InvalidInput::new("indices", 0.0, "one value per index").into()))
     }
 }
 

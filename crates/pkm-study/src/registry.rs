@@ -12,7 +12,10 @@ pub use crate::schema::constraints::Actuation;
 use crate::schema::constraints::ConstraintsSpec;
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
-use pkm_traits::{ConstrainedWorkspace, ForwardKinematics, WorkspaceConstraint};
+use pkm_traits::{
+    ConstrainedWorkspace, CrossSectionWorkspace, DesignError, ForwardKinematics,
+    WorkspaceConstraint,
+};
 use pkm_workspace_indices::{Dim, Region, TranslationalCondition, Workspace};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -114,9 +117,11 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
         (0, 2, 1)
     }
 
-    /// The Linear Delta's ratios `[L1/YR, YA/YR, ZR/YR, L2/L1]` for its cross-section indices
-    /// (Miller 2004 §2.2), `None` (the default) for a mechanism without them.
-    fn section_ratios(&self) -> Option<[f64; 4]> {
+    /// Hands the mechanism with an exact workspace cross-section (the Linear Delta's, Miller
+    /// 2004 §2.2: $\eta_1$, $\eta_2$ and the area) to `visitor`, with its working mode;
+    /// `None` (the default) for a mechanism without one.
+    fn with_cross_section<V: CrossSectionVisitor>(&self, visitor: V) -> Option<V::Output> {
+        let _ = visitor;
         None
     }
 
@@ -199,6 +204,22 @@ pub trait WorkspaceVisitor {
     ) -> Self::Output
     where
         Dim<NQ>: TranslationalCondition<NQ>;
+}
+
+/// Receives a mechanism with an exact workspace cross-section, whatever its type
+/// ([`StudyMechanism::with_cross_section`]): `key` holds every number that determines the
+/// values (the design and the working mode, for a cache keyed by them), `build` constructs the
+/// mechanism (called only when a value must be computed).
+pub trait CrossSectionVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Works on the mechanism that `build` returns, in `mode`.
+    fn visit<M: CrossSectionWorkspace>(
+        self,
+        key: &[f64],
+        mode: M::WorkingMode,
+        build: impl FnOnce() -> Result<M, DesignError>,
+    ) -> Self::Output;
 }
 
 /// Receives a built mechanism with forward kinematics in the platform position, whatever its
@@ -374,8 +395,11 @@ macro_rules! mechanisms {
             fn drawing_plane(&self) -> (usize, usize, usize) {
                 match self { $(Self::$variant(m) => m.drawing_plane(),)* }
             }
-            fn section_ratios(&self) -> Option<[f64; 4]> {
-                match self { $(Self::$variant(m) => m.section_ratios(),)* }
+            fn with_cross_section<V: $crate::registry::CrossSectionVisitor>(
+                &self,
+                visitor: V,
+            ) -> Option<V::Output> {
+                match self { $(Self::$variant(m) => m.with_cross_section(visitor),)* }
             }
             fn smooth_objective(&self) -> Result<[f64; 6], String> {
                 match self { $(Self::$variant(m) => m.smooth_objective(),)* }

@@ -62,8 +62,11 @@ impl SectionIndexCache {
 
     /// The values of `indices` at `design`, in order: the cached ones, and the others computed
     /// on one [`SectionIndices`] of the mechanism that `build` returns in `mode` (called only
-    /// when one is missing) and cached. `build` must construct the mechanism of exactly
-    /// `design`; its error is every missing index's ([`IndexError::Design`]).
+    /// when one is missing) and cached. `design` is the key: every number that determines the
+    /// values, so `build` must construct the mechanism of exactly `design`, and a cache that
+    /// serves more than one working mode includes the mode in it (the study layer appends the
+    /// Linear Delta's leans as 0/1); its error is every missing index's
+    /// ([`IndexError::Design`]).
     pub fn values<M: CrossSectionWorkspace>(
         &self,
         design: &[f64],

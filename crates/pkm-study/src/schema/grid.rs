@@ -60,7 +60,22 @@ pub use super::index::IndexName;
 impl IndexName {
     /// Whether `mechanism` has it.
     pub fn applies_to<M: StudyMechanism>(self, mechanism: &M) -> bool {
-        self.needs_points() || mechanism.section_ratios().is_some()
+        self.needs_points() || mechanism.with_cross_section(HasCrossSection).is_some()
+    }
+}
+
+/// Asks only whether a mechanism has a cross-section (nothing is built).
+struct HasCrossSection;
+
+impl crate::registry::CrossSectionVisitor for HasCrossSection {
+    type Output = ();
+
+    fn visit<M: pkm_traits::CrossSectionWorkspace>(
+        self,
+        _key: &[f64],
+        _mode: M::WorkingMode,
+        _build: impl FnOnce() -> Result<M, pkm_traits::DesignError>,
+    ) {
     }
 }
 

@@ -467,3 +467,52 @@ fn a_grid_study_reads_from_json_and_a_bad_shard_is_an_empty_part() {
     assert_eq!(result.nodes, 2);
     assert_eq!(Shard { index: 0, count: 2 }.nodes(10), 0..0);
 }
+
+/// Regression (review 4): the cross-section indices were computed in the paper's working mode
+/// whatever the table's `leans_positive` said (W and η used it, η1, η2 and the area did not).
+/// A sweep in another mode gives the library's values in that mode, node by node; η1 differs
+/// between the modes (0.087 against the paper mode's 0.263 at the first node), η2 and the area
+/// do not.
+#[test]
+fn cross_section_indices_are_computed_in_the_tables_working_mode() {
+    let leans = [false, true, true];
+    let text = "[mechanism.linear_delta]\n\
+         l1_over_yr = 2.0\nya_over_yr = 0.1\nzr_over_yr = 0.2\nl2_over_l1 = 0.8\n\
+         leans_positive = [false, true, true]\n\
+         [indices]\neta1_points = 8\n\
+         [[variables]]\nname = \"l2_over_l1\"\nfrom = 0.7\nto = 0.9\nsteps = 3\n\
+         [sweep]\nobjective = { eta1 = 1.0, eta2 = 1.0, area = 1.0 }\n";
+    let (_, outcome) = complete(sweep(&study(text), Shard::WHOLE, &Silent).unwrap());
+    let landscape = table(&outcome, "landscape.csv");
+    let column = |name: &str| landscape.column(name).unwrap();
+    let l2 = column("l2_over_l1");
+    let eta1 = SectionIndex::Eta1(Eta1Rule::Quadrature(8));
+    let indices = [
+        ("eta1", eta1),
+        ("eta2", SectionIndex::Eta2),
+        ("area", SectionIndex::Area),
+    ];
+    assert_eq!(l2.len(), 3);
+    for (k, l2) in l2.iter().enumerate() {
+        let design = [2.0, 0.1, 0.2, l2.unwrap()];
+        let ratios = LinearDeltaRatios::from_slice(&design);
+        let delta = LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 }).unwrap();
+        let mode = LinearDeltaMode {
+            leans_positive: leans,
+        };
+        let section = SectionIndices::new(&delta, mode);
+        for (name, index) in indices {
+            let in_mode = section.value(index).unwrap();
+            assert_eq!(
+                column(name)[k].unwrap().to_bits(),
+                in_mode.to_bits(),
+                "{name}, node {k}"
+            );
+        }
+        let paper = section_index(&design, eta1).unwrap();
+        assert!(
+            (paper - section.value(eta1).unwrap()).abs() > 0.1,
+            "node {k}"
+        );
+    }
+}

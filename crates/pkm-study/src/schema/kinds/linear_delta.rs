@@ -5,7 +5,8 @@
 use super::design_error;
 use crate::design_variables;
 use crate::registry::{
-    Actuation, BuildError, ForwardVisitor, StudyMechanism, WorkspaceVisitor, visit,
+    Actuation, BuildError, CrossSectionVisitor, ForwardVisitor, StudyMechanism, WorkspaceVisitor,
+    visit,
 };
 use crate::scene::first_drawable;
 use crate::schema::units::{PositiveMetres, Real};
@@ -124,12 +125,32 @@ impl StudyMechanism for LinearDeltaSpec {
         (1, 2, 0)
     }
 
-    fn section_ratios(&self) -> Option<[f64; 4]> {
-        Some([
+    /// Its cross-section at $Y_R = 1$ (the indices are of the ratios, the design variables of
+    /// Miller 2004 Table 2) in the table's working mode (`leans_positive`).
+    fn with_cross_section<V: CrossSectionVisitor>(&self, visitor: V) -> Option<V::Output> {
+        let ratios = [
             self.l1_over_yr.0,
             self.ya_over_yr.0,
             self.zr_over_yr.0,
             self.l2_over_l1.0,
-        ])
+        ];
+        let leans = self.leans_positive;
+        let key = [
+            ratios[0],
+            ratios[1],
+            ratios[2],
+            ratios[3],
+            f64::from(u8::from(leans[0])),
+            f64::from(u8::from(leans[1])),
+            f64::from(u8::from(leans[2])),
+        ];
+        let mode = LinearDeltaMode {
+            leans_positive: leans,
+        };
+        let build = || {
+            let ratios = LinearDeltaRatios::from_slice(&ratios);
+            LinearDelta::new(LinearDeltaDesign { ratios, yr: 1.0 })
+        };
+        Some(visitor.visit(&key, mode, build))
     }
 }
