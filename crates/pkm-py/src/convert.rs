@@ -63,31 +63,50 @@ pub(crate) fn outcome<'py, R: Serialize>(
     Ok(out)
 }
 
-/// A table as {column → values}: a float64 array (NaN for a missing cell) for a numeric
-/// column, a list for a column with text.
+/// A table as {column → values}, each column with its type: a list of strings for a column of
+/// text (`None` for a row without one), an int64 array for counts (grid nodes, starts), a bool
+/// array for flags (membership), a float64 array otherwise (NaN for a missing cell).
 fn columns<'py>(py: Python<'py>, table: &Table) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     for (k, name) in table.header.iter().enumerate() {
         let cells: Vec<&Cell> = table.rows.iter().filter_map(|r| r.get(k)).collect();
+        let n = cells.len();
+        let all = |kind: fn(&Cell) -> bool| n > 0 && cells.iter().all(|c| kind(c));
         if cells.iter().any(|c| matches!(c, Cell::Text(_))) {
             let list = PyList::empty(py);
             for cell in cells {
                 match cell {
-                    Cell::Number(v) => list.append(v)?,
-                    Cell::Missing => list.append(py.None())?,
-                    Cell::Text(t) => list.append(t)?,
+                    Cell::Text(t) if !t.is_empty() => list.append(t)?,
+                    Cell::Text(_) | Cell::Missing => list.append(py.None())?,
+                    other => list.append(other.to_string())?,
                 }
             }
             out.set_item(name, list)?;
+        } else if all(|c| matches!(c, Cell::Integer(_))) {
+            let values: Vec<i64> = cells
+                .iter()
+                .map(|c| match c {
+                    Cell::Integer(v) => i64::try_from(*v).unwrap_or(i64::MAX),
+                    _ => 0,
+                })
+                .collect();
+            out.set_item(name, numpy::PyArray1::from_vec(py, values))?;
+        } else if all(|c| matches!(c, Cell::Flag(_))) {
+            let values: Vec<bool> = cells
+                .iter()
+                .map(|c| matches!(c, Cell::Flag(true)))
+                .collect();
+            out.set_item(name, numpy::PyArray1::from_vec(py, values))?;
         } else {
             let values: Vec<f64> = cells
                 .iter()
                 .map(|c| match c {
                     Cell::Number(v) => *v,
-                    _ => f64::NAN,
+                    Cell::Integer(v) => *v as f64,
+                    Cell::Flag(b) => f64::from(u8::from(*b)),
+                    Cell::Missing | Cell::Text(_) => f64::NAN,
                 })
                 .collect();
-            let n = values.len();
             out.set_item(name, crate::points::array(py, values, &[n])?)?;
         }
     }

@@ -39,9 +39,12 @@ def test_workspace_tables_are_arrays_matching_the_commands_csv(pkm_command, nuwa
     outcome = pkm.workspace(nuwar_study, progress=False)
     table = outcome["tables"]["slice-1-xy.csv"]
     csv = np.genfromtxt(tmp_path / "out" / "slice-1-xy.csv", delimiter=",", names=True)
-    for column in ["x", "y", "inside", "inverse_condition"]:
+    for column in ["x", "y", "inverse_condition"]:
         assert isinstance(table[column], np.ndarray) and table[column].dtype == np.float64
         np.testing.assert_array_equal(table[column], csv[column])
+    # Membership is a bool column (written 1/0 in the CSV).
+    assert table["inside"].dtype == np.bool_
+    np.testing.assert_array_equal(table["inside"], csv["inside"] == 1)
     assert "slice-1-xy.svg" in outcome["figures"]
     assert any("W =" in line for line in outcome["summary"])
 

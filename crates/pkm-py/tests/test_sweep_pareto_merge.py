@@ -35,6 +35,11 @@ def test_landscape_is_arrays_matching_the_commands_csv(pkm_command, grid_study, 
     for column in ["l1_over_yr", "l2_over_l1", "eta1", "eta2", "utility"]:
         assert table[column].dtype == np.float64 and table[column].shape == (25,)
         np.testing.assert_array_equal(table[column], csv[column])
+    # Node numbers are integers; the reasons are strings (None where the node is feasible).
+    assert table["node"].dtype == np.int64
+    np.testing.assert_array_equal(table["node"], np.arange(25))
+    assert isinstance(table["infeasible"], list) and len(table["infeasible"]) == 25
+    assert all(r is None or (isinstance(r, str) and not r.startswith('"')) for r in table["infeasible"])
     assert "heatmap-l1_over_yr-l2_over_l1.svg" in outcome["figures"]
 
 
@@ -110,3 +115,13 @@ def test_merge_refuses_what_is_not_one_run(grid_study):
         pkm.merge([tampered] + parts[1:], progress=False)
     with pytest.raises(pkm.InvalidInput):
         pkm.merge(None, progress=False)
+
+
+def test_infeasibility_reasons_are_plain_strings(grid_study):
+    # A grid that reaches designs the library refuses (L1/YR < 1): their reasons as text.
+    grid_study["variables"][0] = {"name": "l1_over_yr", "from": 0.6, "to": 1.4, "step": 0.4}
+    outcome = pkm.sweep(grid_study, progress=False)
+    reasons = outcome["tables"]["landscape.csv"]["infeasible"]
+    given = [r for r in reasons if r is not None]
+    assert given and all(isinstance(r, str) and r and not r.startswith('"') for r in given)
+    assert len(given) < len(reasons)

@@ -392,7 +392,7 @@ pub fn landscape(
     header.push("infeasible".to_owned());
     let mut table = Table::new(header);
     for (flat, outcome) in outcomes.iter().enumerate() {
-        let mut row = vec![Cell::Text(flat.to_string())];
+        let mut row = vec![Cell::from(flat)];
         row.extend(grid.design(flat).into_iter().map(Cell::Number));
         match outcome {
             Ok(values) => row.extend(values.iter().copied().map(Cell::Number)),
@@ -400,8 +400,8 @@ pub fn landscape(
         }
         row.extend(extra_cells(flat));
         row.push(match outcome {
-            Ok(_) => Cell::Missing,
-            Err(reason) => Cell::Text(format!("\"{}\"", reason.replace('"', "'"))),
+            Ok(_) => Cell::Text(String::new()),
+            Err(reason) => Cell::Text(reason.clone()),
         });
         table.rows.push(row);
     }

@@ -73,14 +73,21 @@ pub enum Artifact {
     },
 }
 
-/// One cell of a [`Table`].
+/// One cell of a [`Table`]. The kind is the column's type for a front end that keeps types
+/// (Python: float64, int64 and bool arrays, lists of strings); the CSV text is the same for a
+/// count as a number and for a flag as 0 or 1.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Cell {
     /// A number (written as its shortest round-trip decimal).
     Number(f64),
+    /// A count or an index (a grid node, a start).
+    Integer(u64),
+    /// Yes or no (written 1 or 0): membership.
+    Flag(bool),
     /// No value (written empty).
     Missing,
-    /// Text.
+    /// Text, written as CSV needs it (quoted when it holds a comma, a quote or a line break,
+    /// its quotes doubled); an empty text in a column of text is a row without one.
     Text(String),
 }
 
@@ -98,7 +105,13 @@ impl From<Option<f64>> for Cell {
 
 impl From<bool> for Cell {
     fn from(v: bool) -> Self {
-        Self::Number(f64::from(u8::from(v)))
+        Self::Flag(v)
+    }
+}
+
+impl From<usize> for Cell {
+    fn from(v: usize) -> Self {
+        Self::Integer(v as u64)
     }
 }
 
@@ -112,7 +125,12 @@ impl fmt::Display for Cell {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Number(v) => write!(f, "{v}"),
+            Self::Integer(n) => write!(f, "{n}"),
+            Self::Flag(b) => f.write_str(if *b { "1" } else { "0" }),
             Self::Missing => Ok(()),
+            Self::Text(t) if t.contains([',', '"', '\n', '\r']) => {
+                write!(f, "\"{}\"", t.replace('"', "\"\""))
+            }
             Self::Text(t) => f.write_str(t),
         }
     }
@@ -156,6 +174,8 @@ impl Table {
                 .iter()
                 .map(|row| match row.get(k) {
                     Some(Cell::Number(v)) => Some(*v),
+                    Some(Cell::Integer(n)) => Some(*n as f64),
+                    Some(Cell::Flag(b)) => Some(f64::from(u8::from(*b))),
                     _ => None,
                 })
                 .collect(),
@@ -185,6 +205,34 @@ pub fn short(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cells_are_written_as_csv_needs_them() {
+        let cells = [
+            Cell::Number(0.5),
+            Cell::Integer(7),
+            Cell::Flag(true),
+            Cell::Flag(false),
+            Cell::Missing,
+            Cell::Text("plain".into()),
+            Cell::Text("a, b".into()),
+            Cell::Text("say \"no\"".into()),
+        ];
+        let written: Vec<String> = cells.iter().map(ToString::to_string).collect();
+        assert_eq!(
+            written,
+            [
+                "0.5",
+                "7",
+                "1",
+                "0",
+                "",
+                "plain",
+                "\"a, b\"",
+                "\"say \"\"no\"\"\""
+            ]
+        );
+    }
 
     #[test]
     fn short_numbers_stay_short() {

@@ -241,7 +241,7 @@ fn front_table<M>(prepared: &Prepared<M>, r: &ParetoResult) -> Table {
     header.extend(["w_min".to_owned(), "w_max".to_owned()]);
     let mut table = Table::new(header);
     for p in &r.front {
-        let mut row = vec![Cell::Text(p.node.to_string())];
+        let mut row = vec![Cell::from(p.node)];
         row.extend(grid.design(p.node).into_iter().map(Cell::Number));
         row.extend(p.values.iter().copied().map(Cell::Number));
         let (lo, hi) = p

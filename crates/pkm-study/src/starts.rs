@@ -84,20 +84,17 @@ fn start_row<T: Display>(
     outcome: Result<Reached<'_, T>, &OptimizeError>,
     missing: usize,
 ) -> Vec<Cell> {
-    let mut row = vec![Cell::Text(k.to_string())];
+    let mut row = vec![Cell::from(k)];
     row.extend(start.iter().map(|v| Cell::Number(*v)));
     match outcome {
         Ok(r) => {
             row.extend(r.design.iter().map(|v| Cell::Number(*v)));
             row.extend(r.numbers.into_iter().map(Cell::Number));
-            row.push(Cell::Text(format!("\"{}\"", r.termination)));
+            row.push(Cell::Text(r.termination.to_string()));
         }
         Err(e) => {
             row.extend(std::iter::repeat_n(Cell::Missing, missing));
-            row.push(Cell::Text(format!(
-                "\"{}\"",
-                e.to_string().replace('"', "'")
-            )));
+            row.push(Cell::Text(e.to_string()));
         }
     }
     row
