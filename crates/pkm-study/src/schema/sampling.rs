@@ -5,7 +5,7 @@ use super::units::{Degrees, Metres, PositiveMetres};
 use crate::StudyError;
 use nalgebra::Vector3;
 use pkm_traits::{Progress, Silent};
-use pkm_workspace_indices::{Domain, PointSet, Region, Sampler};
+use pkm_workspace_indices::{Domain, IndexError, PointSet, Region, Sampler};
 use serde::{Deserialize, Serialize};
 
 /// How workspace points are drawn.
@@ -239,7 +239,24 @@ impl SamplingSpec {
                     progress,
                 )
             }
-        }?;
-        Ok(points)
+        };
+        points.map_err(|e| self.count_error(e))
+    }
+
+    /// An estimator's refusal of the counts at the key that sets them (`sampling.points`,
+    /// `sampling.replicates`, or `sampling.per_axis` for a grid); any other error as it is.
+    pub fn count_error(&self, e: IndexError) -> StudyError {
+        let key = match &e {
+            IndexError::TooLarge {
+                what: "replicates", ..
+            } => "sampling.replicates",
+            IndexError::TooLarge { .. } | IndexError::EmptySample { .. } => match self.sampler {
+                SamplerKind::Grid => "sampling.per_axis",
+                _ if self.replicates == 0 => "sampling.replicates",
+                _ => "sampling.points",
+            },
+            _ => return StudyError::from(e),
+        };
+        StudyError::invalid(key, e.to_string())
     }
 }

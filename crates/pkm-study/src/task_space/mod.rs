@@ -568,7 +568,7 @@ fn task_points(sampling: &SamplingSpec, region: TaskBox) -> Result<TaskPoints, S
             1,
         ),
     };
-    Ok(TaskPoints::new(region, sampler, points, replicates)?)
+    TaskPoints::new(region, sampler, points, replicates).map_err(|e| sampling.count_error(e))
 }
 
 /// The measure unit of the sampled coordinates (`m·rad²`).

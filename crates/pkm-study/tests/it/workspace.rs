@@ -133,3 +133,19 @@ fn linear_delta_workspace_matches_the_library() {
         .unwrap();
     assert!(e.volume < 0.2 * 0.2 * area * 1.0);
 }
+
+/// A refused sample count names the key that sets it (it named none).
+#[test]
+fn refused_sample_counts_name_their_keys() {
+    let base = "[mechanism.tsai]\na = 0.44\nb = 0.56\n[sampling]\n";
+    for (sampling, key) in [
+        ("points = 10000000000000\n", "sampling.points"),
+        ("replicates = 1000000\n", "sampling.replicates"),
+        ("sampler = \"grid\"\nper_axis = 100000\n", "sampling.per_axis"),
+    ] {
+        let study: pkm_study::WorkspaceStudy =
+            pkm_study::from_toml_str(&format!("{base}{sampling}")).unwrap();
+        let e = pkm_study::workspace(&study, &Silent).unwrap_err();
+        assert_eq!(e.path().map(ToString::to_string).as_deref(), Some(key), "{e}");
+    }
+}
