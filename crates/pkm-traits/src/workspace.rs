@@ -48,6 +48,8 @@ enum Limit {
         joint: Option<usize>,
         lower: f64,
         upper: f64,
+        /// A revolute joint: the range holds an angle modulo $2\pi$.
+        periodic: bool,
     },
     PassiveCone {
         max_angle: f64,
@@ -55,6 +57,18 @@ enum Limit {
     LegClearance {
         distance: f64,
     },
+}
+
+/// Whether `v` lies in `[lower, upper]`, modulo $2\pi$ for a periodic (revolute) range: the
+/// offset $(v - lower) \bmod 2\pi \in [0, 2\pi)$ is at most the width. Without a wrap the
+/// offset is $v - lower$ exactly as computed, so an angle already in the range holds as in the
+/// plain test.
+fn in_range(v: f64, lower: f64, upper: f64, periodic: bool) -> bool {
+    if !periodic || (lower <= v && v <= upper) {
+        return lower <= v && v <= upper;
+    }
+    let width = upper - lower;
+    width >= std::f64::consts::TAU || (v - lower).rem_euclid(std::f64::consts::TAU) <= width
 }
 
 /// A constraint that cannot be built or cannot be applied to a mechanism.
@@ -134,7 +148,27 @@ impl WorkspaceConstraint {
     /// # Errors
     /// [`ConstraintError::Invalid`] for a NaN bound or `lower > upper`.
     pub fn joint_range(lower: f64, upper: f64) -> Result<Self, ConstraintError> {
-        Self::range(None, lower, upper)
+        Self::range(None, lower, upper, false)
+    }
+
+    /// Every actuated revolute joint within `[lower, upper]` (rad) modulo $2\pi$: an angle
+    /// $q$ holds when $q + 2\pi k \in [lower, upper]$ for some integer $k$ (a motor at
+    /// $-320°$ is at $40°$), so a range $2\pi$ wide or wider holds every angle, whatever
+    /// interval the inverse kinematics reports its angles in.
+    ///
+    /// # Errors
+    /// As [`WorkspaceConstraint::joint_range`].
+    pub fn angle_range(lower: f64, upper: f64) -> Result<Self, ConstraintError> {
+        Self::range(None, lower, upper, true)
+    }
+
+    /// Actuated revolute joint `joint` (from 0) within `[lower, upper]` modulo $2\pi$
+    /// ([`WorkspaceConstraint::angle_range`]).
+    ///
+    /// # Errors
+    /// As [`WorkspaceConstraint::joint_range`].
+    pub fn angle_range_of(joint: usize, lower: f64, upper: f64) -> Result<Self, ConstraintError> {
+        Self::range(Some(joint), lower, upper, true)
     }
 
     /// Actuated joint `joint` (from 0) within `[lower, upper]`.
@@ -142,10 +176,15 @@ impl WorkspaceConstraint {
     /// # Errors
     /// As [`WorkspaceConstraint::joint_range`].
     pub fn joint_range_of(joint: usize, lower: f64, upper: f64) -> Result<Self, ConstraintError> {
-        Self::range(Some(joint), lower, upper)
+        Self::range(Some(joint), lower, upper, false)
     }
 
-    fn range(joint: Option<usize>, lower: f64, upper: f64) -> Result<Self, ConstraintError> {
+    fn range(
+        joint: Option<usize>,
+        lower: f64,
+        upper: f64,
+        periodic: bool,
+    ) -> Result<Self, ConstraintError> {
         if lower.is_nan() {
             return Err(invalid("lower", lower, "must not be NaN"));
         }
@@ -159,6 +198,7 @@ impl WorkspaceConstraint {
             joint,
             lower,
             upper,
+            periodic,
         }))
     }
 
@@ -288,10 +328,14 @@ impl WorkspaceConstraint {
                 joint,
                 lower,
                 upper,
-            } => match joint {
-                Some(j) => q.get(j).is_some_and(|v| lower <= *v && *v <= upper),
-                None => q.iter().all(|v| lower <= *v && *v <= upper),
-            },
+                periodic,
+            } => {
+                let within = |v: &f64| in_range(*v, lower, upper, periodic);
+                match joint {
+                    Some(j) => q.get(j).is_some_and(within),
+                    None => q.iter().all(within),
+                }
+            }
             Limit::PassiveCone { max_angle } => {
                 passive_angles().is_some_and(|a| a.iter().all(|v| *v <= max_angle))
             }

@@ -133,3 +133,36 @@ fn forward_kinematics_reports_non_finite_joints_and_non_convergence() {
         Err(KinematicsError::NotConverged { .. } | KinematicsError::Singular { .. })
     ));
 }
+
+proptest! {
+    /// An angle range holds an angle exactly when it holds the same angle a whole number of
+    /// turns away, and agrees with the plain range for angles inside it.
+    #[test]
+    fn angle_ranges_hold_angles_modulo_a_turn(
+        lower in -10.0_f64..10.0,
+        width in 0.0_f64..7.0,
+        v in -10.0_f64..10.0,
+        turns in -3_i32..=3,
+    ) {
+        use pkm_traits::WorkspaceConstraint;
+        let upper = lower + width;
+        let angle = WorkspaceConstraint::angle_range(lower, upper).unwrap();
+        let plain = WorkspaceConstraint::joint_range(lower, upper).unwrap();
+        let at = |c: &WorkspaceConstraint, q: f64| {
+            c.holds_at(&nalgebra::Vector3::zeros(), &[q], || None, || None)
+        };
+        let shifted = v + f64::from(turns) * std::f64::consts::TAU;
+        let tau = std::f64::consts::TAU;
+        // Away from the ends (rounding of the shift), the two angles are the same angle.
+        let offset = (v - lower).rem_euclid(tau);
+        if (offset - width).abs() > 1e-9 && offset > 1e-9 && (tau - offset) > 1e-9 {
+            prop_assert_eq!(at(&angle, v), at(&angle, shifted));
+        }
+        if at(&plain, v) {
+            prop_assert!(at(&angle, v));
+        }
+        if width >= tau {
+            prop_assert!(at(&angle, v));
+        }
+    }
+}

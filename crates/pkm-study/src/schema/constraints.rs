@@ -25,7 +25,8 @@ pub struct ConstraintsSpec {
     /// Half-spaces n·x ≤ offset.
     #[serde(default)]
     pub half_spaces: Vec<HalfSpaceSpec>,
-    /// Every revolute actuated joint within `[lower, upper]` (degrees).
+    /// Every revolute actuated joint within `[lower, upper]` (degrees), modulo 360°: an angle
+    /// holds when some turn of it lies in the range, so `[-180, 180]` holds every angle.
     pub joint_range_deg: Option<DegreeRange>,
     /// Every prismatic actuated joint within `[lower, upper]` (m).
     pub joint_range: Option<MetreRange>,
@@ -110,8 +111,9 @@ impl ConstraintsSpec {
             (Actuation::Revolute, _, Some(_)) => {
                 return Err(wrong_unit("joint_range", "joint_range_deg"));
             }
+            // Revolute: an angle range, tested modulo 2π.
             (_, Some(r), _) => out.push(
-                WorkspaceConstraint::joint_range(r.lower.to_radians(), r.upper.to_radians())
+                WorkspaceConstraint::angle_range(r.lower.to_radians(), r.upper.to_radians())
                     .map_err(library)?,
             ),
             (_, None, Some(r)) => {
@@ -130,7 +132,7 @@ impl ConstraintsSpec {
                 j.range_deg.lower.to_radians(),
                 j.range_deg.upper.to_radians(),
             );
-            out.push(WorkspaceConstraint::joint_range_of(j.joint, lo, hi).map_err(library)?);
+            out.push(WorkspaceConstraint::angle_range_of(j.joint, lo, hi).map_err(library)?);
         }
         for j in &spec.joint_ranges {
             let (lo, hi) = (j.range.lower, j.range.upper);
