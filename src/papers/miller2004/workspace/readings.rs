@@ -189,7 +189,7 @@ impl Reading {
                 upper_deg,
             } => vec![
                 below?,
-                WorkspaceConstraint::joint_range(lower_deg.to_radians(), upper_deg.to_radians())?,
+                WorkspaceConstraint::angle_range(lower_deg.to_radians(), upper_deg.to_radians())?,
             ],
             Limits::Cone { max_deg } => {
                 vec![
