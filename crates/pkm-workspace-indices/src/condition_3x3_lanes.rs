@@ -67,6 +67,7 @@ const CUBE_ROOT_STEPS: usize = 4;
 /// ```
 #[inline(always)]
 pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -> [f64; N] {
+    let original = j;
     let j = scaled_lanes(j);
     let finite: [bool; N] =
         std::array::from_fn(|l| j.iter().fold(true, |all, v| all & v.0[l].is_finite()));
@@ -98,6 +99,12 @@ pub fn inverse_condition_number_3x3_lanes<const N: usize>(j: &Matrix3Lanes<N>) -
             0.0
         } else if !spread[l] {
             1.0
+        } else if general.0[l] < crate::SVD_BELOW {
+            // As the scalar routine: the SVD where the closed form loses digits (scalar code,
+            // the same bits on every vector path).
+            crate::inverse_condition_number(&nalgebra::Matrix3::from_fn(|r, c| {
+                original[3 * r + c][l]
+            }))
         } else {
             general.0[l]
         }

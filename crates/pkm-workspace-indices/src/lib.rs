@@ -97,7 +97,7 @@ pub use condition::{
     Dim, FixedSvd, TranslationalCondition, condition_number, inverse_condition_number,
     inverse_condition_number_tall,
 };
-pub use condition_3x3::inverse_condition_number_3x3;
+pub use condition_3x3::{SVD_BELOW, inverse_condition_number_3x3};
 pub use condition_3x3_lanes::{
     LANES, Matrix3Lanes, inverse_condition_number_3x3_lanes, inverse_condition_of_reachable_lanes,
 };

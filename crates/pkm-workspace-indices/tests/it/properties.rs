@@ -173,3 +173,45 @@ proptest! {
         prop_assert!((a - b).abs() < 1e-9, "{a} vs {b}");
     }
 }
+
+/// A matrix $U\,\mathrm{diag}(\sigma)\,V^\top$ of known singular values from two rotations.
+fn with_singular_values(
+    sigma: [f64; 3],
+    u: nalgebra::Vector3<f64>,
+    v: nalgebra::Vector3<f64>,
+) -> Matrix3<f64> {
+    let rotation = |w: nalgebra::Vector3<f64>| nalgebra::Rotation3::new(w).into_inner();
+    rotation(u) * Matrix3::from_diagonal(&sigma.into()) * rotation(v).transpose()
+}
+
+proptest! {
+    /// The closed-form 1/κ (scalar and lanes) against matrices of known singular values, over
+    /// the whole range 1/κ ∈ [1e-6, 1], the middle singular value anywhere from σ_max down to
+    /// σ_min (two close small singular values made the old formula 41 % wrong at 1/κ ≈ 1e-4).
+    /// The reference σ_min/σ_max is exact for the nominal matrix; rounding the product
+    /// perturbs it by about ε·κ, 2e-10 at most here, well within the tolerance.
+    #[test]
+    fn closed_form_inverse_condition_matches_the_singular_values(
+        log_kappa in 0.0_f64..6.0,
+        mid in 0.0_f64..=1.0,
+        scale in -3.0_f64..3.0,
+        u in proptest::array::uniform3(-3.0_f64..3.0),
+        v in proptest::array::uniform3(-3.0_f64..3.0),
+    ) {
+        let inverse = 10f64.powf(-log_kappa);
+        // σ_mid between σ_min and σ_max, log-uniform, including both ends.
+        let sigma_mid = inverse.powf(mid);
+        let s = 10f64.powf(scale);
+        let j = with_singular_values([s, s * sigma_mid, s * inverse], u.into(), v.into());
+        let closed = inverse_condition_number_3x3(&j);
+        let relative = (closed - inverse).abs() / inverse;
+        prop_assert!(relative < 1e-7, "1/κ = {inverse:e}, σ_mid = {sigma_mid:e}: {closed:e} ({relative:e})");
+        let mut lanes = [[0.0; pkm_workspace_indices::LANES]; 9];
+        for (k, entry) in lanes.iter_mut().enumerate() {
+            entry[0] = j[(k / 3, k % 3)];
+        }
+        let lane = pkm_workspace_indices::inverse_condition_number_3x3_lanes(&lanes)[0];
+        let relative = (lane - inverse).abs() / inverse;
+        prop_assert!(relative < 1e-7, "lanes: 1/κ = {inverse:e}: {lane:e} ({relative:e})");
+    }
+}
