@@ -7,7 +7,6 @@
 //! runs of the same study, or a sharded run and its merge, write the same bytes.
 
 use crate::CliError;
-use crate::commands::Report;
 use pkm_draw::chart::render_svg as render_chart;
 use pkm_draw::{DrawOptions, Scene, render_svg};
 use pkm_study::Artifact;
@@ -15,6 +14,20 @@ use pkm_study::scene::{ROBOT_CSV, ROBOT_SVG};
 use pkm_term::{OutputDir, OutputError};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+/// What a command tells the user when it is done (printed by `main`, one line each).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Report {
+    /// Lines of the summary.
+    pub lines: Vec<String>,
+}
+
+impl Report {
+    /// Adds a line.
+    pub fn line(&mut self, line: impl Into<String>) {
+        self.lines.push(line.into());
+    }
+}
 
 /// The schema of `results.json`; bumped on any incompatible change.
 pub const SCHEMA: &str = "pkm-cli/results/v1";

@@ -106,7 +106,10 @@ impl StewartGough {
             }
         }
         DesignError::require_finite("offset", design.layout.offset_deg)?;
-        let (base, platform) = design.layout.joints(&design);
+        let (base, platform) = design.layout.joints(
+            [design.base_radius, design.platform_radius],
+            [design.base_separation, design.platform_separation],
+        );
         Ok(Self {
             design,
             base,

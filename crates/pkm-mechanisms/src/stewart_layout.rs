@@ -1,7 +1,6 @@
 //! Joint layouts of the semi-regular Stewart–Gough platform (Fig. 3 is missing from the paper;
 //! the default reproduces §4.2's "all lines parallel" statement, see `docs/conventions.md`).
 
-use crate::stewart_gough::StewartDesign;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -41,8 +40,13 @@ pub struct JointLayout {
 }
 
 impl JointLayout {
-    /// Base joints $b_k$ and platform joints $r_k$ (platform frame) of `design`.
-    pub(crate) fn joints(&self, design: &StewartDesign) -> ([Vector3<f64>; 6], [Vector3<f64>; 6]) {
+    /// Base joints $b_k$ and platform joints $r_k$ (platform frame) on circles of
+    /// `[base, platform]` radii, each pair's joints `[base, platform]` separations apart (rad).
+    pub(crate) fn joints(
+        &self,
+        radii: [f64; 2],
+        separations: [f64; 2],
+    ) -> ([Vector3<f64>; 6], [Vector3<f64>; 6]) {
         let half = match self.angle_mode {
             AngleMode::Separation => 0.5,
             AngleMode::Half => 1.0,
@@ -52,20 +56,14 @@ impl JointLayout {
         let pair = 120f64.to_radians();
         let centre = |k: usize| offset + pair * (k / 2) as f64;
         let side = |k: usize| if k.is_multiple_of(2) { -1.0 } else { 1.0 };
-        let base = std::array::from_fn(|k| {
-            at(
-                design.base_radius,
-                centre(k) + side(k) * half * design.base_separation,
-            )
-        });
+        let base =
+            std::array::from_fn(|k| at(radii[0], centre(k) + side(k) * half * separations[0]));
         let platform = std::array::from_fn(|k| {
             let t = match self.pairing {
-                Pairing::SamePattern => side(k) * half * design.platform_separation,
-                Pairing::ZigZag => {
-                    side(k) * (60f64.to_radians() - half * design.platform_separation)
-                }
+                Pairing::SamePattern => side(k) * half * separations[1],
+                Pairing::ZigZag => side(k) * (60f64.to_radians() - half * separations[1]),
             };
-            at(design.platform_radius, centre(k) + t)
+            at(radii[1], centre(k) + t)
         });
         (base, platform)
     }

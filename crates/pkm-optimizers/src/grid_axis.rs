@@ -1,9 +1,12 @@
 //! The nodes of one design variable in a grid search: an interval ([`Bounds`]) and a count.
 
 use crate::error::OptimizeError;
-use crate::grid_search::MAX_GRID_NODES;
 use pkm_traits::{Bounds, InvalidInput};
 use serde::{Deserialize, Serialize};
+
+/// Most nodes of one grid search: the values of every node are collected (in order, for
+/// determinism) before the minimum is taken, so larger grids are refused before allocating.
+pub const MAX_GRID_NODES: usize = 1 << 24;
 
 /// Evenly spaced nodes `lower, lower + step, …, upper` of one design variable: an interval
 /// ([`Bounds`]: finite ends, `lower <= upper`, a finite width) and at least one node (private

@@ -6,16 +6,13 @@
 
 use crate::error::OptimizeError;
 use crate::grid_axis::GridAxis;
+pub use crate::grid_axis::MAX_GRID_NODES;
 use crate::sense::Sense;
 use crate::termination::Termination;
 use pkm_traits::{Bounds, InvalidInput, Objective, ObjectiveError, Progress};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
-
-/// Most nodes of one grid search: the values of every node are collected (in order, for
-/// determinism) before the minimum is taken, so larger grids are refused before allocating.
-pub const MAX_GRID_NODES: usize = 1 << 24;
 
 /// Objective values on every node of a grid (`None` where the design is infeasible), row-major:
 /// the last axis varies fastest.

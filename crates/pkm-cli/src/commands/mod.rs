@@ -2,6 +2,7 @@
 //! implements [`Run`], plus one line in the `subcommands!` invocation below.
 
 use crate::CliError;
+pub use crate::output::Report;
 use crate::output::{Output, StudyEcho};
 use crate::progress::Spinner;
 use crate::study;
@@ -17,20 +18,6 @@ pub struct Context {
     pub out: PathBuf,
     /// Progress bar and Ctrl-C flag.
     pub progress: Spinner,
-}
-
-/// What a command tells the user when it is done (printed by `main`, one line each).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Report {
-    /// Lines of the summary.
-    pub lines: Vec<String>,
-}
-
-impl Report {
-    /// Adds a line.
-    pub fn line(&mut self, line: impl Into<String>) {
-        self.lines.push(line.into());
-    }
 }
 
 /// A subcommand's arguments know how to run it.
