@@ -33,26 +33,17 @@ fn experiment_ids_are_unique() {
 
 /// Each package of the dependency graph `cargo tree` prints for `args`, with its features.
 fn features_of(args: &[&str]) -> std::collections::BTreeMap<String, String> {
-    let output = std::process::Command::new(env!("CARGO"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args([
-            "tree",
-            "--offline",
-            "--locked",
-            "--prefix",
-            "none",
-            "--no-dedupe",
-        ])
-        .args(["--format", "{p}|{f}"])
-        .args(args)
-        .output()
-        .unwrap_or_else(|e| panic!("cargo tree: {e}"));
-    assert!(
-        output.status.success(),
-        "cargo tree {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8_lossy(&output.stdout)
+    let mut all = vec![
+        "tree",
+        "--offline",
+        "--locked",
+        "--prefix",
+        "none",
+        "--no-dedupe",
+    ];
+    all.extend(["--format", "{p}|{f}"]);
+    all.extend(args);
+    String::from_utf8_lossy(&cargo(&all))
         .lines()
         .filter_map(|line| line.split_once('|'))
         .map(|(package, features)| {
@@ -60,6 +51,21 @@ fn features_of(args: &[&str]) -> std::collections::BTreeMap<String, String> {
             (package, features.to_owned())
         })
         .collect()
+}
+
+/// The standard output of `cargo ARGS` in the workspace root (a failure fails the test).
+fn cargo(args: &[&str]) -> Vec<u8> {
+    let output = std::process::Command::new(env!("CARGO"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("cargo {args:?}: {e}"));
+    assert!(
+        output.status.success(),
+        "cargo {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output.stdout
 }
 
 /// `pip install ./crates/pkm-py` builds pkm-py alone (maturin), `.ci/run` after
@@ -88,20 +94,15 @@ fn the_python_package_builds_with_the_test_builds_features() {
 /// Every workspace package, from `cargo metadata`: its name, manifest directory and
 /// dependencies (name, kind, rename), and its `[package.metadata.pkm] feature-unification`.
 fn workspace_packages() -> Vec<serde_json::Value> {
-    let output = std::process::Command::new(env!("CARGO"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args([
-            "metadata",
-            "--format-version",
-            "1",
-            "--no-deps",
-            "--offline",
-        ])
-        .output()
-        .unwrap_or_else(|e| panic!("cargo metadata: {e}"));
-    assert!(output.status.success(), "cargo metadata failed");
+    let stdout = cargo(&[
+        "metadata",
+        "--format-version",
+        "1",
+        "--no-deps",
+        "--offline",
+    ]);
     let metadata: serde_json::Value =
-        serde_json::from_slice(&output.stdout).unwrap_or_else(|e| panic!("cargo metadata: {e}"));
+        serde_json::from_slice(&stdout).unwrap_or_else(|e| panic!("cargo metadata: {e}"));
     metadata["packages"].as_array().cloned().unwrap_or_default()
 }
 
