@@ -15,7 +15,6 @@ mod integrators;
 mod linear_delta;
 mod screw;
 mod stamper;
-mod task_space;
 mod wolf;
 mod workspace;
 
@@ -32,6 +31,5 @@ criterion_group!(
     dynamics::forward_cycle,
     wolf::section_4_1,
     workspace::membership_kernel,
-    task_space::stewart_gough,
 );
 criterion_main!(benches);

@@ -1,6 +1,6 @@
 //! `cargo xtask perf`: the figures of `docs/performance.md`, reproduced in one window.
 //!
-//! Runs the criterion benches of the root package (`cargo bench --bench main`) and the peers of
+//! Runs the criterion benches of the root package (`cargo bench --bench main`), the robot-file and study benches, and the peers of
 //! `../shared/peers` (NumPy's Delta design-index kernel, Pinocchio's inverse and forward
 //! dynamics of the NUWAR) back to back, then writes one table of pkm's figures and one of the
 //! ratios to the peers, each row stamped with the date, the commit and the load average of the
@@ -192,11 +192,13 @@ fn time_reproduce(report: &Path) -> anyhow::Result<f64> {
     Ok(start.elapsed().as_secs_f64())
 }
 
-/// The root package's benches under `--filter`, then the robot-file bench (all of it).
+/// The root package's benches under `--filter`, then the robot-file and study benches (all of
+/// them).
 fn run_benches(root: &Path, args: &PerfArgs) -> anyhow::Result<()> {
-    let targets: [(&[&str], &str); 2] = [
+    let targets: [(&[&str], &str); 3] = [
         (&["--bench", "main"], &args.filter),
         (&["-p", "pkm-robot-file", "--bench", "robot_file"], ""),
+        (&["-p", "pkm-study", "--bench", "study"], ""),
     ];
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     for (target, filter) in targets {

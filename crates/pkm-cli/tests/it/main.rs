@@ -7,6 +7,7 @@ mod common;
 mod drawings;
 mod dynamics_studies;
 mod examples;
+mod papers;
 mod robot_file_studies;
 mod shards;
 mod synthesis_studies;

@@ -1,7 +1,7 @@
 //! Table 2 row 4 of Miller 2004 from a study file alone: `pkm sweep` on
 //! `crates/pkm-cli/tests/studies/linear_delta_row4_quick.toml` finds the same optimum as the
-//! `pkm::papers` experiment (quick rules in both). Moved here from pkm-cli's tests so that the
-//! command does not depend on the facade.
+//! `pkm::papers` experiment (quick rules in both). The facade is a path-only dev-dependency: the
+//! command itself does not depend on it, and the facade does not depend on the command.
 
 use clap::Parser;
 use pkm::papers::miller2004::linear_delta::table2;
@@ -19,8 +19,8 @@ fn close(a: f64, b: f64) -> bool {
 
 #[test]
 fn linear_delta_row4_study_gives_the_experiments_optimum() {
-    let study = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("crates/pkm-cli/tests/studies/linear_delta_row4_quick.toml");
+    let study =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/studies/linear_delta_row4_quick.toml");
     let out = tempfile::tempdir().unwrap();
     let cli = pkm_cli::Cli::parse_from([
         "pkm",

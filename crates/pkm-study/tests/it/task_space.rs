@@ -15,9 +15,9 @@
 //!   the heights where a circle appears or vanishes.
 
 use nalgebra::{Rotation3, Vector3};
-use pkm::workspace_indices::{GaussLegendre, Sampler, TaskBox, TaskPoints, task_volume_and_eta};
 use pkm_robot_file::{RobotModel, TaskWorkspace};
 use pkm_traits::Silent;
+use pkm_workspace_indices::{GaussLegendre, Sampler, TaskBox, TaskPoints, task_volume_and_eta};
 use std::f64::consts::{PI, TAU};
 
 /// An annulus $r_{in} \le |p - c| \le r_{out}$ in the plane.
@@ -98,7 +98,10 @@ fn circle_cuts(c: [f64; 2], r: f64, d: [f64; 2], s: f64) -> Vec<f64> {
 
 /// The robot file `name` of `examples/robots/` with actuator `limits` added to every leg.
 fn with_limits(name: &str, limits: [f64; 2]) -> RobotModel {
-    let path = format!("{}/examples/robots/{name}", env!("CARGO_MANIFEST_DIR"));
+    let path = format!(
+        "{}/../../examples/robots/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
     let text = std::fs::read_to_string(path).unwrap();
     let limited = format!("actuated = true, limits = [{}, {}]", limits[0], limits[1]);
     RobotModel::from_toml(&text.replace("actuated = true", &limited)).unwrap()
@@ -288,7 +291,7 @@ fn three_prs_reaches(z: f64, tilt: [f64; 2]) -> bool {
 #[test]
 fn the_3prs_reachable_set_is_its_closed_form_with_parasitic_motion() {
     let path = format!(
-        "{}/examples/robots/three_prs.toml",
+        "{}/../../examples/robots/three_prs.toml",
         env!("CARGO_MANIFEST_DIR")
     );
     let model = RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
@@ -320,7 +323,7 @@ fn the_3prs_reachable_set_is_its_closed_form_with_parasitic_motion() {
 /// (R_b\sin\theta + d\cos\theta)^2$, least at $d^\ast = -R_b \sin\theta$ (where
 /// $\partial_d \delta^2 = 2(R_b\sin\theta + d) = 0$), where the annuli are closest to concentric.
 const SYMMETRIC_3RPR: &str =
-    include_str!("../../examples/studies/symmetric_three_rpr_optimize.toml");
+    include_str!("../../../../examples/studies/symmetric_three_rpr_optimize.toml");
 
 /// The exact area of the symmetric 3-RPR's constant-orientation workspace at `theta` for
 /// leg length `d` at home (limits [0.15, 0.9] m).
@@ -388,9 +391,12 @@ fn a_3rpr_map_is_blank_exactly_outside_the_intersection_of_annuli() {
     // The map of examples/studies/three_rpr_constant_orientation.toml (the direct margin over
     // (x, y) at rz = 0.2 rad): its inside cells are those whose centre lies in all three annuli.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/studies/three_rpr_constant_orientation.toml");
-    let (_, study): (String, pkm_study::WorkspaceStudy) =
-        pkm_cli::study::load_study(&path).unwrap();
+        .join("../../examples/studies/three_rpr_constant_orientation.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let reader = pkm_study::load::Directory::of_study(&path);
+    let format = pkm_study::load::Format::Toml;
+    let (_, loaded) = pkm_study::load::load("study.toml", text, format, &reader).unwrap();
+    let study: pkm_study::WorkspaceStudy = loaded.study;
     let outcome = pkm_study::workspace(&study, &Silent).unwrap();
     let model = with_limits("three_rpr.toml", [0.4, 1.1]);
     let rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), 0.2);
@@ -442,7 +448,7 @@ fn a_3rpr_map_is_blank_exactly_outside_the_intersection_of_annuli() {
 fn the_agile_eye_reaches_every_orientation_and_is_singular_only_on_curves() {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/examples/robots/agile_eye.toml"
+        "/../../examples/robots/agile_eye.toml"
     ))
     .unwrap();
     let model = RobotModel::from_toml(&text).unwrap();

@@ -5,7 +5,12 @@
 //! $4 \times 2^{14}$ Sobol points, through the study library as `pkm workspace` runs them.
 //! Throughput is sampled positions per second.
 
-use criterion::{Criterion, Throughput};
+#![allow(
+    missing_docs,
+    reason = "criterion_group! defines the undocumented `benches` function"
+)]
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pkm_study::WorkspaceStudy;
 use pkm_study::load::Format;
 use pkm_traits::Silent;
@@ -14,7 +19,7 @@ use pkm_traits::Silent;
 /// `pkm workspace` reads it.
 fn example(name: &str) -> Option<WorkspaceStudy> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("examples/studies")
+        .join("../../examples/studies")
         .join(name);
     let text = std::fs::read_to_string(&path).ok()?;
     let text = text
@@ -27,7 +32,7 @@ fn example(name: &str) -> Option<WorkspaceStudy> {
     Some(loaded.study)
 }
 
-pub(crate) fn stewart_gough(c: &mut Criterion) {
+fn stewart_gough(c: &mut Criterion) {
     let mut group = c.benchmark_group("task_space/stewart_gough");
     group.sample_size(10);
     for kind in ["constant_orientation", "dexterous"] {
@@ -40,3 +45,6 @@ pub(crate) fn stewart_gough(c: &mut Criterion) {
     }
     group.finish();
 }
+
+criterion_group!(benches, stewart_gough);
+criterion_main!(benches);

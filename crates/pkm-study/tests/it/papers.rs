@@ -17,7 +17,7 @@ fn close(a: f64, b: f64) -> bool {
 
 #[test]
 fn linear_delta_row4_study_gives_the_experiments_optimum() {
-    let text = include_str!("../../crates/pkm-cli/tests/studies/linear_delta_row4_quick.toml");
+    let text = include_str!("../../../pkm-cli/tests/studies/linear_delta_row4_quick.toml");
     let study: GridStudy = from_toml_str(text).unwrap();
     let GridRun::Complete(result) = sweep(&study, Shard::WHOLE, &Silent).unwrap().result else {
         panic!("a whole grid gives the complete result");
