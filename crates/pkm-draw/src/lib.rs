@@ -9,12 +9,13 @@
 //! empty skeleton or an unusable option is a [`DrawError`], never a panic.
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
-#[cfg(doctest)]
+#[cfg(all(doctest, feature = "render"))]
 #[doc = include_str!("../README.md")]
 mod readme {}
 
 pub mod chart;
 mod csv;
+#[cfg(feature = "render")]
 mod render;
 mod view;
 
@@ -266,7 +267,12 @@ impl DrawOptions {
         }
     }
 
-    fn validate(&self) -> Result<(), DrawError> {
+    /// Checks what [`render_svg`] needs: each side of the image in [200, 8000] pixels, one to
+    /// four views.
+    ///
+    /// # Errors
+    /// [`DrawError::InvalidOption`] naming the option.
+    pub fn validate(&self) -> Result<(), DrawError> {
         for (name, side) in [("width", self.size.0), ("height", self.size.1)] {
             if !(200..=8000).contains(&side) {
                 return Err(DrawError::InvalidOption {
@@ -353,21 +359,23 @@ fn check_vector(what: &'static str, index: usize, v: &Vector3<f64>) -> Result<()
 /// Renders `scene` as an SVG document: for every view of `options`, the links as lines coloured
 /// by [`LinkKind`], the points as markers by [`PointKind`], the axes (one colour and one legend
 /// entry per distinct label), trajectories and boundaries, at one scale in both directions of a
-/// view.
+/// view (feature `render`).
 ///
 /// # Errors
 /// [`Scene::validate`]'s and the options' [`DrawError`]s; [`DrawError::Backend`] if plotters
 /// fails.
+#[cfg(feature = "render")]
 pub fn render_svg(scene: &Scene, options: &DrawOptions) -> Result<String, DrawError> {
     scene.validate()?;
     options.validate()?;
     render::svg(scene, options)
 }
 
-/// [`render_svg`] of the robot alone.
+/// [`render_svg`] of the robot alone (feature `render`).
 ///
 /// # Errors
 /// As [`render_svg`].
+#[cfg(feature = "render")]
 pub fn render_skeleton_svg(
     skeleton: &Skeleton,
     options: &DrawOptions,

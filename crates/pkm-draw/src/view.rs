@@ -32,6 +32,7 @@ impl View {
     }
 
     /// Names of the horizontal and vertical coordinates, without unit.
+    #[cfg(feature = "render")]
     pub(crate) fn axis_names(self) -> (&'static str, &'static str) {
         match self {
             Self::Front => ("x", "z"),

@@ -56,7 +56,7 @@ pub enum Artifact {
         /// The data.
         table: Table,
     },
-    /// A chart (kept as an SVG file `name`, rendered with [`pkm_draw::chart::render_svg`]).
+    /// A chart (kept as an SVG file `name`, rendered by a front end with `pkm_draw::chart::render_svg`).
     Chart {
         /// File name, e.g. `slice-1-xy.svg`.
         name: String,

@@ -1,7 +1,7 @@
 //! `pkm-draw`'s chart layer: heat maps and series with hostile numbers.
 
 use super::{config, hostile_f64, judge};
-use pkm::draw::chart::{Chart, Heatmap, Marker, Series, SeriesStyle, render_svg};
+use pkm_draw::chart::{Chart, Heatmap, Marker, Series, SeriesStyle, render_svg};
 use proptest::collection::vec;
 use proptest::option;
 use proptest::prelude::*;

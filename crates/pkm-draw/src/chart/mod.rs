@@ -17,12 +17,19 @@
 //! **Determinism.** The same chart gives the same SVG, byte for byte.
 
 mod csv;
+#[cfg(feature = "render")]
 mod render;
+#[cfg(feature = "render")]
 mod scale;
 mod validate;
 
-pub use render::{CLOUD, render_svg};
+#[cfg(feature = "render")]
+pub use render::render_svg;
 pub use validate::{ChartError, MAX_ITEMS, MAX_VALUE};
+
+/// Above this many points a [`SeriesStyle::Points`] series is a cloud, drawn with smaller dots so
+/// that the cloud's shape stays visible.
+pub const CLOUD: usize = 1000;
 
 use serde::{Deserialize, Serialize};
 use std::fmt;

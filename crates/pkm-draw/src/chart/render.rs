@@ -3,6 +3,7 @@
 
 use super::scale::{edges, extent, fraction, padded, span};
 use super::{
+    CLOUD,
     Chart, ChartError, Colour, Heatmap, LegendPosition, Marker, Plot, Series, SeriesStyle,
 };
 use plotters::chart::SeriesAnno;
@@ -24,10 +25,6 @@ const TICK: u32 = 15;
 /// Steps of the colour bar.
 const BAR_STEPS: u32 = 64;
 const MARKER_COLOUR: RGBColor = RED;
-
-/// Above this many points a [`SeriesStyle::Points`] series is a cloud, drawn with smaller dots so
-/// that the cloud's shape stays visible.
-pub const CLOUD: usize = 1000;
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 type Plane<'a> = ChartContext<'a, SVGBackend<'a>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
