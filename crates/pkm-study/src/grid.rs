@@ -3,7 +3,8 @@
 //! evaluation of every node (in parallel, collected in node order: bit-identical for any thread
 //! count); and the deterministic split into shards that [`merge`](crate::merge()) joins.
 
-use crate::indices::{Evaluator, Infeasible};
+use crate::Infeasible;
+use crate::indices::Evaluator;
 use crate::outcome::{Cell, Outcome, Table};
 use crate::registry::StudyMechanism;
 use crate::schema::grid::{GridStudy, IndexName, IndexSettings, VariableSpec};
@@ -300,7 +301,7 @@ pub fn evaluate_nodes<M: StudyMechanism>(
                 if values.iter().all(|v| v.is_finite()) {
                     Ok(values)
                 } else {
-                    Err(format!("non-finite index value {values:?}"))
+                    Err(Infeasible::NonFinite { values })
                 }
             }))
         })
@@ -401,7 +402,7 @@ pub fn landscape(
         row.extend(extra_cells(flat));
         row.push(match outcome {
             Ok(_) => Cell::Text(String::new()),
-            Err(reason) => Cell::Text(reason.clone()),
+            Err(reason) => Cell::Text(reason.to_string()),
         });
         table.rows.push(row);
     }
@@ -413,7 +414,7 @@ pub(crate) fn no_feasible_design(outcomes: &[NodeOutcome]) -> StudyError {
     let reason = outcomes.iter().find_map(|o| o.as_ref().err());
     StudyError::NoFeasibleDesign {
         nodes: outcomes.len(),
-        reason: reason.cloned().unwrap_or_default(),
+        reason: reason.map(ToString::to_string).unwrap_or_default(),
     }
 }
 
@@ -428,7 +429,10 @@ pub fn design_scene<M: StudyMechanism>(
     prepared: &Prepared<M>,
     values: &[f64],
 ) -> Result<pkm_draw::Scene, String> {
-    let spec = prepared.evaluator.mechanism_at(values)?;
+    let spec = prepared
+        .evaluator
+        .mechanism_at(values)
+        .map_err(|e| e.to_string())?;
     if let (Some(_), Some(robot)) = (&study.task_space, spec.robot_file()) {
         return crate::task_space::robot_at_home(robot);
     }

@@ -7,13 +7,13 @@
 //! experiments), cached per exact design for the one study ([`SectionIndexCache`]): a design is
 //! never given another design's values, however close the nodes of a sweep.
 
-use crate::StudyError;
 use crate::registry::{CrossSectionVisitor, StudyMechanism};
 use crate::schema::grid::{IndexName, IndexSettings};
 use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use crate::task_space::TaskSpaceEvaluator;
+use crate::{Infeasible, StudyError};
 use pkm_traits::{
-    ConstrainedWorkspace, CrossSectionWorkspace, DesignError, InvalidInput, ObjectiveError, Silent,
+    ConstrainedWorkspace, CrossSectionWorkspace, DesignError, InvalidInput, Silent,
     WorkspaceConstraint,
 };
 use pkm_workspace_indices::{
@@ -23,10 +23,6 @@ use pkm_workspace_indices::{
 
 /// A design's workspace volume W and, when asked for, its η = ∫ 1/κ dW.
 type VolumeAndEtaValues = (f64, Option<f64>);
-
-/// Why a design has no value: recorded with the node (in the result and the landscape), never
-/// an abort.
-pub type Infeasible = String;
 
 impl IndexSettings {
     fn eta1_rule(self) -> Eta1Rule {
@@ -109,7 +105,7 @@ impl<M: StudyMechanism> Evaluator<M> {
     pub fn mechanism_at(&self, design: &[f64]) -> Result<M, Infeasible> {
         let mut spec = self.base.clone();
         for (name, value) in self.variables.iter().zip(design) {
-            spec.set(name, *value)?;
+            spec.set(name, *value).map_err(Infeasible::Variable)?;
         }
         Ok(spec)
     }
@@ -135,20 +131,25 @@ impl<M: StudyMechanism> Evaluator<M> {
             Ok(spec) => spec,
             Err(reason) => return Ok(Err(reason)),
         };
-        let workspace = match self.workspace_indices(&spec, indices)? {
-            Ok(values) => values,
-            Err(reason) => return Ok(Err(reason)),
-        };
+        let with_eta = indices
+            .iter()
+            .any(|i| matches!(i, IndexName::Eta | IndexName::Gci));
+        // W and η once, at the first workspace index.
+        let mut workspace = None;
         let mut values = Vec::with_capacity(indices.len());
         for index in indices {
-            let value = match (index, workspace) {
-                (IndexName::Volume, Some((w, _))) => Ok(w),
-                (IndexName::Eta, Some((_, eta))) => Ok(eta.unwrap_or(0.0)),
-                (IndexName::Gci, Some((w, eta))) => match eta {
-                    Some(eta) if w > 0.0 => Ok(eta / w),
-                    _ => Err("empty workspace: no GCI".to_owned()),
-                },
-                (cross_section, _) => self.cross_section_index(&spec, *cross_section, settings),
+            let value = match section_index(*index, settings) {
+                Some(section) => self.cross_section_index(&spec, section),
+                None => {
+                    let (w, eta) = match workspace {
+                        Some(values) => values,
+                        None => match self.workspace_indices(&spec, with_eta)? {
+                            Ok(values) => *workspace.insert(values),
+                            Err(reason) => return Ok(Err(reason)),
+                        },
+                    };
+                    workspace_index(*index, w, eta)
+                }
             };
             match value {
                 Ok(v) => values.push(v),
@@ -158,65 +159,66 @@ impl<M: StudyMechanism> Evaluator<M> {
         Ok(Ok(values))
     }
 
-    /// W and η of `spec` when `indices` ask for a workspace index.
+    /// W and, `with_eta`, η of `spec`.
     fn workspace_indices(
         &self,
         spec: &M,
-        indices: &[IndexName],
-    ) -> Result<Result<Option<VolumeAndEtaValues>, Infeasible>, StudyError> {
-        if !indices.iter().any(|i| i.needs_points()) {
-            return Ok(Ok(None));
-        }
+        with_eta: bool,
+    ) -> Result<Result<VolumeAndEtaValues, Infeasible>, StudyError> {
         if let Some(task_space) = &self.task_space {
             let robot = spec.robot_file().ok_or_else(|| {
                 StudyError::invalid("task_space", "a [task_space] study takes a robot file")
             })?;
             // Silent: a grid study reports progress per design, not per point.
             let indices = task_space.indices(robot, &self.constraints, false, &Silent)?;
-            return Ok(indices.map(|i| Some((i.volume, Some(i.eta)))));
+            return Ok(indices.map(|i| (i.volume, Some(i.eta))));
         }
         let points = self.points.as_ref().ok_or_else(|| {
             StudyError::invalid("sampling", "workspace indices need a [sampling] section")
         })?;
-        let with_eta = indices
-            .iter()
-            .any(|i| matches!(i, IndexName::Eta | IndexName::Gci));
         match spec.with_workspace(&self.constraints, VolumeAndEta { points, with_eta }) {
-            Ok(values) => Ok(Ok(Some(values?))),
+            Ok(values) => Ok(Ok(values?)),
             Err(BuildError::Design(reason)) => Ok(Err(reason)),
-            Err(e @ BuildError::Constraint(_)) => {
+            Err(e @ (BuildError::Constraint(_) | BuildError::Unsupported(_))) => {
                 Err(StudyError::invalid("constraints", e.to_string()))
             }
         }
     }
 
-    fn cross_section_index(
-        &self,
-        spec: &M,
-        index: IndexName,
-        settings: IndexSettings,
-    ) -> Result<f64, Infeasible> {
-        let index = match index {
-            IndexName::Eta1 => SectionIndex::Eta1(settings.eta1_rule()),
-            IndexName::Eta2 => SectionIndex::Eta2,
-            IndexName::Area => SectionIndex::Area,
-            IndexName::Volume | IndexName::Eta | IndexName::Gci => {
-                return Err("workspace index without points".to_owned());
-            }
-        };
+    fn cross_section_index(&self, spec: &M, index: SectionIndex) -> Result<f64, Infeasible> {
         let visitor = SectionValue {
             cache: &self.cache,
             index,
         };
-        let value = spec.with_cross_section(visitor).ok_or_else(|| {
-            format!(
-                "{} is an index of a mechanism with an exact cross-section (linear_delta), \
-                 not of {}",
-                index_key(index),
-                spec.kind()
-            )
-        })?;
-        value.map_err(|e| infeasible(e).to_string())
+        let value = spec
+            .with_cross_section(visitor)
+            .ok_or_else(|| Infeasible::NoCrossSection {
+                index: index_key(index),
+                kind: spec.kind(),
+            })?;
+        value.map_err(Infeasible::from)
+    }
+}
+
+/// The cross-section index of `index`; `None` for a workspace index.
+fn section_index(index: IndexName, settings: IndexSettings) -> Option<SectionIndex> {
+    match index {
+        IndexName::Eta1 => Some(SectionIndex::Eta1(settings.eta1_rule())),
+        IndexName::Eta2 => Some(SectionIndex::Eta2),
+        IndexName::Area => Some(SectionIndex::Area),
+        IndexName::Volume | IndexName::Eta | IndexName::Gci => None,
+    }
+}
+
+/// A workspace index from W and η: η of an empty workspace is 0, its GCI = η/W has no value.
+fn workspace_index(index: IndexName, w: f64, eta: Option<f64>) -> Result<f64, Infeasible> {
+    match index {
+        IndexName::Volume => Ok(w),
+        IndexName::Gci => match eta {
+            Some(eta) if w > 0.0 => Ok(eta / w),
+            _ => Err(Infeasible::EmptyWorkspace { index: "GCI" }),
+        },
+        _ => Ok(eta.unwrap_or(0.0)),
     }
 }
 
@@ -251,13 +253,5 @@ impl CrossSectionVisitor for SectionValue<'_> {
             .into_iter()
             .next()
             .unwrap_or_else(|| Err(InvalidInput::new("indices", 0.0, "one value per index").into()))
-    }
-}
-
-/// An index failure as an infeasible design (an invalid design keeps its typed cause).
-fn infeasible(e: IndexError) -> ObjectiveError {
-    match e {
-        IndexError::Design(design) => design.into(),
-        e => ObjectiveError::infeasible(e.to_string()),
     }
 }

@@ -7,9 +7,9 @@
 //! (plain serde), a [`design_variables!`](crate::design_variables!) line and an `impl StudyMechanism`, then one line in a
 //! [`mechanisms!`](crate::mechanisms!) list (see `docs/adding-a-mechanism.md`).
 
-use crate::StudyError;
 pub use crate::schema::constraints::Actuation;
 use crate::schema::constraints::ConstraintsSpec;
+use crate::{Infeasible, StudyError};
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
 use pkm_traits::{
@@ -145,14 +145,14 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
     /// position $x$ (the capability of `pkm.Mechanism.forward_kinematics`).
     ///
     /// # Errors
-    /// [`BuildError::Design`] for an invalid design, or for a mechanism without forward
-    /// kinematics in $x$ (the default, with the mechanism's kind).
+    /// [`BuildError::Design`] for an invalid design, [`BuildError::Unsupported`] for a
+    /// mechanism without forward kinematics in $x$ (the default, with the mechanism's kind).
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
         let _ = visitor;
-        Err(BuildError::Design(format!(
+        Err(BuildError::Unsupported(format!(
             "{} has no forward kinematics in the platform position",
             self.kind()
         )))
@@ -231,22 +231,20 @@ pub trait ForwardVisitor {
     fn visit<M: ForwardKinematics<3> + Sync>(self, mechanism: &M) -> Self::Output;
 }
 
-/// Why a design has no workspace: an invalid design (recorded as infeasible in sweeps) or a
-/// constraint the mechanism cannot evaluate (an error of the study).
-#[derive(Debug, Clone, PartialEq)]
+/// Why a mechanism cannot answer: an invalid design (recorded as infeasible in sweeps), a
+/// constraint it cannot evaluate or a capability it does not have (errors of the study).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BuildError {
-    /// The design parameters are invalid (the library's reason).
-    Design(String),
+    /// The design is infeasible (invalid parameters, a robot file without a model).
+    #[error(transparent)]
+    Design(#[from] Infeasible),
     /// A constraint does not apply to this mechanism.
+    #[error("{0}")]
     Constraint(String),
-}
-
-impl std::fmt::Display for BuildError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Design(m) | Self::Constraint(m) => f.write_str(m),
-        }
-    }
+    /// The mechanism does not have the capability asked for (forward kinematics in the
+    /// platform position).
+    #[error("{0}")]
+    Unsupported(String),
 }
 
 pub(crate) fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(

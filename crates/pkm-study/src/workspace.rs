@@ -122,7 +122,7 @@ pub fn constraints_of<M: StudyMechanism>(
     let at = |m: String| StudyError::invalid("constraints", m);
     let constraints = mechanism.constraints(spec).map_err(at)?;
     match mechanism.with_workspace(&constraints, CheckOnly) {
-        Err(BuildError::Constraint(m)) => Err(at(m)),
+        Err(BuildError::Constraint(m) | BuildError::Unsupported(m)) => Err(at(m)),
         // An invalid base design is reported where it is used (a sweep varies it).
         Ok(()) | Err(BuildError::Design(_)) => Ok(constraints),
     }

@@ -3,8 +3,7 @@
 
 use super::scale::{edges, extent, fraction, padded, span};
 use super::{
-    CLOUD,
-    Chart, ChartError, Colour, Heatmap, LegendPosition, Marker, Plot, Series, SeriesStyle,
+    CLOUD, Chart, ChartError, Colour, Heatmap, LegendPosition, Marker, Plot, Series, SeriesStyle,
 };
 use plotters::chart::SeriesAnno;
 use plotters::coord::Shift;

@@ -21,7 +21,7 @@ use crate::schema::robot_file::RobotFileSpec;
 use crate::starts;
 use crate::task_space::{TaskSpaceEvaluator, TaskSpaceIndices, robot_at_home};
 use crate::workspace::constraints_of;
-use crate::{KeyPath, StudyError};
+use crate::{Infeasible, KeyPath, StudyError};
 use pkm_optimizers::{
     CompassResult, CompassSettings, MultistartRun, Sense, compass_search, multistart,
 };
@@ -56,17 +56,17 @@ struct RobotFileObjective<'a> {
 
 impl RobotFileObjective<'_> {
     /// The robot file with the free parameters at `x`.
-    fn design(&self, x: &[f64]) -> Result<RobotFileSpec, String> {
+    fn design(&self, x: &[f64]) -> Result<RobotFileSpec, Infeasible> {
         let mut robot = self.base.clone();
         for (name, value) in self.names.iter().zip(x) {
-            robot.set(name, *value)?;
+            robot.set(name, *value).map_err(Infeasible::Variable)?;
         }
         Ok(robot)
     }
 
     /// Every index at `x`, or why the design has none.
     fn indices(&self, x: &[f64]) -> Result<TaskSpaceIndices, ObjectiveError> {
-        let robot = self.design(x).map_err(ObjectiveError::infeasible)?;
+        let robot = self.design(x)?;
         let with_singularity_free = self.weights[3] > 0.0;
         let constraints = &self.constraints;
         match self
@@ -74,17 +74,20 @@ impl RobotFileObjective<'_> {
             .indices(&robot, constraints, with_singularity_free, &Silent)
         {
             Ok(Ok(indices)) => Ok(indices),
-            Ok(Err(reason)) => Err(ObjectiveError::infeasible(reason)),
+            Ok(Err(reason)) => Err(reason.into()),
             Err(StudyError::Cancelled) => Err(ObjectiveError::Cancelled),
             Err(e) => Err(ObjectiveError::infeasible(e.to_string())),
         }
     }
 
     /// The first violated inequality at `x`, as the reason the design is infeasible.
-    fn violation(&self, x: &[f64]) -> Option<String> {
+    fn violation(&self, x: &[f64]) -> Option<Infeasible> {
         self.rows.iter().find_map(|row| {
             let g = dot(&row.coefficients, x) - row.at_most;
-            (g > 0.0).then(|| format!("constraint `{}` violated: g = {g:.3e} > 0", row.name))
+            (g > 0.0).then(|| Infeasible::Inequality {
+                name: row.name.clone(),
+                g,
+            })
         })
     }
 }
@@ -105,7 +108,7 @@ impl Objective for RobotFileObjective<'_> {
     fn value(&self, x: &[f64]) -> Result<f64, ObjectiveError> {
         self.check_dimension(x)?;
         if let Some(reason) = self.violation(x) {
-            return Err(ObjectiveError::infeasible(reason));
+            return Err(reason.into());
         }
         let indices = self.indices(x)?;
         let values = index_values(&indices);
@@ -113,9 +116,7 @@ impl Objective for RobotFileObjective<'_> {
         for (k, &w) in self.weights.iter().enumerate() {
             if w > 0.0 {
                 let index = INDICES[k].name();
-                let v = values[k].ok_or_else(|| {
-                    ObjectiveError::infeasible(format!("no {index} (an empty workspace)"))
-                })?;
+                let v = values[k].ok_or(Infeasible::EmptyWorkspace { index })?;
                 sum += w * v;
             }
         }
@@ -325,7 +326,7 @@ pub(super) fn optimize<M: StudyMechanism>(
     let (best_start, best) = run.best(Sense::Maximise).map_err(|_| no_feasible(&run))?;
     let optimum = problem
         .design(&best.design)
-        .map_err(|m| StudyError::invalid("optimize.variables", m))?;
+        .map_err(|m| StudyError::invalid("optimize.variables", m.to_string()))?;
     let indices = problem.indices(&best.design).map_err(|e| match e {
         ObjectiveError::Cancelled => StudyError::Cancelled,
         e => StudyError::invalid("optimize", format!("the optimum: {e}")),

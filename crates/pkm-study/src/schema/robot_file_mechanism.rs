@@ -4,9 +4,9 @@
 
 use super::constraints::ConstraintsSpec;
 use super::robot_file::{RobotFileSpec, robot_skeleton};
-use crate::StudyError;
 use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
 use crate::registry::{BuildError, ForwardVisitor, WorkspaceVisitor, visit};
+use crate::{Infeasible, StudyError};
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
 use pkm_traits::WorkspaceConstraint;
@@ -25,9 +25,7 @@ impl StudyMechanism for RobotFileSpec {
         &self,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let robot = self
-            .translational_robot()
-            .map_err(|e| BuildError::Design(e.to_string()))?;
+        let robot = self.translational_robot().map_err(design)?;
         Ok(visitor.visit(&robot))
     }
 
@@ -92,7 +90,6 @@ impl StudyMechanism for RobotFileSpec {
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let design = |e: StudyError| BuildError::Design(e.to_string());
         let robot = self.translational_robot().map_err(design)?;
         let modes = self.working_modes(robot.model()).map_err(design)?;
         visit(&robot, &modes, constraints, visitor)
@@ -104,9 +101,7 @@ impl StudyMechanism for RobotFileSpec {
     /// has no limits (its reach is unbounded) or the boxes do not overlap; the study then needs
     /// `[sampling.region]`.
     fn reach_region(&self) -> Result<Option<Region>, BuildError> {
-        let robot = self
-            .translational_robot()
-            .map_err(|e| BuildError::Design(e.to_string()))?;
+        let robot = self.translational_robot().map_err(design)?;
         Ok(robot
             .model()
             .reach_box()
@@ -152,4 +147,9 @@ impl StudyMechanism for RobotFileSpec {
         }
         spec.to_library(self.kind(), self.actuation())
     }
+}
+
+/// A robot file's refusal of a design as an infeasible design (its key path kept).
+fn design(e: StudyError) -> BuildError {
+    BuildError::Design(Infeasible::robot_file(e))
 }

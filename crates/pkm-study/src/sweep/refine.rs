@@ -78,7 +78,7 @@ impl<M: StudyMechanism> Objective for UtilityObjective<'_, M> {
             .evaluate(design, &self.indices, self.settings)
         {
             Ok(Ok(values)) => Ok(-utility(self.terms, &self.indices, &values)),
-            Ok(Err(reason)) => Err(ObjectiveError::infeasible(reason)),
+            Ok(Err(reason)) => Err(reason.into()),
             Err(StudyError::Cancelled) => Err(ObjectiveError::Cancelled),
             Err(e) => Err(ObjectiveError::infeasible(e.to_string())),
         }

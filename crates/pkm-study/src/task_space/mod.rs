@@ -38,7 +38,7 @@ use crate::estimate::Estimate;
 use crate::outcome::{Artifact, Outcome};
 use crate::schema::robot_file::{RobotFileSpec, robot_skeleton};
 use crate::schema::sampling::{SamplerKind, SamplingSpec};
-use crate::{KeyPath, StudyError};
+use crate::{Infeasible, KeyPath, StudyError};
 
 mod maps;
 pub use maps::{MAX_MAP_CELLS, MapIndex, TaskMapResult, TaskMapSpec};
@@ -1005,7 +1005,7 @@ impl TaskSpaceEvaluator {
         constraints: &[WorkspaceConstraint],
         with_singularity_free: bool,
         progress: &dyn Progress,
-    ) -> Result<Result<TaskSpaceIndices, String>, StudyError> {
+    ) -> Result<Result<TaskSpaceIndices, Infeasible>, StudyError> {
         let sf = match (&self.spec.singularity_free, with_singularity_free) {
             (Some(sf), true) => Some(sf),
             (None, true) => return Err(invalid("singularity_free", NO_SINGULARITY_FREE)),
@@ -1020,15 +1020,18 @@ impl TaskSpaceEvaluator {
         };
         let (model, modes, setup, start) = match design() {
             Ok(design) => design,
-            Err(e) => return Ok(Err(e.to_string())),
+            Err(e) => return Ok(Err(Infeasible::robot_file(e))),
         };
         let ws = match TaskWorkspace::new(&model, &modes, constraints, setup.margins) {
             Ok(ws) => ws,
-            Err(e) => return Ok(Err(located(e).to_string())),
+            Err(e) => return Ok(Err(Infeasible::robot_file(located(e)))),
         };
         let estimates = estimate(&ws, &setup, &self.points, progress)?;
         let Some(finest) = estimates.last() else {
-            return Ok(Err("no estimate".to_owned()));
+            return Err(invalid(
+                "orientations",
+                "no orientation grid to estimate on",
+            ));
         };
         let singularity_free_volume = match (sf, start) {
             (Some(sf), Some(from)) => {

@@ -16,8 +16,8 @@ use pkm_study::{
     optimize, pareto, sweep, task, workspace,
 };
 use pkm_traits::{
-    ClosedChain, ConstrainedWorkspace, InverseKinematics, Joints, KinematicsError, Silent, Task,
-    WorkspaceConstraint,
+    ClosedChain, ConstrainedWorkspace, DesignError, InverseKinematics, Joints, KinematicsError,
+    Silent, Task, WorkspaceConstraint,
 };
 use pkm_workspace_indices::Region;
 use serde::{Deserialize, Serialize};
@@ -85,8 +85,16 @@ impl StudyMechanism for GantrySpec {
         visitor: V,
     ) -> Result<V::Output, BuildError> {
         let mut all = vec![
-            WorkspaceConstraint::joint_range(0.0, self.stroke.0)
-                .map_err(|e| BuildError::Design(e.to_string()))?,
+            WorkspaceConstraint::joint_range(0.0, self.stroke.0).map_err(|_| {
+                BuildError::Design(
+                    DesignError {
+                        parameter: "stroke",
+                        value: self.stroke.0,
+                        requirement: "must be > 0",
+                    }
+                    .into(),
+                )
+            })?,
         ];
         all.extend_from_slice(constraints);
         let workspace = pkm_workspace_indices::Workspace::new(&Gantry, &[()], &all)

@@ -22,5 +22,5 @@ fn zero_m() -> Metres {
 }
 
 fn design_error(e: pkm_traits::DesignError) -> BuildError {
-    BuildError::Design(e.to_string())
+    BuildError::Design(e.into())
 }

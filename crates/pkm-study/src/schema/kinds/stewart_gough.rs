@@ -115,7 +115,7 @@ impl StudyMechanism for StewartSpec {
         &self,
         _visitor: V,
     ) -> Result<V::Output, BuildError> {
-        Err(BuildError::Design(
+        Err(BuildError::Unsupported(
             "the Stewart–Gough platform at a fixed orientation has 6 legs for 3 coordinates; \
              its forward kinematics is over the 6-D pose (examples/robots/stewart_gough.toml)"
                 .into(),
