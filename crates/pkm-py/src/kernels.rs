@@ -7,8 +7,7 @@
 
 use nalgebra::Vector3;
 use numpy::ndarray::ArrayView2;
-use pkm_study::StudyMechanism;
-use pkm_study::registry::ForwardVisitor;
+use pkm_study::registry::{Built, ForwardVisitor};
 use pkm_study::schema::mechanism::{MechanismSpec, WorkspaceVisitor};
 use pkm_traits::{ConstrainedWorkspace, ForwardKinematics, NewtonSettings};
 use pkm_workspace_indices::{Dim, LANES, TranslationalCondition, Workspace};
@@ -149,11 +148,12 @@ where
 /// A message for a mechanism without forward kinematics in the platform position, or an
 /// invalid design.
 pub(crate) fn forward(
-    spec: &MechanismSpec,
+    built: &Built<MechanismSpec>,
     q: ArrayView2<'_, f64>,
     guess: ArrayView2<'_, f64>,
 ) -> Result<(Vec<f64>, Vec<bool>), String> {
-    spec.with_forward_kinematics(ForwardRows { q, guess })
+    built
+        .with_forward_kinematics(ForwardRows { q, guess })
         .map_err(|e| e.to_string())
 }
 

@@ -11,8 +11,9 @@ use crate::task_kernels::TaskSpaceModel;
 use crate::{convert, errors, points, presets};
 use pkm_study::StudyError;
 use pkm_study::StudyMechanism as _;
+use pkm_study::registry::Built;
 use pkm_study::schema::mechanism::{ConstraintsSpec, MechanismSpec};
-use pkm_study::workspace::constraints_of;
+use pkm_study::workspace::checked_constraints;
 use pkm_traits::WorkspaceConstraint;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
@@ -36,7 +37,8 @@ struct Design {
 /// refuses.
 #[pyclass(frozen, module = "pkm")]
 pub(crate) struct Mechanism {
-    spec: MechanismSpec,
+    /// The design, built once.
+    built: Built<MechanismSpec>,
     constraints_spec: Option<ConstraintsSpec>,
     constraints: Vec<WorkspaceConstraint>,
     joints: usize,
@@ -72,7 +74,7 @@ impl Mechanism {
     /// The mechanism kind (`"rotary_delta"`, `"tsai"`, ...).
     #[getter]
     fn kind(&self) -> &'static str {
-        self.spec.kind()
+        self.built.spec().kind()
     }
 
     /// The number of actuated joints (3, or 6 for the Stewart–Gough platform; a robot file's
@@ -95,7 +97,8 @@ impl Mechanism {
     /// The design variables a sweep may vary.
     #[getter]
     fn variables(&self) -> Vec<String> {
-        self.spec
+        self.built
+            .spec()
             .variables()
             .iter()
             .map(|v| v.name.to_string())
@@ -105,7 +108,7 @@ impl Mechanism {
     /// The `[mechanism]` and `[constraints]` tables of this mechanism, as a dict a study takes.
     fn design<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let out = PyDict::new(py);
-        out.set_item("mechanism", convert::to_python(py, &self.spec)?)?;
+        out.set_item("mechanism", convert::to_python(py, self.built.spec())?)?;
         if let Some(c) = &self.constraints_spec {
             out.set_item("constraints", convert::to_python(py, c)?)?;
         }
@@ -115,7 +118,7 @@ impl Mechanism {
     fn __repr__(&self) -> String {
         format!(
             "pkm.Mechanism({:?}, {} joints, {} constraints)",
-            self.spec.kind(),
+            self.built.spec().kind(),
             self.joints,
             self.constraints.len()
         )
@@ -222,11 +225,11 @@ impl Mechanism {
         kernels::require_finite(py, &q, "joints")?;
         kernels::require_finite(py, &g, "guess")?;
         let rows = q.nrows();
-        let (spec, task_space) = (&self.spec, &self.task_space);
+        let (built, task_space) = (&self.built, &self.task_space);
         let (values, mask) = py
             .detach(|| match task_space {
                 Some(ts) => ts.forward(&q, &g),
-                None => kernels::forward(spec, q, g),
+                None => kernels::forward(built, q, g),
             })
             .map_err(|m| errors::invalid(py, m))?;
         Ok((
@@ -239,14 +242,14 @@ impl Mechanism {
     /// `points` (the copy is made before the clock starts), without any Python object.
     fn _time_rust_kernel(&self, py: Python<'_>, points: &Bound<'_, PyAny>) -> PyResult<f64> {
         let owned = points::rows(points, "points", 3)?.as_array().to_owned();
-        let (spec, constraints) = (&self.spec, &self.constraints);
+        let (built, constraints) = (&self.built, &self.constraints);
         py.detach(|| {
             let start = std::time::Instant::now();
             let kernel = Kernel {
                 points: owned.view(),
                 op: Op::InverseCondition,
             };
-            let out = spec.with_workspace(constraints, kernel);
+            let out = built.with_workspace(constraints, kernel);
             let seconds = start.elapsed().as_secs_f64();
             out.map(|_| seconds)
         })
@@ -264,18 +267,20 @@ impl Mechanism {
                 .resolve_file(&pkm_study::load::Directory::default())
                 .map_err(|e| errors::study_error(py, &e))?;
         }
-        let constraints = constraints_of(&spec, design.constraints.as_ref())
-            .map_err(|e| errors::study_error(py, &e))?;
-        let task_space =
-            Self::task_space(&spec, &constraints).map_err(|e| errors::study_error(py, &e))?;
+        let refused = |e: StudyError| errors::study_error(py, &e);
+        spec.check().map_err(refused)?;
+        let built = Built::new(spec).map_err(|e| refused(e.into()))?;
+        let constraints =
+            checked_constraints(&built, design.constraints.as_ref()).map_err(refused)?;
+        let task_space = Self::task_space(built.spec(), &constraints).map_err(refused)?;
         let joints = match &task_space {
             Some(ts) => ts.joints(),
-            None => spec
+            None => built
                 .with_workspace(&constraints, kernels::JointCount)
-                .map_err(|e| errors::study_error(py, &StudyError::from(e)))?,
+                .map_err(|e| refused(e.into()))?,
         };
         Ok(Self {
-            spec,
+            built,
             constraints_spec: design.constraints,
             constraints,
             joints,
@@ -328,9 +333,9 @@ impl Mechanism {
                 .map_err(|m| errors::invalid(py, m))?;
             return Ok((values, mask, n));
         }
-        let (spec, constraints) = (&self.spec, &self.constraints);
+        let (built, constraints) = (&self.built, &self.constraints);
         let (values, mask) = py
-            .detach(|| spec.with_workspace(constraints, Kernel { points: view, op }))
+            .detach(|| built.with_workspace(constraints, Kernel { points: view, op }))
             .map_err(|e| errors::study_error(py, &StudyError::from(e)))?;
         Ok((values, mask, n))
     }

@@ -6,7 +6,7 @@
 use crate::Infeasible;
 use crate::indices::Evaluator;
 use crate::outcome::{Cell, Outcome, Table};
-use crate::registry::StudyMechanism;
+use crate::registry::{Built, StudyMechanism};
 use crate::schema::grid::{GridStudy, IndexName, IndexSettings, VariableSpec};
 use crate::schema::mechanism::MechanismSpec;
 use crate::task_space::TaskSpaceEvaluator;
@@ -441,7 +441,8 @@ pub fn design_scene<M: StudyMechanism>(
         .as_ref()
         .and_then(|s| s.region)
         .map(|r| r.region());
-    crate::scene::design_scene(&spec, prepared.evaluator.constraints(), region)
+    let built = Built::new(spec).map_err(|e| e.to_string())?;
+    crate::scene::design_scene(&built, prepared.evaluator.constraints(), region)
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! experiments), cached per exact design for the one study ([`SectionIndexCache`]): a design is
 //! never given another design's values, however close the nodes of a sweep.
 
-use crate::registry::{CrossSectionVisitor, StudyMechanism};
+use crate::registry::{Built, CrossSectionVisitor, StudyMechanism};
 use crate::schema::grid::{IndexName, IndexSettings};
 use crate::schema::mechanism::{BuildError, MechanismSpec, WorkspaceVisitor};
 use crate::task_space::TaskSpaceEvaluator;
@@ -176,7 +176,12 @@ impl<M: StudyMechanism> Evaluator<M> {
         let points = self.points.as_ref().ok_or_else(|| {
             StudyError::invalid("sampling", "workspace indices need a [sampling] section")
         })?;
-        match spec.with_workspace(&self.constraints, VolumeAndEta { points, with_eta }) {
+        let built = match Built::new(spec.clone()) {
+            Ok(built) => built,
+            Err(BuildError::Design(reason)) => return Ok(Err(reason)),
+            Err(e) => return Err(StudyError::invalid("mechanism", e.to_string())),
+        };
+        match built.with_workspace(&self.constraints, VolumeAndEta { points, with_eta }) {
             Ok(values) => Ok(Ok(values?)),
             Err(BuildError::Design(reason)) => Ok(Err(reason)),
             Err(e @ (BuildError::Constraint(_) | BuildError::Unsupported(_))) => {

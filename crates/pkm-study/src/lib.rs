@@ -43,6 +43,7 @@ pub use workspace::{WorkspaceResult, WorkspaceStudy, workspace};
 #[doc(hidden)]
 pub mod __private {
     pub use nalgebra;
+    pub use pkm_design_problems;
     pub use pkm_mechanisms;
     pub use pkm_traits;
     pub use pkm_workspace_indices;

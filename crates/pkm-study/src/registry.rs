@@ -11,6 +11,7 @@ pub use crate::schema::constraints::Actuation;
 use crate::schema::constraints::ConstraintsSpec;
 use crate::{Infeasible, StudyError};
 use nalgebra::Vector3;
+use pkm_design_problems::DesignProblem;
 use pkm_mechanisms::Skeleton;
 use pkm_traits::{
     ConstrainedWorkspace, CrossSectionWorkspace, DesignError, ForwardKinematics,
@@ -44,9 +45,13 @@ pub struct Variable {
     pub unit: Unit,
 }
 
-/// A mechanism as a study sees it: its table (serde), its design variables, its actuation, its
-/// workspace, its reach region and its drawing.
+/// A mechanism as a study sees it: its table (serde), its design variables, its actuation, and
+/// the library mechanism it builds ([`StudyMechanism::build`]), whose workspace, reach region,
+/// drawing and forward kinematics a study asks of one [`Built`] handle.
 pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeOwned {
+    /// The library mechanism this table builds, with what its questions need beyond the table.
+    type Built: Send + Sync + 'static;
+
     /// The kind's key: `[mechanism.<kind>]`.
     fn kind(&self) -> &'static str;
 
@@ -73,41 +78,47 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
         Ok(())
     }
 
-    /// Builds the mechanism and its workspace under `constraints` and hands it to `visitor`.
+    /// Builds the library mechanism: the one place a table becomes one. A study builds it once
+    /// ([`Built::new`]) and asks it every question below.
     ///
     /// # Errors
-    /// [`BuildError::Design`] for an invalid design, [`BuildError::Constraint`] for a constraint
-    /// this mechanism cannot evaluate.
+    /// [`BuildError::Design`] for an invalid design.
+    fn build(&self) -> Result<Self::Built, BuildError>;
+
+    /// Hands the workspace of `built` (this table's [`StudyMechanism::build`]) under
+    /// `constraints` to `visitor`.
+    ///
+    /// # Errors
+    /// [`BuildError::Constraint`] for a constraint this mechanism cannot evaluate;
+    /// [`BuildError::Design`] for a design without a workspace in the platform position.
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        built: &Self::Built,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError>;
 
-    /// A region that holds every reachable position, when the mechanism has one (default: none;
-    /// studies then give `[sampling.region]`).
-    ///
-    /// # Errors
-    /// [`BuildError::Design`] for an invalid design.
-    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
-        Ok(None)
+    /// A region that holds every reachable position of `built`, when the mechanism has one
+    /// (default: none; studies then give `[sampling.region]`).
+    fn reach_region(&self, built: &Self::Built) -> Option<Region> {
+        let _ = built;
+        None
     }
 
-    /// The skeleton with the platform at `p`, in the first working mode of the study that
-    /// reaches it.
+    /// The skeleton of `built` with the platform at `p`, in the first working mode of the study
+    /// that reaches it.
     ///
     /// # Errors
-    /// Why it cannot be drawn (an invalid design, no mode reaches `p`).
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String>;
+    /// Why it cannot be drawn (no mode reaches `p`).
+    fn skeleton_at(&self, built: &Self::Built, p: &Vector3<f64>) -> Result<Skeleton, String>;
 
-    /// Where to look for a pose to draw when the study gives no region (default: the reach
-    /// region).
+    /// Where to look for a pose of `built` to draw when the study gives no region (default:
+    /// the reach region).
     ///
     /// # Errors
     /// Why there is none.
-    fn drawing_region(&self) -> Result<Region, String> {
-        self.reach_region()
-            .map_err(|e| e.to_string())?
+    fn drawing_region(&self, built: &Self::Built) -> Result<Region, String> {
+        self.reach_region(built)
             .ok_or_else(|| format!("{} has no region to draw a pose in", self.kind()))
     }
 
@@ -125,33 +136,27 @@ pub trait StudyMechanism: Debug + Clone + Send + Sync + Serialize + DeserializeO
         None
     }
 
-    /// The nominal design $(a, b, d + e, c - r, \phi_2, \phi_3)$ (study units) of the one
-    /// design objective that is smooth in the design: the Tsai platform's workspace volume by
-    /// column quadrature, its $\eta$ and GCI over common points (Stamper, Tsai & Walsh 1997 §5;
-    /// [`optimize`](crate::optimize())).
-    ///
-    /// # Errors
-    /// Why this mechanism has none (the default): a Monte Carlo workspace volume counts points,
-    /// so it is piecewise constant in the design and a gradient-based optimiser cannot use it.
-    fn smooth_objective(&self) -> Result<[f64; 6], String> {
-        Err(format!(
-            "{} has no objective that is smooth in the design: its Monte Carlo workspace volume \
-             is piecewise constant in the design variables; use a sweep or pareto study",
-            self.kind()
-        ))
+    /// The library design problem this table poses whose objective is smooth in the design
+    /// (the capability of the [`optimize`](crate::optimize()) study); `None` (the default) for
+    /// a mechanism without one, whose Monte Carlo workspace volume counts points and so is
+    /// piecewise constant in the design.
+    fn design_problem(&self) -> Option<DesignProblem> {
+        None
     }
 
-    /// Builds the mechanism and hands it to `visitor` as a [`ForwardKinematics`] in the platform
-    /// position $x$ (the capability of `pkm.Mechanism.forward_kinematics`).
+    /// Hands `built` to `visitor` as a [`ForwardKinematics`] in the platform position $x$ (the
+    /// capability of `pkm.Mechanism.forward_kinematics`).
     ///
     /// # Errors
-    /// [`BuildError::Design`] for an invalid design, [`BuildError::Unsupported`] for a
-    /// mechanism without forward kinematics in $x$ (the default, with the mechanism's kind).
+    /// [`BuildError::Unsupported`] for a mechanism without forward kinematics in $x$ (the
+    /// default, with the mechanism's kind); [`BuildError::Design`] for a robot file whose task
+    /// is not the position.
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        built: &Self::Built,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let _ = visitor;
+        let _ = (built, visitor);
         Err(BuildError::Unsupported(format!(
             "{} has no forward kinematics in the platform position",
             self.kind()
@@ -247,6 +252,122 @@ pub enum BuildError {
     Unsupported(String),
 }
 
+/// A study mechanism built once: its table and the library mechanism it builds, asked every
+/// question of a study (workspace, reach region, drawing, forward kinematics) without building
+/// it again.
+///
+/// ```
+/// use pkm_study::registry::Built;
+/// use pkm_study::schema::mechanism::TsaiSpec;
+///
+/// let table: TsaiSpec = pkm_study::from_toml_str("a = 0.44\nb = 0.56\n")?;
+/// let tsai = Built::new(table)?;
+/// assert!(tsai.reach_region().is_some());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Built<M: StudyMechanism> {
+    spec: M,
+    mechanism: M::Built,
+}
+
+impl<M: StudyMechanism> Debug for Built<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Built")
+            .field("spec", &self.spec)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<M: StudyMechanism> Built<M> {
+    /// Builds `spec`'s mechanism.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] for an invalid design.
+    pub fn new(spec: M) -> Result<Self, BuildError> {
+        let mechanism = spec.build()?;
+        Ok(Self { spec, mechanism })
+    }
+
+    /// The table it was built from.
+    pub fn spec(&self) -> &M {
+        &self.spec
+    }
+
+    /// [`StudyMechanism::with_workspace`].
+    ///
+    /// # Errors
+    /// As [`StudyMechanism::with_workspace`].
+    pub fn with_workspace<V: WorkspaceVisitor>(
+        &self,
+        constraints: &[WorkspaceConstraint],
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        self.spec
+            .with_workspace(&self.mechanism, constraints, visitor)
+    }
+
+    /// [`StudyMechanism::reach_region`].
+    pub fn reach_region(&self) -> Option<Region> {
+        self.spec.reach_region(&self.mechanism)
+    }
+
+    /// [`StudyMechanism::drawing_region`].
+    ///
+    /// # Errors
+    /// As [`StudyMechanism::drawing_region`].
+    pub fn drawing_region(&self) -> Result<Region, String> {
+        self.spec.drawing_region(&self.mechanism)
+    }
+
+    /// [`StudyMechanism::skeleton_at`].
+    ///
+    /// # Errors
+    /// As [`StudyMechanism::skeleton_at`].
+    pub fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
+        self.spec.skeleton_at(&self.mechanism, p)
+    }
+
+    /// [`StudyMechanism::with_forward_kinematics`].
+    ///
+    /// # Errors
+    /// As [`StudyMechanism::with_forward_kinematics`].
+    pub fn with_forward_kinematics<V: ForwardVisitor>(
+        &self,
+        visitor: V,
+    ) -> Result<V::Output, BuildError> {
+        self.spec.with_forward_kinematics(&self.mechanism, visitor)
+    }
+}
+
+/// The built mechanism of a registry ([`mechanisms!`](crate::mechanisms!)): its kind's
+/// [`StudyMechanism::Built`], whatever the kind.
+pub struct AnyBuilt(Box<dyn std::any::Any + Send + Sync>);
+
+impl Debug for AnyBuilt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AnyBuilt").finish_non_exhaustive()
+    }
+}
+
+impl AnyBuilt {
+    /// `built` behind the registry.
+    #[doc(hidden)]
+    pub fn new<T: Send + Sync + 'static>(built: T) -> Self {
+        Self(Box::new(built))
+    }
+
+    /// The kind's built mechanism.
+    ///
+    /// # Errors
+    /// [`BuildError::Unsupported`] when it was built from a table of another kind.
+    #[doc(hidden)]
+    pub fn get<T: 'static>(&self) -> Result<&T, BuildError> {
+        self.0.downcast_ref().ok_or_else(|| {
+            BuildError::Unsupported("a mechanism built from a table of another kind".to_owned())
+        })
+    }
+}
+
 pub(crate) fn visit<M: ConstrainedWorkspace<3, NQ> + Sync, V: WorkspaceVisitor, const NQ: usize>(
     mechanism: &M,
     modes: &[M::WorkingMode],
@@ -261,9 +382,16 @@ where
     Ok(visitor.visit(&workspace))
 }
 
+/// An error of the study at `mechanism`, or at the robot file's key that refused the design.
 impl From<BuildError> for StudyError {
     fn from(e: BuildError) -> Self {
-        Self::invalid("mechanism", e.to_string())
+        match e {
+            BuildError::Design(Infeasible::RobotFile {
+                path: Some(path),
+                message,
+            }) => Self::Invalid { path, message },
+            e => Self::invalid("mechanism", e.to_string()),
+        }
     }
 }
 
@@ -348,6 +476,8 @@ macro_rules! mechanisms {
         }
 
         impl $crate::registry::StudyMechanism for $name {
+            type Built = $crate::registry::AnyBuilt;
+
             fn kind(&self) -> &'static str {
                 match self { $(Self::$variant(m) => m.kind(),)* }
             }
@@ -366,29 +496,39 @@ macro_rules! mechanisms {
             fn check(&self) -> Result<(), $crate::StudyError> {
                 match self { $(Self::$variant(m) => m.check(),)* }
             }
+            fn build(&self) -> Result<Self::Built, $crate::registry::BuildError> {
+                match self { $(Self::$variant(m) => m.build().map($crate::registry::AnyBuilt::new),)* }
+            }
             fn with_workspace<V: $crate::registry::WorkspaceVisitor>(
                 &self,
+                built: &Self::Built,
                 constraints: &[$crate::__private::pkm_traits::WorkspaceConstraint],
                 visitor: V,
             ) -> Result<V::Output, $crate::registry::BuildError> {
-                match self { $(Self::$variant(m) => m.with_workspace(constraints, visitor),)* }
+                match self { $(Self::$variant(m) => m.with_workspace(built.get()?, constraints, visitor),)* }
             }
             fn reach_region(
                 &self,
-            ) -> Result<Option<$crate::__private::pkm_workspace_indices::Region>, $crate::registry::BuildError>
-            {
-                match self { $(Self::$variant(m) => m.reach_region(),)* }
+                built: &Self::Built,
+            ) -> Option<$crate::__private::pkm_workspace_indices::Region> {
+                match self { $(Self::$variant(m) => m.reach_region(built.get().ok()?),)* }
             }
             fn skeleton_at(
                 &self,
+                built: &Self::Built,
                 p: &$crate::__private::nalgebra::Vector3<f64>,
             ) -> Result<$crate::__private::pkm_mechanisms::Skeleton, String> {
-                match self { $(Self::$variant(m) => m.skeleton_at(p),)* }
+                match self {
+                    $(Self::$variant(m) => m.skeleton_at(built.get().map_err(|e| e.to_string())?, p),)*
+                }
             }
             fn drawing_region(
                 &self,
+                built: &Self::Built,
             ) -> Result<$crate::__private::pkm_workspace_indices::Region, String> {
-                match self { $(Self::$variant(m) => m.drawing_region(),)* }
+                match self {
+                    $(Self::$variant(m) => m.drawing_region(built.get().map_err(|e| e.to_string())?),)*
+                }
             }
             fn drawing_plane(&self) -> (usize, usize, usize) {
                 match self { $(Self::$variant(m) => m.drawing_plane(),)* }
@@ -399,17 +539,20 @@ macro_rules! mechanisms {
             ) -> Option<V::Output> {
                 match self { $(Self::$variant(m) => m.with_cross_section(visitor),)* }
             }
-            fn smooth_objective(&self) -> Result<[f64; 6], String> {
-                match self { $(Self::$variant(m) => m.smooth_objective(),)* }
+            fn design_problem(
+                &self,
+            ) -> Option<$crate::__private::pkm_design_problems::DesignProblem> {
+                match self { $(Self::$variant(m) => m.design_problem(),)* }
             }
             fn robot_file(&self) -> Option<&$crate::schema::robot_file::RobotFileSpec> {
                 match self { $(Self::$variant(m) => m.robot_file(),)* }
             }
             fn with_forward_kinematics<V: $crate::registry::ForwardVisitor>(
                 &self,
+                built: &Self::Built,
                 visitor: V,
             ) -> Result<V::Output, $crate::registry::BuildError> {
-                match self { $(Self::$variant(m) => m.with_forward_kinematics(visitor),)* }
+                match self { $(Self::$variant(m) => m.with_forward_kinematics(built.get()?, visitor),)* }
             }
         }
     };

@@ -14,8 +14,8 @@
 //! `--threads`, and `pkm merge` writes the same drawing as a single run.
 
 use crate::outcome::short;
-use crate::registry::StudyMechanism;
 use crate::registry::WorkspaceVisitor;
+use crate::registry::{Built, StudyMechanism};
 use nalgebra::{Isometry3, Vector3};
 use pkm_draw::{Axis, PathKind, Scene};
 use pkm_mechanisms::Skeleton;
@@ -48,13 +48,14 @@ pub const MAX_PATH_POINTS: usize = 2000;
 /// Why there is no drawing: an invalid design, no member on the cross-section, a pose the
 /// skeleton cannot be built at.
 pub fn design_scene<M: StudyMechanism>(
-    spec: &M,
+    built: &Built<M>,
     constraints: &[WorkspaceConstraint],
     region: Option<Region>,
 ) -> Result<Scene, String> {
+    let spec = built.spec();
     let region = match region {
         Some(region) => region,
-        None => spec.drawing_region()?,
+        None => built.drawing_region()?,
     };
     let bounds = region.bounding_box();
     let (lower, upper, centre) = (bounds.lower, bounds.upper, bounds.centre());
@@ -70,7 +71,7 @@ pub fn design_scene<M: StudyMechanism>(
             p
         })
         .collect();
-    let inside = spec
+    let inside = built
         .with_workspace(constraints, Members { points: &points })
         .map_err(|e| e.to_string())?;
     let members: Vec<Vector3<f64>> = points
@@ -100,7 +101,7 @@ pub fn design_scene<M: StudyMechanism>(
         ["x", "y", "z"][normal],
         short(centre[normal])
     );
-    Ok(Scene::new(spec.skeleton_at(&pose)?).with_path(label, PathKind::WorkspacePoints, members))
+    Ok(Scene::new(built.skeleton_at(&pose)?).with_path(label, PathKind::WorkspacePoints, members))
 }
 
 /// The first skeleton of `tries` that could be built, or why none could (the last error).
@@ -184,7 +185,7 @@ pub fn task_scene(
 /// # Errors
 /// An invalid design, an empty trajectory, an unreachable start.
 pub fn trajectory_scene<M: StudyMechanism>(
-    spec: &M,
+    built: &Built<M>,
     commanded: &[Vector3<f64>],
 ) -> Result<Scene, String> {
     let (Some(start), Some(last)) = (commanded.first(), commanded.last()) else {
@@ -195,7 +196,7 @@ pub fn trajectory_scene<M: StudyMechanism>(
     if !(commanded.len() - 1).is_multiple_of(step) {
         path.push(*last);
     }
-    Ok(Scene::new(spec.skeleton_at(start)?).with_path("trajectory", PathKind::Trajectory, path))
+    Ok(Scene::new(built.skeleton_at(start)?).with_path("trajectory", PathKind::Trajectory, path))
 }
 
 /// [`design_scene`] of `base` with the design variables `values` set, without constraints (the
@@ -211,5 +212,5 @@ pub fn optimum_scene<'a, M: StudyMechanism>(
     for (name, value) in values {
         spec.set(name, value)?;
     }
-    design_scene(&spec, &[], None)
+    design_scene(&Built::new(spec).map_err(|e| e.to_string())?, &[], None)
 }

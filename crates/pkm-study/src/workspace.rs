@@ -5,7 +5,7 @@
 use crate::StudyError;
 pub use crate::estimate::Estimate;
 use crate::outcome::{Artifact, Outcome, Table};
-use crate::registry::StudyMechanism;
+use crate::registry::{Built, StudyMechanism};
 use crate::scene;
 use crate::schema::mechanism::{BuildError, ConstraintsSpec, MechanismSpec, WorkspaceVisitor};
 use crate::schema::robot_file::RobotFileSpec;
@@ -116,16 +116,35 @@ pub fn constraints_of<M: StudyMechanism>(
     spec: Option<&ConstraintsSpec>,
 ) -> Result<Vec<WorkspaceConstraint>, StudyError> {
     mechanism.check()?;
+    match (Built::new(mechanism.clone()), spec) {
+        (Ok(built), _) => checked_constraints(&built, spec),
+        // An invalid base design is reported where it is used (a sweep varies it).
+        (Err(_), Some(spec)) => mechanism.constraints(spec).map_err(at_constraints),
+        (Err(_), None) => Ok(Vec::new()),
+    }
+}
+
+/// The library constraints of a study's `[constraints]` table, checked against `built`.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `constraints` for a constraint that does not fit the mechanism.
+pub fn checked_constraints<M: StudyMechanism>(
+    built: &Built<M>,
+    spec: Option<&ConstraintsSpec>,
+) -> Result<Vec<WorkspaceConstraint>, StudyError> {
     let Some(spec) = spec else {
         return Ok(Vec::new());
     };
-    let at = |m: String| StudyError::invalid("constraints", m);
-    let constraints = mechanism.constraints(spec).map_err(at)?;
-    match mechanism.with_workspace(&constraints, CheckOnly) {
-        Err(BuildError::Constraint(m) | BuildError::Unsupported(m)) => Err(at(m)),
-        // An invalid base design is reported where it is used (a sweep varies it).
+    let constraints = built.spec().constraints(spec).map_err(at_constraints)?;
+    match built.with_workspace(&constraints, CheckOnly) {
+        Err(BuildError::Constraint(m) | BuildError::Unsupported(m)) => Err(at_constraints(m)),
+        // A robot file whose task is not the position has no workspace in it.
         Ok(()) | Err(BuildError::Design(_)) => Ok(constraints),
     }
+}
+
+fn at_constraints(message: String) -> StudyError {
+    StudyError::invalid("constraints", message)
 }
 
 /// Builds the workspace only to check that its constraints apply.
@@ -201,12 +220,14 @@ pub fn workspace<M: StudyMechanism>(
     study: &WorkspaceStudy<M>,
     progress: &dyn Progress,
 ) -> Result<Outcome<WorkspaceResult>, StudyError> {
-    let constraints = constraints_of(&study.mechanism, study.constraints.as_ref())?;
+    study.mechanism.check()?;
+    let built = Built::new(study.mechanism.clone())?;
+    let constraints = checked_constraints(&built, study.constraints.as_ref())?;
     if let Some((robot, spec)) = task_space_of(study)? {
         return task_space_workspace(study, robot, spec, &constraints, progress);
     }
     let slices = slice_settings(&study.workspace)?;
-    let domain = study.sampling.domain(study.mechanism.reach_region()?)?;
+    let domain = study.sampling.domain(built.reach_region())?;
     progress.phase("sampling points");
     let points = study.sampling.point_set_cancellable(domain, progress)?;
     let compute = Compute {
@@ -215,7 +236,7 @@ pub fn workspace<M: StudyMechanism>(
         bounds: domain.region().bounding_box(),
         progress,
     };
-    let (estimate, values) = study.mechanism.with_workspace(&constraints, compute)??;
+    let (estimate, values) = built.with_workspace(&constraints, compute)??;
     let mut artifacts = Vec::new();
     let mut summaries = Vec::new();
     for (k, ((plane, at, n), values)) in slices.iter().zip(&values).enumerate() {
@@ -240,7 +261,7 @@ pub fn workspace<M: StudyMechanism>(
     });
     outcome.artifacts = artifacts;
     summarise(&mut outcome);
-    let scene = scene::design_scene(&study.mechanism, &constraints, Some(domain.region()));
+    let scene = scene::design_scene(&built, &constraints, Some(domain.region()));
     outcome.robot(format!("{kind} in its workspace"), scene);
     Ok(outcome)
 }

@@ -31,6 +31,7 @@ pub use schema::{
 };
 
 use crate::outcome::Outcome;
+use crate::registry::Built;
 use crate::schema::mechanism::MechanismSpec;
 use crate::{StudyError, scene, short};
 use nalgebra::Vector3;
@@ -182,7 +183,9 @@ pub fn dynamics(
     if let Some((_, per_sample)) = &forward {
         artifacts::retrace(&mut outcome.artifacts, per_sample);
     }
-    let scene = scene::trajectory_scene(&study.mechanism, &torques.commanded);
+    let scene = Built::new(study.mechanism.clone())
+        .map_err(|e| e.to_string())
+        .and_then(|built| scene::trajectory_scene(&built, &torques.commanded));
     outcome.robot("rotary Delta at t = 0 on its trajectory", scene);
     summarise(&mut outcome);
     Ok(outcome)

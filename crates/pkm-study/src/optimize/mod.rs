@@ -24,6 +24,7 @@ use crate::starts::{self, Reached, ranked_chart};
 use crate::task_space::TaskSpaceSpec;
 use crate::{KeyPath, StudyError};
 use nalgebra::Vector3;
+use pkm_design_problems::DesignProblem;
 use pkm_design_problems::tsai::{LinearInequality, TSAI_VARIABLES, TsaiCriterion, TsaiProblem};
 use pkm_optimizers::kkt::{self, KktSettings, OptimalityCheck};
 use pkm_optimizers::{
@@ -36,7 +37,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// An optimize study of a mechanism of the registry `M` (the papers' mechanisms by default);
-/// a mechanism takes part through [`StudyMechanism::smooth_objective`].
+/// a mechanism takes part through [`StudyMechanism::design_problem`].
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct OptimizeStudy<M = MechanismSpec> {
@@ -272,6 +273,17 @@ fn refused(section: &str, e: OptimizeError) -> StudyError {
     }
 }
 
+/// The refusal of a mechanism without a smooth design problem.
+fn no_smooth_objective(kind: &str) -> StudyError {
+    StudyError::invalid(
+        "mechanism",
+        format!(
+            "{kind} has no objective that is smooth in the design: its Monte Carlo workspace \
+             volume is piecewise constant in the design variables; use a sweep or pareto study"
+        ),
+    )
+}
+
 fn unknown_variable(name: &str) -> String {
     format!(
         "unknown design variable `{name}`: expected one of {} (lengths in m, *_deg in degrees)",
@@ -384,10 +396,10 @@ fn no_robot_file_settings<M>(study: &OptimizeStudy<M>) -> Result<(), StudyError>
 
 /// Checks every setting of `study` (before any start runs).
 fn check<M: StudyMechanism>(study: &OptimizeStudy<M>) -> Result<Checked, StudyError> {
-    let nominal = study
-        .mechanism
-        .smooth_objective()
-        .map_err(|m| StudyError::invalid("mechanism", m))?;
+    let nominal = match study.mechanism.design_problem() {
+        Some(DesignProblem::Tsai { nominal }) => nominal,
+        _ => return Err(no_smooth_objective(study.mechanism.kind())),
+    };
     no_robot_file_settings(study)?;
     let o = &study.optimize;
     let free = free_variables(o)?;

@@ -160,7 +160,14 @@ impl RobotFileSpec {
     /// As [`RobotFileSpec::model`]; at `mechanism.robot_file.task` unless the task is
     /// `["x", "y", "z"]`.
     pub fn translational_robot(&self) -> Result<Robot<3>, StudyError> {
-        let model = self.model()?;
+        self.translational(self.model()?)
+    }
+
+    /// `model` as a translational 3-DOF robot.
+    ///
+    /// # Errors
+    /// At `mechanism.robot_file.task` unless the task is `["x", "y", "z"]`.
+    pub(crate) fn translational(&self, model: RobotModel) -> Result<Robot<3>, StudyError> {
         let task = model.task_names();
         if task != ["x", "y", "z"] {
             return Err(StudyError::invalid(

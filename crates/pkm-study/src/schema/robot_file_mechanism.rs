@@ -9,24 +9,75 @@ use crate::registry::{BuildError, ForwardVisitor, WorkspaceVisitor, visit};
 use crate::{Infeasible, StudyError};
 use nalgebra::Vector3;
 use pkm_mechanisms::Skeleton;
+use pkm_robot_file::{Robot, RobotModel, WorkingMode};
 use pkm_traits::WorkspaceConstraint;
 use pkm_workspace_indices::Region;
 use std::borrow::Cow;
 use toml::Value;
 
+/// A robot file built for a study ([`RobotFileSpec`]'s [`StudyMechanism::build`]): its model in
+/// the study's working modes, and the model as a translational robot when its task is the
+/// platform position.
+#[derive(Debug)]
+pub struct BuiltRobotFile {
+    model: RobotModel,
+    modes: Vec<WorkingMode>,
+    /// The translational robot, or why the task is not `["x", "y", "z"]`.
+    position: Result<Robot<3>, Infeasible>,
+}
+
+impl BuiltRobotFile {
+    /// The validated model.
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+
+    /// The study's working modes ([`RobotFileSpec::working_modes`]).
+    pub fn modes(&self) -> &[WorkingMode] {
+        &self.modes
+    }
+
+    /// The translational robot.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] at `mechanism.robot_file.task` when its task is not the platform
+    /// position.
+    pub fn translational(&self) -> Result<&Robot<3>, BuildError> {
+        self.position
+            .as_ref()
+            .map_err(|e| BuildError::Design(e.clone()))
+    }
+}
+
 impl StudyMechanism for RobotFileSpec {
+    type Built = BuiltRobotFile;
+
     fn kind(&self) -> &'static str {
         "robot_file"
+    }
+
+    /// The model once, its working modes, and the translational robot of a position task.
+    fn build(&self) -> Result<BuiltRobotFile, BuildError> {
+        let model = self.model().map_err(design)?;
+        let modes = self.working_modes(&model).map_err(design)?;
+        let position = self
+            .translational(model.clone())
+            .map_err(Infeasible::robot_file);
+        Ok(BuiltRobotFile {
+            model,
+            modes,
+            position,
+        })
     }
 
     /// The robot in its platform position (a robot file whose task is `["x", "y", "z"]`):
     /// damped Newton on the closure of every leg.
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        built: &BuiltRobotFile,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let robot = self.translational_robot().map_err(design)?;
-        Ok(visitor.visit(&robot))
+        Ok(visitor.visit(built.translational()?))
     }
 
     /// The names of `[parameters]`: metres, or degrees for a name ending in `_deg`.
@@ -87,12 +138,11 @@ impl StudyMechanism for RobotFileSpec {
     /// one of them assembles there.
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        built: &BuiltRobotFile,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let robot = self.translational_robot().map_err(design)?;
-        let modes = self.working_modes(robot.model()).map_err(design)?;
-        visit(&robot, &modes, constraints, visitor)
+        visit(built.translational()?, &built.modes, constraints, visitor)
     }
 
     /// The box of [`pkm_robot_file::RobotModel::reach_box`]: the intersection of the legs' reach balls, each
@@ -100,23 +150,22 @@ impl StudyMechanism for RobotFileSpec {
     /// `limits` included), so it holds every reachable position. None when a prismatic joint
     /// has no limits (its reach is unbounded) or the boxes do not overlap; the study then needs
     /// `[sampling.region]`.
-    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
-        let robot = self.translational_robot().map_err(design)?;
-        Ok(robot
+    fn reach_region(&self, built: &BuiltRobotFile) -> Option<Region> {
+        built
+            .translational()
+            .ok()?
             .model()
             .reach_box()
             .filter(|[lower, upper]| (0..3).all(|a| lower[a] < upper[a]))
-            .map(|[lower, upper]| Region::Box { lower, upper }))
+            .map(|[lower, upper]| Region::Box { lower, upper })
     }
 
     /// The robot drawn from its joints ([`robot_skeleton`]) in the first working mode of the
     /// study that reaches `p`.
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
-        let robot = self.translational_robot().map_err(|e| e.to_string())?;
-        let model = robot.model();
-        let modes = self.working_modes(model).map_err(|e| e.to_string())?;
+    fn skeleton_at(&self, built: &BuiltRobotFile, p: &Vector3<f64>) -> Result<Skeleton, String> {
+        let model = built.translational().map_err(|e| e.to_string())?.model();
         let mut last = None;
-        for mode in modes {
+        for &mode in &built.modes {
             match model.inverse_kinematics_configuration(p.as_slice(), mode) {
                 Ok(c) => return Ok(robot_skeleton(model, &c)),
                 Err(e) => last = Some(e),

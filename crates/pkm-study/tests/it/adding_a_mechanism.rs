@@ -71,8 +71,24 @@ impl StudyMechanism for GantrySpec {
         "stroke" Length => |s| s.stroke.0,
     }
 
+    /// The gantry is its stroke: the joint range that every axis holds.
+    type Built = WorkspaceConstraint;
+
     fn kind(&self) -> &'static str {
         "gantry"
+    }
+
+    fn build(&self) -> Result<WorkspaceConstraint, BuildError> {
+        WorkspaceConstraint::joint_range(0.0, self.stroke.0).map_err(|_| {
+            BuildError::Design(
+                DesignError {
+                    parameter: "stroke",
+                    value: self.stroke.0,
+                    requirement: "must be > 0",
+                }
+                .into(),
+            )
+        })
     }
 
     fn actuation(&self) -> Actuation {
@@ -81,36 +97,26 @@ impl StudyMechanism for GantrySpec {
 
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        stroke: &WorkspaceConstraint,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        let mut all = vec![
-            WorkspaceConstraint::joint_range(0.0, self.stroke.0).map_err(|_| {
-                BuildError::Design(
-                    DesignError {
-                        parameter: "stroke",
-                        value: self.stroke.0,
-                        requirement: "must be > 0",
-                    }
-                    .into(),
-                )
-            })?,
-        ];
+        let mut all = vec![*stroke];
         all.extend_from_slice(constraints);
         let workspace = pkm_workspace_indices::Workspace::new(&Gantry, &[()], &all)
             .map_err(|e| BuildError::Constraint(e.to_string()))?;
         Ok(visitor.visit(&workspace))
     }
 
-    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
+    fn reach_region(&self, _: &WorkspaceConstraint) -> Option<Region> {
         let s = self.stroke.0;
-        Ok(Some(Region::Box {
+        Some(Region::Box {
             lower: Vector3::zeros(),
             upper: Vector3::new(s, s, s),
-        }))
+        })
     }
 
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
+    fn skeleton_at(&self, _: &WorkspaceConstraint, p: &Vector3<f64>) -> Result<Skeleton, String> {
         let point = |label: &str, kind, position| SkeletonPoint {
             label: label.into(),
             kind,

@@ -15,6 +15,7 @@ use pkm_mechanisms::{LinkKind, PointKind, Skeleton};
 use pkm_robot_file::Joint;
 use pkm_study::Actuation;
 use pkm_study::outcome::{Artifact, Cell, Table};
+use pkm_study::registry::Built;
 use pkm_study::schema::mechanism::{MechanismSpec, WorkspaceVisitor};
 use pkm_study::schema::robot_file::RobotFileSpec;
 use pkm_study::workspace::constraints_of;
@@ -75,8 +76,8 @@ fn workspace_agrees(hand: &str, robot: toml::Table) -> usize {
     };
     let values = |study: &WorkspaceStudy| {
         let constraints = constraints_of(&study.mechanism, study.constraints.as_ref()).unwrap();
-        study
-            .mechanism
+        Built::new(study.mechanism.clone())
+            .unwrap()
             .with_workspace(&constraints, PerPoint(points.points()))
             .unwrap()
     };
@@ -449,8 +450,8 @@ fn a_robot_file_is_drawn_from_its_joints() {
     ];
     let mut worst = 0.0_f64;
     for (file, poses, base_links, plate_links) in cases {
-        let spec = RobotFileSpec::inline(robot_table(file));
-        let model = spec.model().unwrap();
+        let spec = Built::new(RobotFileSpec::inline(robot_table(file))).unwrap();
+        let model = spec.spec().model().unwrap();
         let home = Vector3::from_column_slice(&model.home()[..3]);
         let at_home = spec.skeleton_at(&home).unwrap();
         let anchors = platform_points(&model);
@@ -493,7 +494,7 @@ fn a_robot_file_is_drawn_from_its_joints() {
                 .zip(lengths(&at_home, LinkKind::Actuated))
                 .enumerate()
             {
-                let expected = match spec.actuation() {
+                let expected = match spec.spec().actuation() {
                     Actuation::Revolute => b,
                     Actuation::Prismatic => q[i].abs(),
                 };
@@ -528,7 +529,8 @@ fn the_reach_region_of_a_robot_file_holds_its_workspace() {
     ];
     for (robot, larger) in cases {
         let spec = robot_spec(robot);
-        let Some(Region::Box { lower, upper }) = spec.reach_region().unwrap() else {
+        let built = Built::new(spec.clone()).unwrap();
+        let Some(Region::Box { lower, upper }) = built.reach_region() else {
             panic!("a box")
         };
         assert!(lower.iter().chain(upper.iter()).all(|v| v.is_finite()));
@@ -541,7 +543,9 @@ fn the_reach_region_of_a_robot_file_holds_its_workspace() {
             let domain = study.sampling.domain(None).unwrap();
             study.sampling.point_set(domain).unwrap()
         };
-        let values = spec.with_workspace(&[], PerPoint(points.points())).unwrap();
+        let values = built
+            .with_workspace(&[], PerPoint(points.points()))
+            .unwrap();
         let inside: Vec<_> = points
             .points()
             .iter()
@@ -566,9 +570,9 @@ fn the_reach_region_of_a_robot_file_holds_its_workspace() {
     }
     // Without limits the Linear Delta's carriages run without end: no reach region.
     assert!(
-        robot_spec(robot_table("linear_delta.toml"))
-            .reach_region()
+        Built::new(robot_spec(robot_table("linear_delta.toml")))
             .unwrap()
+            .reach_region()
             .is_none()
     );
 }
@@ -585,9 +589,8 @@ fn membership_agrees(hand: &str, robot: toml::Table) -> usize {
     };
     let inside = |study: &WorkspaceStudy| -> Vec<bool> {
         let constraints = constraints_of(&study.mechanism, study.constraints.as_ref()).unwrap();
-        let values = study
-            .mechanism
-            .with_workspace(&constraints, PerPoint(points.points()));
+        let built = Built::new(study.mechanism.clone()).unwrap();
+        let values = built.with_workspace(&constraints, PerPoint(points.points()));
         values.unwrap().iter().map(Option::is_some).collect()
     };
     let (a, b) = (inside(&hand), inside(&file));
@@ -681,7 +684,8 @@ fn all_working_modes_are_the_union_of_the_modes() {
     let inside = |modes: &[&str]| -> Vec<bool> {
         let spec = robot_spec(with_modes("rotary_delta.toml", modes));
         let constraints = constraints_of(&spec, study.constraints.as_ref()).unwrap();
-        let values = spec.with_workspace(&constraints, PerPoint(points.points()));
+        let built = Built::new(spec).unwrap();
+        let values = built.with_workspace(&constraints, PerPoint(points.points()));
         values.unwrap().iter().map(Option::is_some).collect()
     };
     let all = inside(&["all"]);

@@ -68,8 +68,14 @@ impl StudyMechanism for LinearDeltaSpec {
         "yr" Length => |s| s.yr.0,
     }
 
+    type Built = LinearDelta;
+
     fn kind(&self) -> &'static str {
         "linear_delta"
+    }
+
+    fn build(&self) -> Result<LinearDelta, BuildError> {
+        linear_delta(self)
     }
 
     fn actuation(&self) -> Actuation {
@@ -78,34 +84,34 @@ impl StudyMechanism for LinearDeltaSpec {
 
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        built: &LinearDelta,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        Ok(visitor.visit(&linear_delta(self)?))
+        Ok(visitor.visit(built))
     }
 
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        built: &LinearDelta,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
         let mode = LinearDeltaMode {
             leans_positive: self.leans_positive,
         };
-        visit(&linear_delta(self)?, &[mode], constraints, visitor)
+        visit(built, &[mode], constraints, visitor)
     }
 
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
-        let robot = linear_delta(self).map_err(|e| e.to_string())?;
+    fn skeleton_at(&self, robot: &LinearDelta, p: &Vector3<f64>) -> Result<Skeleton, String> {
         let mode = LinearDeltaMode {
             leans_positive: self.leans_positive,
         };
-        first_drawable(p, [Skeleton::linear_delta(&robot, p, mode)])
+        first_drawable(p, [Skeleton::linear_delta(robot, p, mode)])
     }
 
     /// Unbounded along its rails: the box $|x| \le L$ around the rails widened by the longest
     /// arm $L$ in $y$ and $z$.
-    fn drawing_region(&self) -> Result<Region, String> {
-        let robot = linear_delta(self).map_err(|e| e.to_string())?;
+    fn drawing_region(&self, robot: &LinearDelta) -> Result<Region, String> {
         let reach = robot.arm_lengths().into_iter().fold(0.0, f64::max);
         let rails = robot.rails();
         let (mut lower, mut upper) = (

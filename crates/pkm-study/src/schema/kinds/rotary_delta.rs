@@ -107,8 +107,14 @@ impl StudyMechanism for RotaryDeltaSpec {
         "azimuth_motor_1_deg" Angle => |s| s.azimuth_motor_1_deg.0,
     }
 
+    type Built = RotaryDelta;
+
     fn kind(&self) -> &'static str {
         "rotary_delta"
+    }
+
+    fn build(&self) -> Result<RotaryDelta, BuildError> {
+        rotary_delta(self)
     }
 
     fn actuation(&self) -> Actuation {
@@ -117,36 +123,36 @@ impl StudyMechanism for RotaryDeltaSpec {
 
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        built: &RotaryDelta,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        Ok(visitor.visit(&rotary_delta(self)?))
+        Ok(visitor.visit(built))
     }
 
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        built: &RotaryDelta,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        visit(&rotary_delta(self)?, &self.elbow, constraints, visitor)
+        visit(built, &self.elbow, constraints, visitor)
     }
 
-    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
-        let delta = rotary_delta(self)?;
+    fn reach_region(&self, delta: &RotaryDelta) -> Option<Region> {
         let (radius, half_height) = delta.reach_cylinder();
         let z0 = delta.motor_plane_z();
-        Ok(Some(Region::axial_cylinder(
+        Some(Region::axial_cylinder(
             radius,
             z0 - half_height,
             z0 + half_height,
-        )))
+        ))
     }
 
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
-        let robot = rotary_delta(self).map_err(|e| e.to_string())?;
+    fn skeleton_at(&self, robot: &RotaryDelta, p: &Vector3<f64>) -> Result<Skeleton, String> {
         let tries = self
             .elbow
             .iter()
-            .map(|e| Skeleton::rotary_delta(&robot, p, *e));
+            .map(|e| Skeleton::rotary_delta(robot, p, *e));
         first_drawable(p, tries)
     }
 }

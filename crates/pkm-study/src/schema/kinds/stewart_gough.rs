@@ -101,8 +101,14 @@ impl StudyMechanism for StewartSpec {
         "platform_separation_deg" Angle => |s| s.platform_separation_deg.0,
     }
 
+    type Built = ConstantOrientation;
+
     fn kind(&self) -> &'static str {
         "stewart_gough"
+    }
+
+    fn build(&self) -> Result<ConstantOrientation, BuildError> {
+        stewart_orientation(self)
     }
 
     fn actuation(&self) -> Actuation {
@@ -113,6 +119,7 @@ impl StudyMechanism for StewartSpec {
     /// (the forward kinematics is over the 6-D pose: a robot file of the platform has it).
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        _built: &ConstantOrientation,
         _visitor: V,
     ) -> Result<V::Output, BuildError> {
         Err(BuildError::Unsupported(
@@ -124,14 +131,18 @@ impl StudyMechanism for StewartSpec {
 
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        view: &ConstantOrientation,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        visit(&stewart_orientation(self)?, &[()], constraints, visitor)
+        visit(view, &[()], constraints, visitor)
     }
 
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
-        let view = stewart_orientation(self).map_err(|e| e.to_string())?;
+    fn skeleton_at(
+        &self,
+        view: &ConstantOrientation,
+        p: &Vector3<f64>,
+    ) -> Result<Skeleton, String> {
         let pose = Isometry3::from_parts(
             Translation3::from(*p),
             UnitQuaternion::from_rotation_matrix(view.rotation()),

@@ -138,8 +138,14 @@ impl StudyMechanism for ThreeUpuSpec {
         "gamma3_deg" Angle => |s| s.gamma3_deg.0,
     }
 
+    type Built = ThreeUpu;
+
     fn kind(&self) -> &'static str {
         "three_upu"
+    }
+
+    fn build(&self) -> Result<ThreeUpu, BuildError> {
+        three_upu(self)
     }
 
     fn actuation(&self) -> Actuation {
@@ -148,22 +154,23 @@ impl StudyMechanism for ThreeUpuSpec {
 
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        built: &ThreeUpu,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        Ok(visitor.visit(&three_upu(self)?))
+        Ok(visitor.visit(built))
     }
 
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        built: &ThreeUpu,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        visit(&three_upu(self)?, &[()], constraints, visitor)
+        visit(built, &[()], constraints, visitor)
     }
 
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
-        let robot = three_upu(self).map_err(|e| e.to_string())?;
+    fn skeleton_at(&self, robot: &ThreeUpu, p: &Vector3<f64>) -> Result<Skeleton, String> {
         let pose = Isometry3::translation(p.x, p.y, p.z);
-        first_drawable(p, [Skeleton::three_upu(&robot, &pose)])
+        first_drawable(p, [Skeleton::three_upu(robot, &pose)])
     }
 }

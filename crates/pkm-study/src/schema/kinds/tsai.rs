@@ -9,6 +9,7 @@ use crate::registry::{
 use crate::scene::first_drawable;
 use crate::schema::units::{Degrees, Metres, NonNegativeMetres, PositiveMetres};
 use nalgebra::Vector3;
+use pkm_design_problems::DesignProblem;
 use pkm_mechanisms::{Elbow, LegBranch, Skeleton, Tsai3Dof, TsaiDesign};
 use pkm_traits::WorkspaceConstraint;
 use pkm_workspace_indices::Region;
@@ -93,8 +94,14 @@ impl StudyMechanism for TsaiSpec {
         "phi3_deg" Angle => |s| s.phi3_deg.0,
     }
 
+    type Built = Tsai3Dof;
+
     fn kind(&self) -> &'static str {
         "tsai"
+    }
+
+    fn build(&self) -> Result<Tsai3Dof, BuildError> {
+        tsai(self)
     }
 
     fn actuation(&self) -> Actuation {
@@ -103,50 +110,54 @@ impl StudyMechanism for TsaiSpec {
 
     fn with_forward_kinematics<V: ForwardVisitor>(
         &self,
+        built: &Tsai3Dof,
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        Ok(visitor.visit(&tsai(self)?))
+        Ok(visitor.visit(built))
     }
 
     fn with_workspace<V: WorkspaceVisitor>(
         &self,
+        built: &Tsai3Dof,
         constraints: &[WorkspaceConstraint],
         visitor: V,
     ) -> Result<V::Output, BuildError> {
-        visit(&tsai(self)?, &self.modes, constraints, visitor)
+        visit(built, &self.modes, constraints, visitor)
     }
 
-    fn reach_region(&self) -> Result<Option<Region>, BuildError> {
-        Ok(Some(Region::Hemisphere {
+    fn reach_region(&self, robot: &Tsai3Dof) -> Option<Region> {
+        Some(Region::Hemisphere {
             center: Vector3::zeros(),
-            radius: tsai(self)?.reach(),
-        }))
+            radius: robot.reach(),
+        })
     }
 
     /// The modes with every leg on one elbow, θ3 principal: the branch [`Skeleton::tsai`]
     /// draws.
-    fn skeleton_at(&self, p: &Vector3<f64>) -> Result<Skeleton, String> {
-        let robot = tsai(self).map_err(|e| e.to_string())?;
+    fn skeleton_at(&self, robot: &Tsai3Dof, p: &Vector3<f64>) -> Result<Skeleton, String> {
         let uniform = self.modes.iter().filter(|m| m.iter().all(|e| *e == m[0]));
         let tries = uniform.map(|m| {
             let branch = LegBranch {
                 principal_theta3: true,
                 elbow: m[0],
             };
-            Skeleton::tsai(&robot, p, branch)
+            Skeleton::tsai(robot, p, branch)
         });
         first_drawable(p, tries)
     }
 
-    /// Its six design values: the column quadrature of its volume is smooth in them.
-    fn smooth_objective(&self) -> Result<[f64; 6], String> {
-        Ok([
-            self.a.0,
-            self.b.0,
-            self.d_plus_e.0,
-            self.c_minus_r.0,
-            self.phi2_deg.0,
-            self.phi3_deg.0,
-        ])
+    /// Stamper's §5 at its six design values: the column quadrature of its volume is smooth
+    /// in them.
+    fn design_problem(&self) -> Option<DesignProblem> {
+        Some(DesignProblem::Tsai {
+            nominal: [
+                self.a.0,
+                self.b.0,
+                self.d_plus_e.0,
+                self.c_minus_r.0,
+                self.phi2_deg.0,
+                self.phi3_deg.0,
+            ],
+        })
     }
 }
