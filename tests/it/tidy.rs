@@ -353,22 +353,14 @@ fn cycles(
         .collect()
 }
 
-/// The modules of every crate form a DAG, but for the import cycles listed here (a ratchet:
-/// a new cycle fails, and so does a listed one that is gone, so the list stays true). Review 4
-/// found five; the command's (commands ↔ output), the optimisers' (grid_axis ↔ grid_search)
-/// and the Stewart–Gough's (stewart_gough ↔ stewart_layout) are fixed.
+/// The modules of every crate form a DAG (pkm-study has its own, finer test). Review 4 found
+/// five cycles; all are fixed: the command's (commands ↔ output), the optimisers' (grid_axis ↔
+/// grid_search), the Stewart–Gough's (stewart_gough ↔ stewart_layout), the Linear Delta's
+/// (linear_delta ↔ linear_delta_cross_section) and the robot file's (model, mobility,
+/// jacobian, closure, name: `MAX_LEGS` in `file`, `CoordinateRole` in `pose`, the bounded SVD
+/// in `svd`).
 #[test]
-fn the_modules_of_every_crate_form_a_dag_but_for_the_listed_cycles() {
-    let known: [(&str, &[&str]); 2] = [
-        (
-            "crates/pkm-mechanisms/src",
-            &["linear_delta", "linear_delta_cross_section"],
-        ),
-        (
-            "crates/pkm-robot-file/src",
-            &["closure", "jacobian", "mobility", "model", "name"],
-        ),
-    ];
+fn the_modules_of_every_crate_form_a_dag() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut sources = vec!["src".to_owned(), "xtask/src".to_owned()];
     for entry in std::fs::read_dir(root.join("crates"))
@@ -384,13 +376,8 @@ fn the_modules_of_every_crate_form_a_dag_but_for_the_listed_cycles() {
     let mut wrong = Vec::new();
     for src in &sources {
         let found = cycles(&module_graph(&root.join(src)));
-        let expected: std::collections::BTreeSet<std::collections::BTreeSet<String>> = known
-            .iter()
-            .filter(|(s, _)| s == src)
-            .map(|(_, modules)| modules.iter().map(|m| (*m).to_owned()).collect())
-            .collect();
-        if found != expected {
-            wrong.push(format!("{src}: cycles {found:?}, listed {expected:?}"));
+        if !found.is_empty() {
+            wrong.push(format!("{src}: cycles {found:?}"));
         }
     }
     assert!(wrong.is_empty(), "module cycles:\n{}", wrong.join("\n"));

@@ -1,6 +1,7 @@
 #![doc = include_str!("../README.md")]
 
 pub mod tsai;
+pub mod upu;
 
 /// A design problem of this crate whose objective is smooth in the design, so that a
 /// gradient-based optimiser (the augmented Lagrangian of `pkm-optimizers`) can solve it: what a

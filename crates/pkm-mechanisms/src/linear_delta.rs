@@ -8,7 +8,6 @@
 //! $$ \Phi_i(x, q) = (x - q_i)^2 + (y - A_{iy})^2 + (z - A_{iz})^2 - L_i^2 = 0. $$
 
 use crate::JacobianLanes;
-use crate::linear_delta_cross_section::{CrossSection, outside_half_plane};
 use nalgebra::{Matrix3, Vector3};
 use pkm_traits::{
     ClosedChain, DesignError, ForwardKinematics, InverseKinematics, Joints, KinematicsError, Lanes,
@@ -152,12 +151,6 @@ impl LinearDelta {
         self.lengths
     }
 
-    /// The $y$–$z$ workspace cross-section (three discs, $z \le 0$, and the centre-rail wedge
-    /// when $Z_R < 0$).
-    pub fn cross_section(&self) -> CrossSection {
-        CrossSection::new(self)
-    }
-
     /// $u_i = \sqrt{L_i^2 - (y - A_{iy})^2 - (z - A_{iz})^2} \ge 0$ of every arm.
     ///
     /// # Errors
@@ -270,7 +263,7 @@ impl InverseKinematics<3, 3> for LinearDelta {
     ///
     /// # Errors
     /// [`KinematicsError::NonFinite`] for NaN or infinite input;
-    /// [`KinematicsError::Unreachable`] when $(y, z) \notin W$ ([`CrossSection`]'s membership):
+    /// [`KinematicsError::Unreachable`] when $(y, z) \notin W$ ([`CrossSection`](crate::CrossSection)'s membership):
     /// outside arm `leg`'s disc (negative discriminant), above the plane $z = 0$ that the end
     /// effector cannot pass (`leg` the outer leg on the side of $y$), or, when $Z_R < 0$, outside
     /// the wedge below the centre rail (`leg` the outer leg whose arm the rail blocks); the
@@ -362,4 +355,42 @@ mod tests {
             }
         }
     }
+}
+
+/// A half-plane $z \le a y + b$.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Line {
+    pub(crate) a: f64,
+    pub(crate) b: f64,
+}
+
+/// The half-planes of $W$ besides the discs: $z \le 0$ (the plane of the outer rails) and, when
+/// $Z_R < 0$, the wedge below the centre rail, $z \le Z_R (y - s)/(Y_A - s)$ through
+/// $A_k = (s, 0)$ and $A_3$ for $s = \mp Y_R$ (`None` when $Z_R \ge 0$).
+pub(crate) fn half_planes(rails: &[[f64; 2]; 3]) -> [Option<Line>; 3] {
+    let [ya, zr] = rails[2];
+    let wedge = |k: usize| {
+        (zr < 0.0).then(|| {
+            let s = rails[k][0];
+            let a = zr / (ya - s);
+            Line { a, b: -a * s }
+        })
+    };
+    [Some(Line { a: 0.0, b: 0.0 }), wedge(0), wedge(1)]
+}
+
+/// The first half-plane of $W$ (closed, no tolerance) that $(y, z)$ lies outside, as the outer
+/// leg it stands for and the margin $a y + b - z < 0$: the line $A_kA_3$ stands for outer leg $k$
+/// (the centre rail blocks its arm), the plane $z = 0$ for the outer leg on the side of $y$.
+/// `None` when $(y, z)$ satisfies them all.
+pub(crate) fn outside_half_plane(rails: &[[f64; 2]; 3], y: f64, z: f64) -> Option<(usize, f64)> {
+    half_planes(rails)
+        .into_iter()
+        .enumerate()
+        .find_map(|(k, line)| {
+            let line = line?;
+            let margin = line.a * y + line.b - z;
+            let leg = if k == 0 { usize::from(y > 0.0) } else { k - 1 };
+            (!(margin >= 0.0)).then_some((leg, margin))
+        })
 }

@@ -7,7 +7,7 @@
 //! the abscissae of all pairwise intersections and of the disc extremes the bounding curves do not
 //! change, so the area is a sum of closed-form integrals of arcs and lines.
 
-use crate::linear_delta::{LinearDelta, LinearDeltaMode};
+use crate::linear_delta::{Line, LinearDelta, LinearDeltaMode, half_planes};
 use pkm_traits::{CrossSectionWorkspace, Extents, JacobianLanes, SlicedRegion};
 
 /// A disc $|p - c| \le r$.
@@ -16,13 +16,6 @@ struct Disc {
     cy: f64,
     cz: f64,
     r: f64,
-}
-
-/// A half-plane $z \le a y + b$.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Line {
-    a: f64,
-    b: f64,
 }
 
 /// Relative tolerance of the corner and extent tests (round-off of the intersections).
@@ -39,35 +32,12 @@ pub struct CrossSection {
     area: f64,
 }
 
-/// The half-planes of $W$ besides the discs: $z \le 0$ (the plane of the outer rails) and, when
-/// $Z_R < 0$, the wedge below the centre rail, $z \le Z_R (y - s)/(Y_A - s)$ through
-/// $A_k = (s, 0)$ and $A_3$ for $s = \mp Y_R$ (`None` when $Z_R \ge 0$).
-fn half_planes(rails: &[[f64; 2]; 3]) -> [Option<Line>; 3] {
-    let [ya, zr] = rails[2];
-    let wedge = |k: usize| {
-        (zr < 0.0).then(|| {
-            let s = rails[k][0];
-            let a = zr / (ya - s);
-            Line { a, b: -a * s }
-        })
-    };
-    [Some(Line { a: 0.0, b: 0.0 }), wedge(0), wedge(1)]
-}
-
-/// The first half-plane of $W$ (closed, no tolerance) that $(y, z)$ lies outside, as the outer
-/// leg it stands for and the margin $a y + b - z < 0$: the line $A_kA_3$ stands for outer leg $k$
-/// (the centre rail blocks its arm), the plane $z = 0$ for the outer leg on the side of $y$.
-/// `None` when $(y, z)$ satisfies them all.
-pub(crate) fn outside_half_plane(rails: &[[f64; 2]; 3], y: f64, z: f64) -> Option<(usize, f64)> {
-    half_planes(rails)
-        .into_iter()
-        .enumerate()
-        .find_map(|(k, line)| {
-            let line = line?;
-            let margin = line.a * y + line.b - z;
-            let leg = if k == 0 { usize::from(y > 0.0) } else { k - 1 };
-            (!(margin >= 0.0)).then_some((leg, margin))
-        })
+impl LinearDelta {
+    /// The $y$–$z$ workspace cross-section (three discs, $z \le 0$, and the centre-rail wedge
+    /// when $Z_R < 0$).
+    pub fn cross_section(&self) -> CrossSection {
+        CrossSection::new(self)
+    }
 }
 
 impl CrossSection {

@@ -9,7 +9,8 @@
 
 use crate::chain::stack;
 use crate::leg_ik::LegClass;
-use crate::model::{CoordinateRole, RobotModel, WorkingMode};
+use crate::model::{RobotModel, WorkingMode};
+use crate::pose::CoordinateRole;
 use crate::pose::{hybrid_rates, platform_pose};
 use nalgebra::{Isometry3, Point3, Rotation3, Unit, Vector3, Vector6};
 use pkm_screw_theory::reciprocal_product_vectors;

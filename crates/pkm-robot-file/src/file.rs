@@ -7,6 +7,9 @@ use crate::pose::OrientationKind;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// Most legs a robot may have (a working mode is one bit per leg).
+pub const MAX_LEGS: usize = 64;
+
 /// A robot file as written: one rigid base, one rigid platform, the legs (or one leg template
 /// and a [`SymmetrySpec`]), the task coordinates and the home configuration. Lengths in metres,
 /// angles in radians, every point and axis in the base frame at the home pose.

@@ -12,8 +12,9 @@
 use crate::chain::stack;
 use crate::closure::Configuration;
 use crate::mobility::{RANK_TOLERANCE, constraint_wrenches};
-use crate::model::{CoordinateRole, RobotModel};
-use crate::pose::hybrid_rates;
+use crate::model::RobotModel;
+use crate::pose::{CoordinateRole, hybrid_rates};
+use crate::svd::bounded_svd;
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 use pkm_screw_theory::{reciprocal_product_vectors, reciprocal_screw_system};
 use pkm_traits::KinematicsError;
@@ -322,24 +323,4 @@ fn singular_value(m: DMatrix<f64>, k: usize) -> f64 {
     k.checked_sub(1)
         .and_then(|i| sv.get(i).copied())
         .unwrap_or(0.0)
-}
-
-/// Most sweeps of an SVD of the robot file (nalgebra's `SVD::try_new`): a matrix that does not
-/// converge within them is reported, never iterated forever.
-pub(crate) const MAX_SVD_SWEEPS: usize = 1000;
-
-/// The SVD of `m` when every entry is finite and it converges within [`MAX_SVD_SWEEPS`];
-/// `None` otherwise. Every decomposition of the crate goes through it (or an explicit bound),
-/// so an infinite or NaN entry can never make one loop.
-pub(crate) fn bounded_svd(
-    m: DMatrix<f64>,
-    compute_u: bool,
-    compute_v: bool,
-) -> Option<nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>> {
-    if !m.iter().all(|v| v.is_finite()) {
-        return None;
-    }
-    // nalgebra's own tolerance of `Matrix::svd` (5 ε), so a bounded SVD gives its bits.
-    let eps = 5.0 * f64::EPSILON;
-    nalgebra::SVD::try_new(m, compute_u, compute_v, eps, MAX_SVD_SWEEPS)
 }

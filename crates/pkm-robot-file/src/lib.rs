@@ -54,6 +54,7 @@ mod parameters;
 mod points;
 mod pose;
 mod robot;
+mod svd;
 mod task_workspace;
 mod workspace;
 
@@ -61,16 +62,14 @@ pub use chain::{Joint, LegChain};
 pub use closure::Configuration;
 pub use error::RobotFileError;
 pub use file::{
-    HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, RobotFile, SymmetrySpec, check_size,
+    HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, MAX_LEGS, RobotFile, SymmetrySpec,
+    check_size,
 };
 pub use fk::{AssemblyMode, EnumerationSettings};
 pub use jacobian::{ScrewJacobians, SingularityMargins};
 pub use lm::SolverSettings;
-pub use model::{
-    CoordinateRole, MAX_JOINTS_PER_LEG, MAX_LEGS, MIN_CHARACTERISTIC_LENGTH, RobotModel,
-    WorkingMode,
-};
+pub use model::{MAX_JOINTS_PER_LEG, MIN_CHARACTERISTIC_LENGTH, RobotModel, WorkingMode};
 pub use points::{LegPoint, LegPointKind, LegPoints, LegSegment};
-pub use pose::{OrientationKind, PoseCoordinates, platform_pose};
+pub use pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};
 pub use robot::{Robot, task_of};
 pub use task_workspace::{MarginLimits, OrientationLevels, OrientationSet, TaskWorkspace};

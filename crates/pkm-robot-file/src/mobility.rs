@@ -4,8 +4,7 @@
 
 use crate::chain::LegChain;
 use crate::error::RobotFileError;
-use crate::model::CoordinateRole;
-use crate::pose::{OrientationKind, PoseCoordinates, hybrid_rates};
+use crate::pose::{CoordinateRole, OrientationKind, PoseCoordinates, hybrid_rates};
 use nalgebra::{DMatrix, Vector3, Vector6};
 use pkm_screw_theory::reciprocal_screw_system;
 
@@ -104,7 +103,7 @@ pub(crate) fn check_mobility(
         }
     }
     let selected = DMatrix::from_fn(free.len(), system.len(), |r, c| rates[(free[r], c)]);
-    let smallest = crate::jacobian::bounded_svd(selected, false, false).map_or(0.0, |svd| {
+    let smallest = crate::svd::bounded_svd(selected, false, false).map_or(0.0, |svd| {
         svd.singular_values
             .iter()
             .copied()

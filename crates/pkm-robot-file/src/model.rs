@@ -3,13 +3,11 @@
 
 use crate::chain::{Joint, LegChain};
 use crate::error::RobotFileError;
-use crate::file::{JointSpec, JointType, LegSpec, RobotFile};
+use crate::file::{JointSpec, JointType, LegSpec, MAX_LEGS, RobotFile};
 use crate::leg_ik::LegClass;
-use crate::pose::{OrientationKind, PoseCoordinates, platform_pose};
+use crate::pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3};
 
-/// Most legs a robot may have (a working mode is one bit per leg).
-pub const MAX_LEGS: usize = 64;
 /// Most joint letters per leg.
 pub const MAX_JOINTS_PER_LEG: usize = 16;
 /// Largest coordinate accepted in a file (m): beyond it the products of the kinematics lose
@@ -20,19 +18,6 @@ const MAX_COORDINATE: f64 = 1e6;
 /// homogenised moments $m/L$ stay below $10^{12}$ times the forces, finite and far from
 /// overflow (a subnormal $L$ once put infinities into the margins' SVD).
 pub const MIN_CHARACTERISTIC_LENGTH: f64 = 1e-6;
-
-/// What a pose coordinate is in a robot.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CoordinateRole {
-    /// An independent task coordinate.
-    Task,
-    /// Solved from the task coordinates through the legs' constraints.
-    Dependent,
-    /// Left free by the legs and held at home (the spin of a point platform).
-    Idle,
-    /// Held at its home value by the legs' constraints.
-    Constant,
-}
 
 /// A working mode: bit $i$ is the branch of leg $i$ (0 or 1) for the legs with two
 /// closed-form branches; legs with one branch or a numerical solution ignore their bit.

@@ -39,7 +39,7 @@ fn parse_name(name: &str) -> Option<Vec<NamedLeg>> {
     let name = name.trim();
     if let Some((count, chain)) = name.split_once('-') {
         let count: usize = count.trim().parse().ok()?;
-        if count == 0 || count > crate::model::MAX_LEGS {
+        if count == 0 || count > crate::file::MAX_LEGS {
             return None;
         }
         let leg = parse_chain(chain.trim())?;

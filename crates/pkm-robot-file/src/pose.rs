@@ -10,6 +10,19 @@
 use nalgebra::{Isometry3, Matrix3, Matrix6, Rotation3, Translation3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
+/// What a pose coordinate is in a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoordinateRole {
+    /// An independent task coordinate.
+    Task,
+    /// Solved from the task coordinates through the legs' constraints.
+    Dependent,
+    /// Left free by the legs and held at home (the spin of a point platform).
+    Idle,
+    /// Held at its home value by the legs' constraints.
+    Constant,
+}
+
 /// The orientation coordinates of a robot file.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -300,7 +300,7 @@ fn inverse_condition_of(j: &DMatrix<f64>) -> Result<f64, KinematicsError> {
     macro_rules! fixed {
         ($n:literal) => {
             nalgebra::SMatrix::<f64, $n, $n>::from_fn(|r, c| j[(r, c)])
-                .try_svd(false, false, f64::EPSILON, crate::jacobian::MAX_SVD_SWEEPS)
+                .try_svd(false, false, f64::EPSILON, crate::svd::MAX_SVD_SWEEPS)
                 .map(|svd| svd.singular_values.as_slice().to_vec())
         };
     }
@@ -309,7 +309,7 @@ fn inverse_condition_of(j: &DMatrix<f64>) -> Result<f64, KinematicsError> {
         (6, 6) => fixed!(6),
         _ => j
             .clone()
-            .try_svd(false, false, f64::EPSILON, crate::jacobian::MAX_SVD_SWEEPS)
+            .try_svd(false, false, f64::EPSILON, crate::svd::MAX_SVD_SWEEPS)
             .map(|svd| svd.singular_values.as_slice().to_vec()),
     }
     .ok_or(singular)?;

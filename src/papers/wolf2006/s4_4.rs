@@ -7,11 +7,12 @@
 use super::pose_report::kkt_rows;
 use crate::papers::{Context, ExperimentError, Figure, Outcome, Paper, Source, Verdict};
 use nalgebra::{Isometry3, Vector3, Vector6};
+use pkm_design_problems::upu::{UpuGoal, UpuProblem};
 use pkm_draw::{Axis, Scene};
 use pkm_mechanisms::{Skeleton, ThreeUpu, ThreeUpuDesign, UJointAxes, WrenchSystem, presets};
 use pkm_optimizers::{LmSettings, LocalOptimum, Multistart, Sense, multistart_levenberg_marquardt};
-use pkm_screw_theory::{PluckerLine, Twist, task_residuals};
-use pkm_traits::{Bounds, Objective, ObjectiveError, Residuals};
+use pkm_screw_theory::{PluckerLine, Twist};
+use pkm_traits::Bounds;
 
 /// Spec §3.6's bound on |F(u1, u2 swapped) − F(Park)| over random leg geometries.
 const SWAP_TOLERANCE: f64 = 0.002;
@@ -50,58 +51,26 @@ fn park_with_axes(upper: [UJointAxes; 3]) -> ThreeUpuDesign {
     }
 }
 
-/// Park's axes of joint i tilted by β about the radial and γ about the tangent (degrees).
-fn tilted_axes(design: &[f64]) -> [UJointAxes; 3] {
-    let azimuths = presets::park_3upu().azimuths;
-    std::array::from_fn(|i| {
-        let (beta, gamma) = (design[2 * i].to_radians(), design[2 * i + 1].to_radians());
-        UJointAxes::park_tilted(azimuths[i], beta, gamma)
-    })
-}
-
-/// F over the six tilt angles of the upper U joints, $[-90°, 90°]$ each.
-struct UpperAxesProblem {
-    pose: Isometry3<f64>,
-    twist: Twist,
-    bounds: [Bounds; 6],
-}
-
-impl Objective for UpperAxesProblem {
-    fn dimension(&self) -> usize {
-        6
-    }
-    fn bounds(&self) -> &[Bounds] {
-        &self.bounds
-    }
-    fn value(&self, design: &[f64]) -> Result<f64, ObjectiveError> {
-        self.sum_of_squares(design)
-    }
-}
-
-impl Residuals for UpperAxesProblem {
-    fn n_residuals(&self) -> usize {
-        6
-    }
-    fn residuals(&self, design: &[f64], r: &mut [f64]) -> Result<(), ObjectiveError> {
-        self.check_dimension(design)?;
-        let upu = ThreeUpu::new(park_with_axes(tilted_axes(design)))?;
-        let rows = upu.wrench_rows(&self.pose).map_err(ObjectiveError::from)?;
-        r.copy_from_slice(task_residuals(&rows, &self.twist).as_slice());
-        Ok(())
-    }
+/// F over the six tilt angles of the upper U joints ($[-90°, 90°]$ each) of Park's 3-UPU at
+/// `pose`, for `twist`: the library's 3-UPU task problem with the tilts alone free.
+fn upper_axes_problem(pose: &Isometry3<f64>, twist: Twist) -> Result<UpuProblem, ExperimentError> {
+    let park = presets::park_3upu();
+    let p = pose.translation.vector;
+    let mut nominal = [0.0; 14];
+    nominal[..2].copy_from_slice(&[park.base_radius, park.platform_radius]);
+    nominal[8..11].copy_from_slice(&[p.x, p.y, p.z]);
+    let tilt = Bounds::new(-90.0, 90.0)?;
+    let free: Vec<(usize, Bounds)> = (2..8).map(|k| (k, tilt)).collect();
+    let goal = UpuGoal::Task(vec![(1.0, twist)]);
+    Ok(UpuProblem::new(park.azimuths, nominal, &free, goal))
 }
 
 fn optimise(
     sense: Sense,
     context: &Context<'_>,
-) -> Result<(LocalOptimum, UpperAxesProblem), ExperimentError> {
+) -> Result<(LocalOptimum, UpuProblem), ExperimentError> {
     let (twist, apex) = exact_a1()?;
-    let tilt = Bounds::new(-90.0, 90.0)?;
-    let problem = UpperAxesProblem {
-        pose: home(apex),
-        twist,
-        bounds: [tilt; 6],
-    };
+    let problem = upper_axes_problem(&home(apex), twist)?;
     context.progress.check()?;
     let starts = Multistart::new(context.mode.pick(20, 32), 18);
     let optimum = multistart_levenberg_marquardt(
@@ -204,11 +173,12 @@ pub(super) fn run_max(context: &Context<'_>) -> Result<Outcome, ExperimentError>
 /// platform joints, one platform radius long) and the task axis $A_1$.
 fn upper_joints_drawing(
     optimum: &LocalOptimum,
-    problem: &UpperAxesProblem,
+    problem: &UpuProblem,
 ) -> Result<Figure, ExperimentError> {
-    let axes = tilted_axes(&optimum.design);
-    let upu = ThreeUpu::new(park_with_axes(axes))?;
-    let skeleton = Skeleton::three_upu(&upu, &problem.pose)?;
+    let (upu, pose) = problem.evaluate(&optimum.design)?;
+    let (twist, _) = exact_a1()?;
+    let axes = upu.design().upper;
+    let skeleton = Skeleton::three_upu(&upu, &pose)?;
     let joints: Vec<Vector3<f64>> = skeleton
         .points
         .iter()
@@ -217,15 +187,15 @@ fn upper_joints_drawing(
         .collect();
     let mut scene = Scene::new(skeleton).with_axis(Axis::of_twist(
         "task axis A1",
-        &problem.twist,
-        problem.pose.translation.vector,
+        &twist,
+        pose.translation.vector,
     )?);
     for (joint, u) in joints.iter().zip(&axes) {
         for (label, direction) in [("u1 (upper U joints)", u.u1), ("u2 (upper U joints)", u.u2)] {
             scene = scene.with_axis(Axis {
                 label: label.to_owned(),
                 point: *joint,
-                direction: problem.pose.rotation * direction,
+                direction: pose.rotation * direction,
                 length: Some(upu.design().platform_radius),
             });
         }

@@ -6,7 +6,7 @@ pub use super::constraints::{ConstraintsSpec, HalfSpaceSpec, JointRangeDegSpec, 
 pub use super::kinds::linear_delta::{LinearDeltaSpec, linear_delta};
 pub use super::kinds::rotary_delta::{RotaryDeltaSpec, rotary_delta};
 pub use super::kinds::stewart_gough::{StewartSpec, stewart_layout, stewart_orientation};
-pub use super::kinds::three_upu::{ThreeUpuSpec, three_upu, tilted_axes};
+pub use super::kinds::three_upu::{ThreeUpuSpec, three_upu};
 pub use super::kinds::tsai::{TsaiSpec, tsai};
 pub use crate::registry::{BuildError, WorkspaceVisitor};
 

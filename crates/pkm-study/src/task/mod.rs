@@ -18,7 +18,8 @@ mod report;
 mod robot_file;
 mod schema;
 
-pub use problem::{STEWART_VARIABLES, UPU_VARIABLES, UpuProblem, stewart_problem};
+pub use pkm_design_problems::upu::UPU_VARIABLES;
+pub use problem::{STEWART_VARIABLES, stewart_problem, upu_problem};
 pub use report::{
     Optimality, PoseReport, TaskResult, TwistValue, WrenchMatrix, most_reciprocal_twist,
 };
@@ -426,7 +427,7 @@ fn upu(
         ));
     }
     let free = chosen_variables(task, &UPU_VARIABLES)?;
-    let problem = UpuProblem::new(spec, &task.pose, &free, task.goal, twists);
+    let problem = upu_problem(spec, &task.pose, &free, task.goal, twists);
     let starts = checked_starts(task, problem.bounds())?;
     let sense = task.goal.sense();
     let (run, best_start, best) = run_starts(&problem, sense, task, starts, progress)?;

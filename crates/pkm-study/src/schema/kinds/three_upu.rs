@@ -65,7 +65,7 @@ fn park_azimuths() -> [Degrees; 3] {
 }
 
 /// The 3-UPU of a `[mechanism.three_upu]` table: Park's U-joint axes at its azimuths, tilted
-/// by its `beta*_deg`, `gamma*_deg` ([`tilted_axes`]).
+/// by its `beta*_deg`, `gamma*_deg` ([`tilted_axes`](pkm_design_problems::upu::tilted_axes)).
 ///
 /// # Errors
 /// [`BuildError::Design`] with the library's reason for an invalid design.
@@ -75,20 +75,9 @@ pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
         base_radius: s.base_radius.0,
         platform_radius: s.platform_radius.0,
         azimuths,
-        upper: tilted_axes(azimuths, &s.tilts_deg()),
+        upper: pkm_design_problems::upu::tilted_axes(azimuths, &s.tilts_deg()),
     })
     .map_err(design_error)
-}
-
-/// Park's axes $(u_1, u_2)$ of the joints at `azimuths` (radians), joint $i$ tilted by
-/// $\beta_i$ about the radial $u_2$, then by $\gamma_i$ about the tangent $u_1$
-/// (`tilts_deg = [β1, γ1, β2, γ2, β3, γ3]`, degrees), as in Wolf & Shoham §4.4:
-/// $u_j' = R_{u_2}(\beta_i)\,R_{u_1}(\gamma_i)\,u_j$.
-pub fn tilted_axes(azimuths: [f64; 3], tilts_deg: &[f64; 6]) -> [UJointAxes; 3] {
-    std::array::from_fn(|i| {
-        let (beta, gamma) = (tilts_deg[2 * i], tilts_deg[2 * i + 1]);
-        UJointAxes::park_tilted(azimuths[i], beta.to_radians(), gamma.to_radians())
-    })
 }
 
 /// The table of a library design whose upper axes are Park's at its azimuths (untilted; the
