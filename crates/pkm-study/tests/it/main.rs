@@ -12,4 +12,5 @@ mod presets;
 mod robot_file;
 mod task;
 mod task_space;
+mod variables;
 mod workspace;
