@@ -53,6 +53,14 @@ pub const REQUIRED_VIOLATION_DECREASE: f64 = 0.25;
 /// The multipliers have settled when no $\mu_i$ changed by more than this relative amount
 /// $(1 + \max_i \mu_i)$ in the last outer iteration.
 pub const MULTIPLIER_TOLERANCE: f64 = 1e-6;
+/// Outer iterations in a row at [`MAX_PENALTY`] whose violation did not shrink below
+/// $(1 - $ [`STALL_DECREASE`]$)$ times the previous one, or that left the design and the
+/// multipliers unchanged, after which the run has stalled: the penalty cannot grow any more,
+/// so further iterations cannot make the design feasible (an infeasible set), whatever
+/// [`AugmentedLagrangianSettings::max_outer`] allows.
+pub const MAX_STALLED_OUTER: usize = 5;
+/// Relative decrease of the largest violation that counts as progress at [`MAX_PENALTY`].
+pub const STALL_DECREASE: f64 = 1e-3;
 
 /// Settings of [`augmented_lagrangian`]. In a study file (e.g. `[optimize.solver]`) every key
 /// is optional, with the defaults below.
@@ -104,9 +112,10 @@ pub struct ConstrainedResult {
     /// Multiplier estimates $\mu_i \ge 0$; positive for active constraints.
     pub multipliers: Vec<f64>,
     /// Why the outer iteration stopped: [`Termination::Converged`] (criterion
-    /// `"feasible with settled multipliers"`) or [`Termination::MaxIterations`] after
+    /// `"feasible with settled multipliers"`), [`Termination::MaxIterations`] after
     /// [`AugmentedLagrangianSettings::max_outer`] outer iterations with a feasible but
-    /// possibly unsettled design. When the last outer iterate is infeasible, the design is the
+    /// possibly unsettled design, or [`Termination::Stalled`] after [`MAX_STALLED_OUTER`] outer
+    /// iterations without progress. When the last outer iterate is infeasible, the design is the
     /// last feasible outer iterate (with its constraints and multipliers), as NLopt's AUGLAG
     /// keeps its best feasible point; a run that never reached a feasible outer iterate is an
     /// error instead.
@@ -218,6 +227,7 @@ fn solve<P: Constraints>(
         scale,
     };
     let (mut outer_iterations, mut inner_iterations) = (0, 0);
+    let mut stalled = 0;
     while outer_iterations < settings.max_outer {
         progress.check()?;
         outer_iterations += 1;
@@ -232,6 +242,7 @@ fn solve<P: Constraints>(
                 .sum();
             Ok(objective(p)? + penalty / (2.0 * rho))
         };
+        let (previous_x, previous_mu) = (x.clone(), mu.clone());
         let (_, spent) = minimise_in_box(&lagrangian, bounds, &mut x, &inner, progress)?;
         inner_iterations += spent;
         problem.inequalities(&x, &mut g)?;
@@ -266,6 +277,14 @@ fn solve<P: Constraints>(
             };
             break;
         }
+        let fixed_point = x == previous_x && mu == previous_mu;
+        let no_progress =
+            rho >= MAX_PENALTY && !(new_violation < (1.0 - STALL_DECREASE) * violation);
+        stalled = if fixed_point || no_progress {
+            stalled + 1
+        } else {
+            0
+        };
         // A design already within the feasibility tolerance needs no larger penalty: growing
         // it there only amplifies the inner solve's error in the multiplier update.
         if new_violation > settings.feasibility
@@ -274,14 +293,23 @@ fn solve<P: Constraints>(
             rho = (rho * PENALTY_GROWTH).min(MAX_PENALTY);
         }
         violation = new_violation;
+        if stalled >= MAX_STALLED_OUTER {
+            termination = Termination::Stalled;
+            break;
+        }
     }
     if !(violation <= settings.feasibility) {
         let Some(feasible) = last_feasible else {
-            return Err(OptimizeError::NoFeasibleDesign {
-                evaluations: settings.max_outer,
-                last_reason: format!(
-                    "largest constraint violation {violation:.3e} after the last outer iteration"
+            let after = match termination {
+                Termination::Stalled => format!(
+                    "the outer iteration stalled at the largest penalty ({MAX_STALLED_OUTER} \
+                     iterations without progress)"
                 ),
+                _ => "the last outer iteration".to_owned(),
+            };
+            return Err(OptimizeError::NoFeasibleDesign {
+                evaluations: evaluations.get(),
+                last_reason: format!("largest constraint violation {violation:.3e} after {after}"),
             });
         };
         (x, g, mu) = (feasible.design, feasible.constraints, feasible.multipliers);

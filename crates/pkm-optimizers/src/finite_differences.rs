@@ -71,7 +71,9 @@ fn difference_points(b: &Bounds, x: f64, relative: f64) -> Result<(f64, f64), Ob
     Ok((hi, lo))
 }
 
-/// The step $h = \epsilon\,\max(w, w_{\min})$ of one variable.
+/// The step $h = \epsilon\,\max(w, w_{\min})$ of one variable (`relative` = $\epsilon$, which
+/// the difference functions check; a NaN `relative` gives a NaN step, an infinite width an
+/// infinite one).
 ///
 /// # Example
 /// ```
@@ -205,7 +207,9 @@ where
 ///
 /// # Errors
 /// As [`gradient`], and [`ObjectiveError::InvalidInput`] for an index of `free` that names no
-/// variable; otherwise the first error of `f`.
+/// variable or a step whose square $(2h)^2$ is not a normal number (bounds near ±1e300 or
+/// ±1e-300); [`ObjectiveError::NonFinite`] for an entry that overflows; otherwise the first
+/// error of `f`.
 ///
 /// # Example
 /// ```
@@ -234,6 +238,12 @@ where
         return Err(InvalidInput::new("free", j as f64, "must name a design variable").into());
     }
     let h: Vec<f64> = free.iter().map(|&j| step(&bounds[j], relative)).collect();
+    // The second differences divide by (2h)²: it must be a normal number.
+    if let Some(&hk) = h.iter().find(|&&hk| !(4.0 * hk * hk).is_normal()) {
+        let requirement = "(2·step)² must be a normal number: the bounds are too wide or too \
+                           narrow for a second difference";
+        return Err(InvalidInput::new("step", hk, requirement).into());
+    }
     let f_at = |shifts: &[(usize, f64)]| {
         let mut q = p.to_vec();
         for &(k, s) in shifts {
@@ -254,6 +264,9 @@ where
                     + f_at(&[(k, -1.0), (l, -1.0)])?)
                     / (4.0 * h[k] * h[l])
             };
+            if !v.is_finite() {
+                return Err(ObjectiveError::NonFinite { value: v });
+            }
             hess[k * n + l] = v;
             hess[l * n + k] = v;
         }

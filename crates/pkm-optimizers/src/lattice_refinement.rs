@@ -161,11 +161,13 @@ pub fn lattice_refine_from<O: Objective + ?Sized>(
 const MAX_REPEATS: usize = 8;
 
 /// The window of `level` around `centre`: `2·half_width + 1` lattice nodes per axis, clipped to
-/// `bounds`; axes of `axes` with a single node are kept as they are.
+/// `bounds` (a centre beyond its bounds is taken at the nearest one, so the window always lies
+/// within them); axes of `axes` with a single node are kept as they are.
 ///
 /// # Errors
-/// [`OptimizeError::Invalid`] for a step that is not finite and positive, a centre that
-/// is not finite, or a window of more than [`crate::MAX_GRID_NODES`] nodes on one axis.
+/// [`OptimizeError::Invalid`] for a step that is not finite and positive, `axes` or `centre`
+/// of another length than `bounds`, a centre that is not finite, or a window
+/// of more than [`crate::MAX_GRID_NODES`] nodes on one axis.
 pub fn lattice_window(
     bounds: &[Bounds],
     axes: &[GridAxis],
@@ -174,6 +176,12 @@ pub fn lattice_window(
 ) -> Result<Vec<GridAxis>, OptimizeError> {
     if !(level.step > 0.0 && level.step.is_finite()) {
         return Err(InvalidInput::new("step", level.step, "must be finite and > 0").into());
+    }
+    for (name, len) in [("axes", axes.len()), ("centre", centre.len())] {
+        if len != bounds.len() {
+            let requirement = "must have one entry per bound";
+            return Err(InvalidInput::new(name, len as f64, requirement).into());
+        }
     }
     // At most this many steps either side, so that `below + above + 1` cannot overflow.
     let half_width = level.half_width.min(crate::MAX_GRID_NODES);
@@ -187,6 +195,8 @@ pub fn lattice_window(
             if !c.is_finite() {
                 return Err(InvalidInput::new("centre", c, "must be finite").into());
             }
+            // A centre beyond its bounds is taken at the nearest bound.
+            let c = c.clamp(b.lower(), b.upper());
             // The float-to-usize cast saturates; the `min` keeps the count small.
             let room = |d: f64| ((d / level.step + 1e-9).floor().max(0.0) as usize).min(half_width);
             let below = room(c - b.lower());

@@ -72,8 +72,8 @@ mod weighted_sum;
 
 pub use augmented_lagrangian::{
     AugmentedLagrangianSettings, ConstrainedResult, FIRST_VIOLATION_TARGET, INITIAL_PENALTY,
-    MAX_PENALTY, MULTIPLIER_TOLERANCE, PENALTY_GROWTH, REQUIRED_VIOLATION_DECREASE,
-    augmented_lagrangian,
+    MAX_PENALTY, MAX_STALLED_OUTER, MULTIPLIER_TOLERANCE, PENALTY_GROWTH,
+    REQUIRED_VIOLATION_DECREASE, STALL_DECREASE, augmented_lagrangian,
 };
 pub use compass_search::{CompassResult, CompassSettings, compass_search};
 pub use error::OptimizeError;

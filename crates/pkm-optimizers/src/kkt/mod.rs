@@ -240,7 +240,7 @@ pub fn check<P: Constraints + ?Sized>(
     let status: Vec<VariableStatus> = (0..n)
         .map(|j| status_of(&bounds[j], x[j], finite_differences::step(&bounds[j], step)))
         .collect();
-    let projected_gradient_max = (0..n)
+    let projected: Vec<f64> = (0..n)
         .map(|j| {
             let projected = match status[j] {
                 VariableStatus::Lower => gradient[j].min(0.0),
@@ -249,7 +249,8 @@ pub fn check<P: Constraints + ?Sized>(
             };
             (projected * bounds[j].width()).abs()
         })
-        .fold(0.0, f64::max);
+        .collect();
+    let projected_gradient_max = largest("scaled projected gradient", n, &projected)?;
     let active: Vec<usize> = (0..m)
         .filter(|&i| mu[i] > 0.0 || g[i] >= -settings.active_tolerance)
         .collect();
@@ -341,6 +342,13 @@ fn require_finite(quantity: &'static str, n: usize, values: &[f64]) -> Result<()
     }
 }
 
+/// The largest of `values` (0 for none), refused when one is NaN or infinite: `f64::max` would
+/// drop a NaN and report the others' maximum.
+fn largest(quantity: &'static str, n: usize, values: &[f64]) -> Result<f64, OptimizeError> {
+    require_finite(quantity, n, values)?;
+    Ok(values.iter().copied().fold(0.0, f64::max))
+}
+
 fn status_of(b: &Bounds, x: f64, h: f64) -> VariableStatus {
     let tol = ON_BOUND * b.width();
     if !(x > b.lower() + tol) {
@@ -379,10 +387,11 @@ fn least_squares_stationarity(
     });
     let multipliers = algebra::least_squares(&a_t, &(-&grad_f))?;
     let residual = grad_f + &a_t * &multipliers;
-    let scaled = off
+    let scaled: Vec<f64> = off
         .iter()
         .zip(residual.iter())
         .map(|(&j, r)| (r * bounds[j].width()).abs())
-        .fold(0.0, f64::max);
+        .collect();
+    let scaled = largest("scaled stationarity residual", scaled.len(), &scaled)?;
     Ok((multipliers.as_slice().to_vec(), scaled))
 }
