@@ -62,7 +62,9 @@ pub enum Accelerations {
 ///
 /// # Errors
 /// [`DynamicsError::Invalid`] for a step that is not positive or leaves fewer than 3
-/// samples; [`DynamicsError::Unreachable`] with the time and leg of the first unreachable point.
+/// samples, or more than fit in [`pkm_traits::MEMORY_BUDGET_BYTES`] (checked before
+/// allocating); [`DynamicsError::Unreachable`] with the time and leg of the first unreachable
+/// point.
 pub fn sample(
     model: &ExtendedModel,
     trajectory: &Trajectory,
@@ -72,7 +74,10 @@ pub fn sample(
     if !(dt > 0.0 && (2.0..1e8).contains(&steps)) {
         return Err(InvalidInput::new("dt", dt, "must be > 0 and leave 3 to 1e8 samples").into());
     }
-    (0..=steps as usize)
+    // `steps` is an integer in [2, 1e8), so the cast is exact.
+    let count = steps as usize + 1;
+    InvalidInput::require_within_budget("samples", count, size_of::<(f64, ExtendedState)>())?;
+    (0..count)
         .map(|k| {
             let t = k as f64 * dt;
             let m = trajectory.sample(t);

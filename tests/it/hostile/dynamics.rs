@@ -134,3 +134,25 @@ fn an_unreachable_trajectory_point_reports_its_real_time_and_leg() {
     let Err(bare) = at(t) else { unreachable!() };
     assert_eq!(bare.at(t), DynamicsError::Unreachable { t, source });
 }
+
+/// A sample count under the 1e8 guard but beyond the library's memory budget is refused before
+/// anything is allocated (9.9e7 samples of an extended state once took 5.1 GB and aborted).
+#[test]
+fn sampling_beyond_the_memory_budget_is_refused() {
+    let model = nuwar();
+    let start = Vector3::new(0.0, 0.0, -0.75);
+    let path = Path::line(start, start + Vector3::new(0.0, 0.0, -0.01)).unwrap();
+    let segment = Segment {
+        path,
+        law: MotionLaw::Cycloidal,
+        duration: 1.0,
+        reverse: false,
+    };
+    let trajectory = Trajectory::new(vec![segment]).unwrap();
+    let refused = inverse::sample(&model, &trajectory, 1.0 / 9.9e7);
+    assert!(
+        matches!(refused, Err(DynamicsError::Invalid(_))),
+        "{:?}",
+        refused.map(|s| s.len())
+    );
+}
