@@ -269,3 +269,76 @@ fn tsai_column_volume_refuses_huge_grids() {
         |v| v.is_finite() && *v > 0.0,
     ));
 }
+
+/// The rotary Delta's lane test and its inverse kinematics agree at every point, one ulp either
+/// side of the workspace boundary included (171 of 1,204 points there disagreed): along 200
+/// rays from an inside point, the boundary is found to the last ulp by bisection on the
+/// inverse kinematics, and the lane test is asked at the 7 ulps of t around it, one lane and
+/// four at a time.
+#[test]
+fn rotary_delta_lanes_agree_with_the_inverse_kinematics_at_the_boundary() {
+    use pkm_traits::Lanes;
+    for design in [
+        presets::nuwar(Placement::canonical()),
+        presets::miller_delta(Placement::canonical()),
+    ] {
+        let delta = RotaryDelta::new(design).unwrap();
+        let reaches = |p: &Vector3<f64>| delta.inverse_kinematics(p, ElbowMode::Out).is_ok();
+        let centre = Vector3::new(0.0, 0.0, -0.75);
+        assert!(reaches(&centre), "the rays start inside");
+        let (mut checked, mut disagree) = (0, Vec::new());
+        for k in 0..200 {
+            // Fibonacci directions on the sphere.
+            let z = 1.0 - (2.0 * k as f64 + 1.0) / 200.0;
+            let phi = k as f64 * std::f64::consts::PI * (3.0 - 5.0_f64.sqrt());
+            let r = (1.0 - z * z).sqrt();
+            let dir = Vector3::new(r * phi.cos(), r * phi.sin(), z);
+            let (mut lo, mut hi) = (0.0_f64, 4.0_f64);
+            if reaches(&(centre + dir * hi)) {
+                continue;
+            }
+            while hi - lo > 0.0 {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                if reaches(&(centre + dir * mid)) {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            let mut t = lo;
+            for _ in 0..3 {
+                t = t.next_down();
+            }
+            let points: Vec<Vector3<f64>> = (0..7)
+                .map(|_| {
+                    let p = centre + dir * t;
+                    t = t.next_up();
+                    p
+                })
+                .collect();
+            for chunk in points.chunks(4) {
+                let lanes: [Lanes<4>; 3] = std::array::from_fn(|c| {
+                    Lanes(std::array::from_fn(|l| chunk[l.min(chunk.len() - 1)][c]))
+                });
+                let four = delta.reachable_lanes(&lanes);
+                for (l, p) in chunk.iter().enumerate() {
+                    let one = delta.reachable_lanes(&[Lanes([p.x]), Lanes([p.y]), Lanes([p.z])])[0];
+                    checked += 1;
+                    if one != reaches(p) || four[l] != reaches(p) {
+                        disagree.push(*p);
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "vacuous: {checked} points");
+        assert!(
+            disagree.is_empty(),
+            "{} of {checked} disagree: {:?}",
+            disagree.len(),
+            &disagree[..disagree.len().min(3)]
+        );
+    }
+}

@@ -107,6 +107,17 @@ impl ConstrainedWorkspace<3, 3> for RotaryDelta {
     }
 }
 
+/// Relative width of the band around $4L_a^2\rho^2 - s^2 = 0$ within which the rounding of the
+/// lane test (about $2|s|\,\delta s$ on $s^2$, $\delta s \le 4\epsilon(|D|^2 + |L_a^2 -
+/// L_b^2|)$) or of the inverse kinematics' $|K/\rho| \le 1$ (a few $\epsilon$ on the ratio, so
+/// $8\epsilon$ times $4L_a^2\rho^2$ on the difference) could decide the sign: $64\epsilon$, with
+/// room to spare.
+const BOUNDARY_ROUNDING: f64 = 64.0 * f64::EPSILON;
+
+/// $\rho^2$ below which it may have underflowed where $\rho = \operatorname{hypot}(a, b)$ did
+/// not: the inverse kinematics decides.
+const TINY_RHO2: f64 = 1e-280;
+
 impl RotaryDelta {
     /// Whether each of `N` points (coordinates in lanes) is reachable: the test behind
     /// [`ConstrainedWorkspace::reachable`] (one lane) and
@@ -114,7 +125,9 @@ impl RotaryDelta {
     /// finite values is that of the comparison) and $\rho^2 > 0$. A lane whose products are
     /// not finite (a non-finite point, or one beyond about 1e77 m; caught as a NaN in
     /// $\sum 0 \cdot s^2 + 0 \cdot r$) is answered by the inverse kinematics, whose ratio
-    /// $K/\rho$ does not overflow. The legs after one that no settled lane passes are skipped.
+    /// $K/\rho$ does not overflow, and so is a lane within the rounding band of the boundary on
+    /// some leg (`BOUNDARY_ROUNDING` = 64ε), so that the two tests agree at every point, one ulp
+    /// from the boundary included. The legs after one that no settled lane passes are skipped.
     ///
     /// # Example
     /// ```
@@ -133,6 +146,9 @@ impl RotaryDelta {
         // compiler vectorises across lanes.
         let (mut margin, mut rho2_min, mut poison) =
             ([f64::INFINITY; N], [f64::INFINITY; N], [0.0; N]);
+        // Lanes whose margin on some leg lies within the rounding of both tests: answered by
+        // the inverse kinematics, so that the two agree at every point.
+        let mut unsure = [false; N];
         for leg in &self.legs {
             let (o, u, w) = (leg.plate_offset - leg.motor, leg.u, leg.w);
             let mut open = false;
@@ -145,6 +161,9 @@ impl RotaryDelta {
                 let (lhs, rhs) = (s * s, scale * rho2);
                 poison[l] = poison[l] + lhs * 0.0 + rhs * 0.0;
                 let gap = rhs - lhs;
+                let size = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + offset.abs();
+                let band = BOUNDARY_ROUNDING * (rhs + s.abs() * size);
+                unsure[l] |= (gap.abs() <= band) | (rho2 < TINY_RHO2);
                 margin[l] = if gap < margin[l] { gap } else { margin[l] };
                 rho2_min[l] = if rho2 < rho2_min[l] {
                     rho2
@@ -158,11 +177,12 @@ impl RotaryDelta {
             }
         }
         let inside = std::array::from_fn(|l| (margin[l] >= 0.0) & (rho2_min[l] > 0.0));
-        if poison.iter().fold(true, |all, p| all & (*p == 0.0)) {
+        let settled = std::array::from_fn::<bool, N, _>(|l| (poison[l] == 0.0) & !unsure[l]);
+        if settled.iter().all(|s| *s) {
             return inside;
         }
         std::array::from_fn(|l| {
-            if poison[l] == 0.0 {
+            if settled[l] {
                 inside[l]
             } else {
                 let point = Vector3::new(x[0].0[l], x[1].0[l], x[2].0[l]);
