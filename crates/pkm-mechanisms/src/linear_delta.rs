@@ -97,7 +97,9 @@ impl LinearDelta {
     ///
     /// # Errors
     /// [`DesignError`] for a non-finite value, $Y_R \le 0$, $L_1/Y_R < 1$ (the outer discs do not
-    /// meet: the workspace is empty), $|Y_A/Y_R| \ge 1$ or $L_2/L_1 \le 0$.
+    /// meet: the workspace is empty), $|Y_A/Y_R| \ge 1$ or $L_2/L_1 \le 0$, or when the fourth
+    /// power of its largest length or of $Y_R$ is not a normal number (a design so large or so
+    /// small that its cross-section overflows or underflows: about $10^{\pm 77}$).
     pub fn new(design: LinearDeltaDesign) -> Result<Self, DesignError> {
         let LinearDeltaDesign { ratios, yr } = design;
         let yr = DesignError::require_positive("YR", yr)?;
@@ -119,6 +121,16 @@ impl LinearDelta {
         }
         let zr = DesignError::require_finite("ZR/YR", ratios.zr_over_yr)?;
         let l2 = DesignError::require_positive("L2/L1", ratios.l2_over_l1)?;
+        // The cross-section squares the arms and the rail coordinates, and its area is a
+        // product of two of them.
+        let scale = [l1, l2 * l1, ya.abs(), zr.abs(), 1.0]
+            .into_iter()
+            .fold(0.0, f64::max)
+            * yr;
+        // Its corners solve quadratics in these squares: their squares must not overflow or
+        // underflow either.
+        DesignError::require_derived_normal("(largest length)^4", (4.0 * scale * scale).powi(2))?;
+        DesignError::require_derived_normal("YR^4", (yr * yr).powi(2))?;
         Ok(Self {
             design,
             rails: [[-yr, 0.0], [yr, 0.0], [ya * yr, zr * yr]],

@@ -74,6 +74,34 @@ impl DesignError {
             })
         }
     }
+
+    /// Checks that a positive quantity *derived* from the design (the cube of a reach, the
+    /// square of a scale) is a normal number: neither overflowed to infinity nor underflowed to
+    /// zero or a subnormal, where it would lose every digit (a volume of 0 for a robot of
+    /// 1e-300 m, a cross-section reported empty for one of 1e300).
+    ///
+    /// # Errors
+    /// A [`DesignError`] naming the derived quantity `parameter` otherwise.
+    ///
+    /// # Example
+    /// ```
+    /// use pkm_traits::DesignError;
+    /// let reach = 1e-120;
+    /// assert!(DesignError::require_derived_normal("reach^3", reach * reach * reach).is_err());
+    /// assert!(DesignError::require_derived_normal("reach^3", 8.0).is_ok());
+    /// ```
+    pub fn require_derived_normal(parameter: &'static str, value: f64) -> Result<f64, Self> {
+        if value.is_normal() && value > 0.0 {
+            Ok(value)
+        } else {
+            Err(Self {
+                parameter,
+                value,
+                requirement: "derived from the design, must be a positive normal number (the \
+                              design overflows or underflows)",
+            })
+        }
+    }
 }
 
 /// An argument that violates its requirement: the one error shape for invalid input to an

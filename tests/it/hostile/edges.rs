@@ -22,7 +22,7 @@ use pkm::dynamics_hamilton::{ExtendedModel, MassParameters};
 use pkm_mechanisms::{
     Elbow, ElbowMode, LinearDelta, LinearDeltaDesign, LinearDeltaMode, LinearDeltaRatios,
     Placement, RotaryDelta, RotaryDeltaDesign, StewartDesign, StewartGough, ThreeUpu,
-    ThreeUpuDesign, Tsai3Dof, UJointAxes, presets,
+    ThreeUpuDesign, Tsai3Dof, TsaiDesign, UJointAxes, presets,
 };
 use pkm_optimizers::finite_differences::{gradient, hessian, jacobian};
 use pkm_optimizers::{GridAxis, GridSearch, LatticeLevel, RefinementSettings, Sense};
@@ -30,7 +30,7 @@ use pkm_optimizers::{lattice_refine_from, refined_grid_search};
 use pkm_screw_theory::PluckerLine;
 use pkm_traits::{
     Bounds, ConstrainedWorkspace, InverseKinematics, Joints, Lanes, NewtonSettings, Objective,
-    ObjectiveError, Progress, Silent, WorkspaceConstraint, newton_forward_kinematics,
+    ObjectiveError, Progress, Silent, SlicedRegion, WorkspaceConstraint, newton_forward_kinematics,
 };
 use pkm_workspace_indices::{
     Accumulator, Domain, PointSet, Region, Sampler, Workspace, chunked_reduce,
@@ -236,6 +236,47 @@ proptest! {
             [r, h, r * r * h, la * la - lb * lb, 4.0 * la * la].iter().all(|v| v.is_finite())
                 && d.legs().iter().all(|l| finite3(&(l.plate_offset - l.motor)))
         })?;
+    }
+
+    /// A Tsai platform is accepted only when its reach and its column volume are finite, and
+    /// the paper's design at any accepted scale has a positive column volume (a = b = 1e150
+    /// gave an infinite one, a tiny design a zero).
+    #[test]
+    fn tsai_designs_have_finite_derived_quantities(
+        lengths in (any_f64(), any_f64(), any_f64(), any_f64()), scale in prop_oneof![Just(1.0), Just(1e150), Just(1e-110), Just(1e-300), Just(1e300), any_f64()],
+    ) {
+        let hostile = TsaiDesign::from_deg(lengths.0 * scale, lengths.1 * scale, lengths.2.abs() * scale, lengths.3 * scale, 120.0, 240.0);
+        let paper = TsaiDesign::from_deg(0.44 * scale, 0.56 * scale, 0.0, 0.0, 120.0, 240.0);
+        for (design, known_nonempty) in [(hostile, false), (paper, true)] {
+            judge("Tsai3Dof::new (whole range)", || Tsai3Dof::new(design), |t| {
+                let r = t.reach();
+                let v = t.column_volume(8).unwrap_or(f64::NAN);
+                (r * r * r).is_normal() && v.is_finite() && v >= 0.0 && (!known_nonempty || v > 0.0)
+            })?;
+        }
+    }
+
+    /// A Linear Delta is accepted only when its arms, rails and cross-section are finite, and
+    /// the cross-section of an accepted design with ratios that make it non-empty is found
+    /// non-empty at every scale (YR = 1e300 was reported empty).
+    #[test]
+    fn linear_delta_designs_have_finite_cross_sections(
+        yr in prop_oneof![any_f64(), Just(1e300), Just(1e-300), Just(1e150), Just(1e-150)],
+        ratios in (any_f64(), any_f64(), any_f64(), any_f64()),
+    ) {
+        let design = |ratios: LinearDeltaRatios| LinearDeltaDesign { ratios, yr };
+        let hostile = LinearDeltaRatios { l1_over_yr: ratios.0, ya_over_yr: ratios.1, zr_over_yr: ratios.2, l2_over_l1: ratios.3 };
+        let paper = LinearDeltaRatios { l1_over_yr: 2.0, ya_over_yr: 0.0, zr_over_yr: 0.0, l2_over_l1: 0.63 };
+        for (ratios, known_nonempty) in [(hostile, false), (paper, true)] {
+            judge("LinearDelta::new (whole range)", || LinearDelta::new(design(ratios)), |d| {
+                let lengths = d.arm_lengths();
+                let section = d.cross_section();
+                let e = section.extents();
+                lengths.iter().all(|l| (l * l).is_normal())
+                    && all_finite([e.y_min, e.y_max, e.z_min, e.z_max, section.area()].iter())
+                    && (!known_nonempty || (!section.is_empty() && section.area() > 0.0))
+            })?;
+        }
     }
 
     /// The mass model refuses an arm that is not a finite positive length, and every

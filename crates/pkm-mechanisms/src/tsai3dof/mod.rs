@@ -82,7 +82,10 @@ impl Tsai3Dof {
     /// Builds the platform of `design`.
     ///
     /// # Errors
-    /// [`DesignError`] when $a \le 0$, $b \le 0$, $d + e < 0$ or any value is not finite.
+    /// [`DesignError`] when $a \le 0$, $b \le 0$, $d + e < 0$ or any value is not finite, or when
+    /// the cube of the reach $(a + b + d + e)^3$ (with $|c - r|$ added), $a^2$ or $b^2$ is not a
+    /// normal number: a design so large or so small that its volume or its kinematics overflow
+    /// or underflow.
     pub fn new(design: TsaiDesign) -> Result<Self, DesignError> {
         let a = DesignError::require_positive("a", design.a)?;
         let b = DesignError::require_positive("b", design.b)?;
@@ -101,6 +104,13 @@ impl Tsai3Dof {
             DesignError::require_finite("phi_3", design.phi3)?,
         ];
         let trig = phi.map(|p| (p.cos(), p.sin()));
+        // The column volume and the hemisphere estimates scale with the cube of the reach,
+        // and the kinematics square every length.
+        let size = a + b + s + h.abs();
+        DesignError::require_derived_normal("(a + b + d + e + |c - r|)^3", size * size * size)?;
+        DesignError::require_derived_normal("(a + b + d + e)^3", (a + b + s).powi(3))?;
+        DesignError::require_derived_normal("a^2", a * a)?;
+        DesignError::require_derived_normal("b^2", b * b)?;
         Ok(Self {
             a,
             b,
