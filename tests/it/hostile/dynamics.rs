@@ -156,3 +156,41 @@ fn sampling_beyond_the_memory_budget_is_refused() {
         refused.map(|s| s.len())
     );
 }
+
+/// A clothoid is evaluated to its accuracy or refused: a sharpness whose quadrature would need
+/// more than `MAX_CLOTHOID_TURNS` panels is refused (1e20 was off by a factor of 4e5), and
+/// direction vectors of any finite size give the same path as unit ones (norm 1e200 gave zeros).
+#[test]
+fn clothoids_are_accurate_or_refused() {
+    use pkm::dynamics_hamilton::trajectory::MAX_CLOTHOID_TURNS;
+    let (start, x, y) = (Vector3::zeros(), Vector3::x(), Vector3::y());
+    for sharpness in [1e20, 1e15, -1e16] {
+        let path = Path::clothoid(start, x, y, 0.0, sharpness, 1.0);
+        assert!(
+            matches!(path, Err(DynamicsError::Invalid(_))),
+            "sharpness {sharpness}: {path:?}"
+        );
+    }
+    // Within the bound (c L = 1e5 of MAX_CLOTHOID_TURNS): the end point is the Fresnel
+    // integral ∫₀¹ cos(c s²/2) ds = √(π/c)/2 + sin(c/2)/c + O(c⁻²).
+    let c = 1e5;
+    assert!(c <= MAX_CLOTHOID_TURNS);
+    let path = Path::clothoid(start, x, y, 0.0, c, 1.0).unwrap();
+    let [end, _, _] = path.eval(1.0);
+    let fresnel = (std::f64::consts::PI / c).sqrt() / 2.0 + (c / 2.0).sin() / c;
+    assert!((end.x - fresnel).abs() < 1e-8, "{end:?} vs {fresnel}");
+    let unit = Path::clothoid(start, x, y, 0.5, std::f64::consts::PI, 1.0).unwrap();
+    for scale in [1e200, 1e-200, 1e150] {
+        let scaled = Path::clothoid(start, x * scale, y * scale, 0.5, std::f64::consts::PI, 1.0);
+        let scaled = scaled.unwrap();
+        for u in [0.0, 0.3, 1.0] {
+            let (a, b) = (unit.eval(u), scaled.eval(u));
+            for k in 0..3 {
+                assert!(
+                    (a[k] - b[k]).norm() < 1e-12,
+                    "scale {scale}, u {u}: {a:?} vs {b:?}"
+                );
+            }
+        }
+    }
+}

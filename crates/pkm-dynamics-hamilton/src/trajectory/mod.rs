@@ -11,7 +11,7 @@ mod path;
 pub mod presets;
 
 pub use motion_law::MotionLaw;
-pub use path::Path;
+pub use path::{MAX_CLOTHOID_TURNS, Path};
 
 use crate::DynamicsError;
 use nalgebra::Vector3;

@@ -77,11 +77,24 @@ fn finite_vector(setting: &'static str, v: &Vector3<f64>) -> Result<(), Dynamics
         .map_err(Into::into)
 }
 
+/// `v` divided by its largest component where $|v|^2$ overflows (1e200) or underflows (1e-200)
+/// (the same direction, with a norm in $[1, \sqrt 3]$); unchanged, to the bit, otherwise and
+/// for the zero vector.
+fn unit_scaled(v: &Vector3<f64>) -> Vector3<f64> {
+    let largest = v.amax();
+    if largest > 0.0 && !v.norm_squared().is_normal() {
+        v / largest
+    } else {
+        *v
+    }
+}
+
 /// $|a \times b| / (|a|\,|b|)$, 0 when either vector is zero.
 fn sine_between(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let (a, b) = (unit_scaled(a), unit_scaled(b));
     let scale = a.norm() * b.norm();
     if scale > 0.0 {
-        a.cross(b).norm() / scale
+        a.cross(&b).norm() / scale
     } else {
         0.0
     }
@@ -89,9 +102,22 @@ fn sine_between(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
 
 /// The orthonormal frame $(e_1, e_2)$ of a clothoid's plane.
 fn plane(tangent: &Vector3<f64>, normal: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    let e1 = tangent.normalize();
-    let e2 = (normal - e1 * e1.dot(normal)).normalize();
+    let e1 = unit_scaled(tangent).normalize();
+    let normal = unit_scaled(normal);
+    let e2 = (normal - e1 * e1.dot(&normal)).normalize();
     (e1, e2)
+}
+
+/// The most Gauss–Legendre panels of a clothoid's Fresnel integrals: a path whose heading turns
+/// by more radians than this ([`clothoid_turns`]) is refused, so the quadrature never runs
+/// with fewer panels than its accuracy needs.
+pub const MAX_CLOTHOID_TURNS: f64 = 1e7;
+
+/// The panels [`fresnel`] needs over arc length `s`: $|s|\max(|\kappa_0|, |\kappa_0 + cs|,
+/// \sqrt{|c|})$.
+fn clothoid_turns(kappa0: f64, c: f64, s: f64) -> f64 {
+    let rate = kappa0.abs().max((kappa0 + c * s).abs());
+    (s.abs() * rate).max(s.abs() * c.abs().sqrt())
 }
 
 /// $\left(\int_0^s \cos\theta,\ \int_0^s \sin\theta\right)$ with $\theta = \kappa_0\sigma + c\sigma^2/2$.
@@ -102,10 +128,11 @@ fn plane(tangent: &Vector3<f64>, normal: &Vector3<f64>) -> (Vector3<f64>, Vector
 /// length (the $(2\cdot 8)$-th derivative of the integrand is bounded by the 16th power of the
 /// phase rate).
 fn fresnel(kappa0: f64, c: f64, s: f64) -> (f64, f64) {
-    let rate = kappa0.abs().max((kappa0 + c * s).abs());
-    let turns = (s.abs() * rate).max(s.abs() * c.abs().sqrt());
-    // `turns` is finite for validated paths; cap the panel count for safety.
-    let n = turns.ceil().clamp(1.0, 1e7) as usize;
+    // At most MAX_CLOTHOID_TURNS for a validated path (|s| ≤ L, and the rate is largest at an
+    // end); the clamp only keeps the cast defined.
+    let n = clothoid_turns(kappa0, c, s)
+        .ceil()
+        .clamp(1.0, MAX_CLOTHOID_TURNS) as usize;
     let h = s / n as f64;
     let theta = |x: f64| x * (kappa0 + 0.5 * c * x);
     let (mut cx, mut sy) = (0.0, 0.0);
@@ -216,7 +243,8 @@ impl Path {
     ///
     /// # Errors
     /// [`DynamicsError::Invalid`] for a non-finite value, a length that is not positive,
-    /// a zero `tangent`, or a `normal` that is zero or parallel to `tangent`.
+    /// a zero `tangent`, a `normal` that is zero or parallel to `tangent`, or a heading that
+    /// turns by more than [`MAX_CLOTHOID_TURNS`] rad over the path.
     ///
     /// # Example
     /// ```
@@ -313,6 +341,16 @@ impl Path {
                         "clothoid.tangent_normal_sine",
                         sine,
                         "tangent and normal must be non-zero and not parallel",
+                    )
+                    .into());
+                }
+                let turns = clothoid_turns(*curvature, *sharpness, *length);
+                if !(turns <= MAX_CLOTHOID_TURNS) {
+                    return Err(InvalidInput::new(
+                        "clothoid.turns",
+                        turns,
+                        "the heading may turn by at most MAX_CLOTHOID_TURNS (1e7) rad over the \
+                         path: L·max(|κ0|, |κ0 + cL|, √|c|)",
                     )
                     .into());
                 }

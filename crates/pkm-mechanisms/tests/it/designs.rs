@@ -42,6 +42,17 @@ fn length(v: f64) -> bool {
     positive(v) && v <= 1e100
 }
 
+/// A length whose powers (the Tsai platform's reach cubed and squares, the Linear Delta's
+/// fourth powers) are normal numbers: neither huge nor tiny (issue 29).
+fn scaled_length(v: f64) -> bool {
+    length(v) && v >= 1e-100
+}
+
+/// A finite value that is not huge.
+fn moderate(v: f64) -> bool {
+    v.is_finite() && v.abs() <= 1e100
+}
+
 /// One field of a design: the parameter name its error carries, how to set it, and the
 /// documented requirement.
 type Field<D> = (&'static str, fn(&mut D, f64), fn(f64) -> bool);
@@ -62,9 +73,11 @@ fn check_fields<D: Copy, M>(
                 Ok(_) => assert!(requirement(v), "{name} = {v:e} was accepted"),
                 Err(e) => {
                     assert!(!requirement(v), "{name} = {v:e} was rejected: {e}");
-                    // A derived quantity that overflows names itself, not the field.
+                    // A derived quantity that overflows (or underflows) names itself, not the
+                    // field.
                     if e.requirement.contains("derived") {
-                        assert!(v.abs() > 1e100, "{name} = {v:e} overflowed: {e}");
+                        let extreme = v.abs() > 1e100 || v.abs() < 1e-100;
+                        assert!(extreme, "{name} = {v:e} overflowed: {e}");
                         continue;
                     }
                     assert_eq!(e.parameter, name);
@@ -101,10 +114,10 @@ fn rotary_delta_fields_are_validated() {
 #[test]
 fn tsai_fields_are_validated() {
     let fields: [Field<TsaiDesign>; 6] = [
-        ("a", |d, v| d.a = v, positive),
-        ("b", |d, v| d.b = v, positive),
-        ("d+e", |d, v| d.d_plus_e = v, |v| v.is_finite() && v >= 0.0),
-        ("c-r", |d, v| d.c_minus_r = v, finite),
+        ("a", |d, v| d.a = v, scaled_length),
+        ("b", |d, v| d.b = v, scaled_length),
+        ("d+e", |d, v| d.d_plus_e = v, |v| moderate(v) && v >= 0.0),
+        ("c-r", |d, v| d.c_minus_r = v, moderate),
         ("phi_2", |d, v| d.phi2 = v, finite),
         ("phi_3", |d, v| d.phi3 = v, finite),
     ];
@@ -123,15 +136,15 @@ fn linear_delta_fields_are_validated() {
         yr: 1.0,
     };
     let fields: [Field<LinearDeltaDesign>; 5] = [
-        ("YR", |d, v| d.yr = v, positive),
+        ("YR", |d, v| d.yr = v, scaled_length),
         (
             "L1/YR",
             |d, v| d.ratios.l1_over_yr = v,
-            |v| v.is_finite() && v >= 1.0,
+            |v| moderate(v) && v >= 1.0,
         ),
         ("YA/YR", |d, v| d.ratios.ya_over_yr = v, |v| v.abs() < 1.0),
-        ("ZR/YR", |d, v| d.ratios.zr_over_yr = v, finite),
-        ("L2/L1", |d, v| d.ratios.l2_over_l1 = v, positive),
+        ("ZR/YR", |d, v| d.ratios.zr_over_yr = v, moderate),
+        ("L2/L1", |d, v| d.ratios.l2_over_l1 = v, length),
     ];
     check_fields(valid, LinearDelta::new, &fields);
 }
