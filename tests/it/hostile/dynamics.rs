@@ -99,20 +99,24 @@ proptest! {
     }
 }
 
+/// A cycloidal move along the line from `start` to `end` in one second.
+fn one_second_line(start: Vector3<f64>, end: Vector3<f64>) -> Trajectory {
+    let segment = Segment {
+        path: Path::line(start, end).unwrap(),
+        law: MotionLaw::Cycloidal,
+        duration: 1.0,
+        reverse: false,
+    };
+    Trajectory::new(vec![segment]).unwrap()
+}
+
 #[test]
 fn an_unreachable_trajectory_point_reports_its_real_time_and_leg() {
     let model = nuwar();
     // Straight away from motor 1 until leg 1 (index 0) cannot reach.
     let radial = model.mechanism().legs()[0].plate_offset.normalize();
     let start = Vector3::new(0.0, 0.0, -0.75);
-    let path = Path::line(start, start - radial).unwrap();
-    let segment = Segment {
-        path,
-        law: MotionLaw::Cycloidal,
-        duration: 1.0,
-        reverse: false,
-    };
-    let trajectory = Trajectory::new(vec![segment]).unwrap();
+    let trajectory = one_second_line(start, start - radial);
     let dt = 1e-3;
     let Err(DynamicsError::Unreachable { t, source }) = inverse::sample(&model, &trajectory, dt)
     else {
@@ -141,14 +145,7 @@ fn an_unreachable_trajectory_point_reports_its_real_time_and_leg() {
 fn sampling_beyond_the_memory_budget_is_refused() {
     let model = nuwar();
     let start = Vector3::new(0.0, 0.0, -0.75);
-    let path = Path::line(start, start + Vector3::new(0.0, 0.0, -0.01)).unwrap();
-    let segment = Segment {
-        path,
-        law: MotionLaw::Cycloidal,
-        duration: 1.0,
-        reverse: false,
-    };
-    let trajectory = Trajectory::new(vec![segment]).unwrap();
+    let trajectory = one_second_line(start, start + Vector3::new(0.0, 0.0, -0.01));
     let refused = inverse::sample(&model, &trajectory, 1.0 / 9.9e7);
     assert!(
         matches!(refused, Err(DynamicsError::Invalid(_))),

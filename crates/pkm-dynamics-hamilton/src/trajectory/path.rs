@@ -108,9 +108,9 @@ fn plane(tangent: &Vector3<f64>, normal: &Vector3<f64>) -> (Vector3<f64>, Vector
     (e1, e2)
 }
 
-/// The most Gauss–Legendre panels of a clothoid's Fresnel integrals: a path whose heading turns
-/// by more radians than this ([`clothoid_turns`]) is refused, so the quadrature never runs
-/// with fewer panels than its accuracy needs.
+/// The most Gauss–Legendre panels of a clothoid's Fresnel integrals: a path whose heading may
+/// turn by more radians than this, $L\max(|\kappa_0|, |\kappa_0 + cL|, \sqrt{|c|})$, is
+/// refused, so the quadrature never runs with fewer panels than its accuracy needs.
 pub const MAX_CLOTHOID_TURNS: f64 = 1e7;
 
 /// The panels [`fresnel`] needs over arc length `s`: $|s|\max(|\kappa_0|, |\kappa_0 + cs|,
