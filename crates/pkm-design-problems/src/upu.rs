@@ -181,8 +181,10 @@ const MAX_SVD_ITERATIONS: usize = 1000;
 /// # Errors
 /// [`ObjectiveError::Infeasible`] when the SVD does not converge (a non-finite matrix).
 fn smallest_singular_value(rows: &Matrix6<f64>) -> Result<f64, ObjectiveError> {
+    // nalgebra's own tolerance of `Matrix::singular_values` (5ε), so the bounded SVD gives its
+    // bits.
     let svd = rows
-        .try_svd(false, false, f64::EPSILON, MAX_SVD_ITERATIONS)
+        .try_svd(false, false, 5.0 * f64::EPSILON, MAX_SVD_ITERATIONS)
         .ok_or_else(|| {
             ObjectiveError::infeasible("the SVD of the eq. 18 matrix did not converge")
         })?;
