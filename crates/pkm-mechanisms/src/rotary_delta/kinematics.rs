@@ -41,6 +41,12 @@ impl InverseKinematics<3, 3> for RotaryDelta {
 
     /// With $D = C_i - A_i$, $K = (|D|^2 + L_a^2 - L_b^2)/(2L_a)$, $a = D\cdot u_i$,
     /// $b = -D\cdot w_i$: $\theta_i = \operatorname{atan2}(b, a) \mp \arccos(K/\sqrt{a^2+b^2})$.
+    ///
+    /// The reported angles are this expression, not wrapped: $\theta_i \in (-2\pi, \pi]$ with
+    /// [`ElbowMode::Out`] and $(-\pi, 2\pi]$ with [`ElbowMode::In`] (the form the papers' kernels
+    /// and Miller's figures use; the same angle modulo $2\pi$ as a robot file's, which wraps to
+    /// $(-\pi, \pi]$). Joint ranges test them modulo a turn
+    /// ([`WorkspaceConstraint::angle_range`](pkm_traits::WorkspaceConstraint::angle_range)).
     fn inverse_kinematics(
         &self,
         x: &Task<3>,
@@ -84,6 +90,36 @@ mod tests {
         check_closure, check_ik_fk_round_trip, check_jacobians_against_central_differences,
         check_traits,
     };
+
+    /// The documented intervals of the reported angles hold over a grid of the reach
+    /// cylinder (NUWAR's out-mode angles reach below −π: they are not wrapped).
+    #[test]
+    fn reported_angles_lie_in_the_documented_intervals() {
+        use std::f64::consts::PI;
+        for delta in designs() {
+            let (radius, half_height) = delta.reach_cylinder();
+            let z0 = delta.motor_plane_z();
+            let mut solved = 0;
+            for i in 0..21 {
+                for j in 0..21 {
+                    for k in 0..21 {
+                        let t = |n: i32| f64::from(n) / 10.0 - 1.0;
+                        let p = Vector3::new(radius * t(i), radius * t(j), z0 + half_height * t(k));
+                        for (mode, lo, hi) in [
+                            (ElbowMode::Out, -2.0 * PI, PI),
+                            (ElbowMode::In, -PI, 2.0 * PI),
+                        ] {
+                            if let Ok(q) = delta.inverse_kinematics(&p, mode) {
+                                solved += 1;
+                                assert!(q.iter().all(|a| *a > lo && *a <= hi), "{mode:?} {q:?}");
+                            }
+                        }
+                    }
+                }
+            }
+            assert!(solved > 1000, "vacuous: {solved}");
+        }
+    }
 
     fn poses() -> Vec<Vector3<f64>> {
         let mut out = Vec::new();
