@@ -8,6 +8,16 @@
 //! - the reciprocal product is $a \wedge b = a^\top \Delta b$, $\Delta$ swapping the halves
 //!   (eq. 5); its geometric form is eq. 6;
 //! - rigid motions act on all three by the same adjoint map `[R u; R v + t × R u]`.
+//!
+//! Non-finite values: the checked constructors (`PluckerLine::from_points`, `ScrewAxis::new`,
+//! `Twist::from_screw`, `Twist::translation`, `Wrench::couple`, ...) refuse them with a
+//! [`ScrewError`]. The plain-value operations on vectors a caller built directly
+//! (`Twist::new`/`from_vector`, the reciprocal products, `task_objective`, `task_residuals` and
+//! their gradients, `transformed`, `velocity_at`, `skew`) follow IEEE arithmetic and never
+//! panic: a NaN in gives a NaN out, and finite inputs give finite results as long as each
+//! product stays below `f64::MAX` (entries up to about 1e150, or 1e75 for the objective $F$,
+//! which squares the products); beyond that they give ±∞. Check with
+//! `pkm_traits::checked::all_finite` where a caller's values may be extreme.
 
 // The README is the crate's page on crates.io; this makes `cargo test --doc` run its example.
 #[cfg(doctest)]

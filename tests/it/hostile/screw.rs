@@ -3,8 +3,9 @@
 use super::{all_finite, config, hostile_f64, hostile_vec3, judge, judge_value};
 use nalgebra::{Vector3, Vector6};
 use pkm_screw_theory::{
-    CommonNormal, PluckerLine, ScrewAxis, Twist, Wrench, line_set_rank, reciprocal_screw_system,
-    rotation_from_axis_angle,
+    CommonNormal, PluckerLine, ScrewAxis, Twist, Wrench, line_set_rank, reciprocal_product,
+    reciprocal_product_vectors, reciprocal_screw_system, rotation_from_axis_angle, task_objective,
+    task_residuals,
 };
 use proptest::prelude::*;
 
@@ -66,5 +67,31 @@ proptest! {
         judge("reciprocal_screw_system", || reciprocal_screw_system(&rows, rel_tol), |basis| {
             basis.len() <= 6 && basis.iter().all(|v| all_finite(v.iter()))
         })?;
+    }
+
+    /// The plain-value operations keep the documented contract (`pkm_screw_theory` crate
+    /// docs): finite in (entries up to 1e75, which the objective squares twice) gives finite
+    /// out, a NaN in gives a NaN out, and nothing panics.
+    #[test]
+    fn plain_value_operations_keep_their_nan_contract(
+        a in prop::array::uniform6(-1e75..1e75f64), b in prop::array::uniform6(-1e75..1e75f64),
+        nan_at in 0..7usize,
+    ) {
+        let (mut a, b) = (Vector6::from(a), Vector6::from(b));
+        if nan_at < 6 {
+            a[nan_at] = f64::NAN;
+        }
+        let finite_in = nan_at == 6;
+        let (twist, wrench) = (Twist::from_vector(b), Wrench::from_vector(a));
+        let rows = nalgebra::SMatrix::<f64, 1, 6>::from_row_slice(a.as_slice());
+        let values = [
+            reciprocal_product_vectors(&a, &b),
+            reciprocal_product(&wrench, &twist),
+            task_objective(&rows, &twist),
+            task_residuals(&rows, &twist)[0],
+        ];
+        prop_assert!(values.iter().all(|v| v.is_finite() == finite_in), "{values:?}");
+        let moved = Twist::from_vector(a).transformed(&nalgebra::Isometry3::translation(1.0, 2.0, 3.0));
+        prop_assert_eq!(all_finite(moved.as_vector().iter()), finite_in);
     }
 }
