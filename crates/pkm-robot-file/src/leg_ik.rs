@@ -136,6 +136,11 @@ impl LegClass {
 }
 
 /// $|d - R_e(\theta) a| = L$ with $a \perp e$: $a\cos\theta + b\sin\theta = K$.
+///
+/// Where the wrist point lies on the joint's axis ($a = b = 0$) and $K = 0$ (the rod as long as
+/// the arm: a leg folded onto its base joint, a type I singularity), every $\theta$ solves it:
+/// the arm's home angle $\theta = 0$ is returned for both branches; with $K \ne 0$ there it
+/// has no root.
 fn revolute_arm(
     e: &Vector3<f64>,
     d: &Vector3<f64>,
@@ -145,7 +150,13 @@ fn revolute_arm(
 ) -> Result<f64, NoRoot> {
     let k = (d.norm_squared() + arm.norm_squared() - rod * rod) / 2.0;
     let (a, b) = (d.dot(arm), d.dot(&e.cross(arm)));
-    let ratio = k / a.hypot(b);
+    let radius = a.hypot(b);
+    if radius == 0.0 {
+        // The rounding of K: a few ulps of its terms.
+        let folded = k.abs() <= 8.0 * f64::EPSILON * (arm.norm_squared() + rod * rod);
+        return if folded { Ok(0.0) } else { Err(NoRoot(-1.0)) };
+    }
+    let ratio = k / radius;
     if !(ratio.abs() <= 1.0) {
         return Err(NoRoot(1.0 - ratio.abs()));
     }

@@ -337,3 +337,25 @@ fn an_unknown_key_names_the_table_it_was_read_in() {
         "{message}"
     );
 }
+
+/// A five-bar whose distal links are as long as its proximal ones reaches its base joint: with
+/// the end point on motor 0's axis (a type I singularity, that motor's angle free) the
+/// inverse kinematics gives an angle in every working mode instead of "discriminant NaN < 0".
+#[test]
+fn a_leg_folded_onto_its_base_joint_has_a_free_angle() {
+    let text = common::robot_text("five_bar.toml")
+        .replace("[-0.2, 0.16, 0.0]", "[-0.18, 0.17320508075688773, 0.0]")
+        .replace("[0.2, 0.16, 0.0]", "[0.18, 0.17320508075688773, 0.0]")
+        .replace("[0.0, 0.37, 0.0]", "[0.0, 0.2603830596277012, 0.0]");
+    let model = RobotModel::from_toml(&text).unwrap();
+    for mode in model.working_modes() {
+        let q = model.inverse_kinematics(&[-0.08, 0.0], mode).unwrap();
+        assert!(q.iter().all(|v| v.is_finite()), "{q:?}");
+        // Leg 1 still has its two closed-form branches: |P − A2| = 0.16 < 0.4.
+        let config = model.inverse_kinematics_configuration(&[-0.08, 0.0], mode);
+        assert!(config.is_ok(), "{mode:?}: {config:?}");
+    }
+    // Beyond the folded pose by a little, motor 0's angle is determined again.
+    let near = model.inverse_kinematics(&[-0.08, 0.01], model.home_mode());
+    assert!(near.is_ok(), "{near:?}");
+}
