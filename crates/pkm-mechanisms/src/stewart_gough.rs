@@ -145,7 +145,9 @@ impl StewartGough {
         std::array::from_fn(|i| a[i] - self.base[i])
     }
 
-    /// Leg lengths $|a_i - b_i|$ (inverse kinematics).
+    /// Leg lengths $|a_i - b_i|$ (inverse kinematics). IEEE arithmetic, never a panic: finite
+    /// for a finite pose whose translation stays below about 1e150 (beyond, the squared norms
+    /// overflow to ∞); NaN in, NaN out.
     pub fn leg_lengths(&self, pose: &Isometry3<f64>) -> Vector6<f64> {
         Vector6::from_iterator(self.leg_vectors(pose).iter().map(|v| v.norm()))
     }

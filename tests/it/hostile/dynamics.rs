@@ -191,3 +191,21 @@ fn clothoids_are_accurate_or_refused() {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// A trajectory sampled at any time keeps its documented contract: a finite motion for
+    /// every time that is not NaN (clamped to the trajectory), a NaN position for a NaN time,
+    /// never a panic.
+    #[test]
+    fn trajectories_sampled_at_any_time_keep_their_contract(t in hostile_f64()) {
+        let trajectory = pick_and_place(0.5, CycleReading::RoundTrip).unwrap();
+        let m = trajectory.sample(t);
+        if t.is_nan() {
+            prop_assert!(m.p.iter().all(|v| v.is_nan()), "{m:?}");
+        } else {
+            prop_assert!(all_finite(m.p.iter().chain(m.v.iter()).chain(m.a.iter())), "t = {t}: {m:?}");
+        }
+    }
+}

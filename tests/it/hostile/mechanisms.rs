@@ -342,3 +342,27 @@ fn rotary_delta_lanes_agree_with_the_inverse_kinematics_at_the_boundary() {
         );
     }
 }
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// `StewartGough::leg_lengths` keeps its documented contract: finite for a finite pose of
+    /// translation below 1e150, NaN in gives NaN out, never a panic.
+    #[test]
+    fn stewart_leg_lengths_keep_their_contract(
+        t in prop::array::uniform3(-1e150..1e150f64), r in prop::array::uniform3(-4.0..4.0f64), nan in prop::bool::ANY,
+    ) {
+        let platform = StewartGough::new(presets::wolf_shoham_stewart_s4_1()).unwrap();
+        let mut x = Vector3::from(t);
+        if nan {
+            x[1] = f64::NAN;
+        }
+        let pose = Isometry3::new(x, Vector3::from(r));
+        let lengths = platform.leg_lengths(&pose);
+        if nan {
+            prop_assert!(lengths.iter().all(|l| l.is_nan()), "{lengths:?}");
+        } else {
+            prop_assert!(all_finite(lengths.iter()), "{x:?}: {lengths:?}");
+        }
+    }
+}

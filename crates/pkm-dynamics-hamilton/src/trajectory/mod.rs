@@ -142,7 +142,9 @@ impl Trajectory {
         self.segments.iter().map(|s| s.duration).sum()
     }
 
-    /// The plate motion at time `t` (clamped to the trajectory).
+    /// The plate motion at time `t` (clamped to the trajectory: an infinite `t` gives the
+    /// nearest end). NaN in, NaN out: a NaN `t` gives a NaN position, never a panic; every
+    /// other `t` gives a finite motion (the path and the law are validated).
     pub fn sample(&self, t: f64) -> TaskMotion {
         let mut start = 0.0;
         for (n, s) in self.segments.iter().enumerate() {

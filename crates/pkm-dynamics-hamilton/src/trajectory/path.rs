@@ -359,7 +359,9 @@ impl Path {
         }
     }
 
-    /// $(p, p', p'')$ at $u$ (derivatives with respect to $u$).
+    /// $(p, p', p'')$ at $u$ (derivatives with respect to $u$). On a validated path, finite for
+    /// every finite $u$ whose point stays within the float range ($u \in [0, 1]$ always);
+    /// NaN in, NaN out: a NaN $u$ gives a NaN position, never a panic.
     pub fn eval(&self, u: f64) -> [Vector3<f64>; 3] {
         match *self {
             Self::Line { start, end } => [start + (end - start) * u, end - start, Vector3::zeros()],
