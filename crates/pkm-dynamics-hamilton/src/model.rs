@@ -224,12 +224,13 @@ impl ExtendedModel {
         -self.lagrangian_gradient(q, &Vector6::zeros())
     }
 
-    /// Kinetic energy $T = \tfrac12 \dot q^\top M \dot q$.
+    /// Kinetic energy $T = \tfrac12 \dot q^\top M \dot q$. IEEE arithmetic, never a panic: finite
+    /// for finite $q$ and rates below about 1e150 (the product squares them); NaN in, NaN out.
     pub fn kinetic_energy(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {
         0.5 * qd.dot(&(self.mass_matrix(q) * qd))
     }
 
-    /// Total energy $T + V$.
+    /// Total energy $T + V$, with the contract of [`ExtendedModel::kinetic_energy`].
     pub fn energy(&self, q: &Vector6<f64>, qd: &Vector6<f64>) -> f64 {
         self.kinetic_energy(q, qd) + self.potential(q)
     }

@@ -53,8 +53,12 @@ impl GaussLegendre {
     }
 
     /// $\int_a^b f \approx \sum_i w_i f(x_i)$, visiting the mapped nodes and weights.
+    ///
+    /// Every finite interval gives finite nodes and weights, ±`f64::MAX` included (the half
+    /// width and the midpoint are formed from $a/2$ and $b/2$, the same bits as $(b - a)/2$ and
+    /// $(a + b)/2$ wherever those do not overflow); NaN in, NaN out; never a panic.
     pub fn for_each_on(&self, a: f64, b: f64, mut visit: impl FnMut(f64, f64)) {
-        let (half, mid) = (0.5 * (b - a), 0.5 * (a + b));
+        let (half, mid) = (0.5 * b - 0.5 * a, 0.5 * a + 0.5 * b);
         for (x, w) in self.nodes.iter().zip(&self.weights) {
             visit(mid + half * x, half * w);
         }

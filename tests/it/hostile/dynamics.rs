@@ -208,4 +208,17 @@ proptest! {
             prop_assert!(all_finite(m.p.iter().chain(m.v.iter()).chain(m.a.iter())), "t = {t}: {m:?}");
         }
     }
+
+    /// The extended model's energies keep their documented contract: finite for finite
+    /// coordinates and rates below 1e150, NaN in gives NaN out, never a panic.
+    #[test]
+    fn energies_keep_their_contract(q in prop::array::uniform6(-10.0..10.0f64), qd in prop::array::uniform6(-1e140..1e140f64), nan in prop::bool::ANY) {
+        let model = nuwar();
+        let (q, mut qd) = (nalgebra::Vector6::from(q), nalgebra::Vector6::from(qd));
+        if nan {
+            qd[2] = f64::NAN;
+        }
+        let (t, e) = (model.kinetic_energy(&q, &qd), model.energy(&q, &qd));
+        prop_assert_eq!(t.is_finite() && e.is_finite(), !nan, "T = {}, E = {}", t, e);
+    }
 }

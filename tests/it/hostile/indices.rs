@@ -291,3 +291,24 @@ fn huge_counts_are_refused_before_allocating() {
         ));
     }
 }
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Gauss–Legendre on any interval keeps its documented contract: finite nodes and weights
+    /// for finite ends (±f64::MAX included: b − a overflowed there), NaN in gives NaN out.
+    #[test]
+    fn gauss_legendre_nodes_keep_their_contract(a in hostile_f64(), b in hostile_f64(), n in 1..9usize) {
+        let rule = GaussLegendre::new(n).unwrap();
+        let mut visited = Vec::new();
+        rule.for_each_on(a, b, |x, w| visited.push((x, w)));
+        prop_assert_eq!(visited.len(), n);
+        let finite = visited.iter().all(|(x, w)| x.is_finite() && w.is_finite());
+        if a.is_finite() && b.is_finite() {
+            prop_assert!(finite, "[{a}, {b}]: {visited:?}");
+        }
+        if a.is_nan() || b.is_nan() {
+            prop_assert!(visited.iter().all(|(x, _)| x.is_nan()), "{visited:?}");
+        }
+    }
+}
