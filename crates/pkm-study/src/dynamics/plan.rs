@@ -8,7 +8,8 @@ use super::schema::{
     ReadingSpec, SegmentSpec, TrajectorySpec,
 };
 use crate::StudyError;
-use crate::schema::mechanism::{MechanismSpec, rotary_delta};
+use crate::registry::StudyMechanism;
+use crate::schema::mechanism::MechanismSpec;
 use crate::schema::units::{Metres, Real};
 use nalgebra::Vector3;
 use pkm_dynamics_hamilton::forward::HamiltonForm;
@@ -103,7 +104,7 @@ fn model_of(mechanism: &MechanismSpec, masses: &MassesSpec) -> Result<ExtendedMo
             "the dynamics follow the elbow-out branch; expected elbow = [\"out\"]",
         ));
     }
-    let delta = rotary_delta(spec)?;
+    let delta = spec.build()?;
     ExtendedModel::new(delta, &mass_parameters(masses)).map_err(mass_error)
 }
 

@@ -3,11 +3,11 @@
 //! file's in `schema/robot_file.rs`). The names are re-exported here, where studies find them.
 
 pub use super::constraints::{ConstraintsSpec, HalfSpaceSpec, JointRangeDegSpec, JointRangeSpec};
-pub use super::kinds::linear_delta::{LinearDeltaSpec, linear_delta};
-pub use super::kinds::rotary_delta::{RotaryDeltaSpec, rotary_delta};
-pub use super::kinds::stewart_gough::{StewartSpec, stewart_layout, stewart_orientation};
-pub use super::kinds::three_upu::{ThreeUpuSpec, three_upu};
-pub use super::kinds::tsai::{TsaiSpec, tsai};
+pub use super::kinds::linear_delta::LinearDeltaSpec;
+pub use super::kinds::rotary_delta::RotaryDeltaSpec;
+pub use super::kinds::stewart_gough::{StewartSpec, stewart_layout};
+pub use super::kinds::three_upu::ThreeUpuSpec;
+pub use super::kinds::tsai::TsaiSpec;
 pub use crate::registry::{BuildError, WorkspaceVisitor};
 
 crate::mechanisms! {

@@ -168,18 +168,7 @@ impl RobotFileSpec {
     /// # Errors
     /// At `mechanism.robot_file.task` unless the task is `["x", "y", "z"]`.
     pub(crate) fn translational(&self, model: RobotModel) -> Result<Robot<3>, StudyError> {
-        let task = model.task_names();
-        if task != ["x", "y", "z"] {
-            return Err(StudyError::invalid(
-                format!("{KEY_PATH}.task").as_str(),
-                format!(
-                    "without [task_space] a study samples platform positions and rates them \
-                     by 1/κ of J: the task must be [\"x\", \"y\", \"z\"], this robot's is \
-                     {task:?}; give [task_space] (its kind and box) to measure it in its own \
-                     task space"
-                ),
-            ));
-        }
+        position_task(&model)?;
         Robot::<3>::new(model).map_err(located)
     }
 
@@ -210,6 +199,25 @@ impl RobotFileSpec {
 }
 
 /// A robot file error at its key path in the study.
+/// Checks that the task of `model` is the platform position.
+///
+/// # Errors
+/// At `mechanism.robot_file.task` unless the task is `["x", "y", "z"]`.
+pub(crate) fn position_task(model: &RobotModel) -> Result<(), StudyError> {
+    let task = model.task_names();
+    if task == ["x", "y", "z"] {
+        return Ok(());
+    }
+    Err(StudyError::invalid(
+        format!("{KEY_PATH}.task").as_str(),
+        format!(
+            "without [task_space] a study samples platform positions and rates them by 1/κ of \
+             J: the task must be [\"x\", \"y\", \"z\"], this robot's is {task:?}; give \
+             [task_space] (its kind and box) to measure it in its own task space"
+        ),
+    ))
+}
+
 fn located(e: RobotFileError) -> StudyError {
     let key = match &e {
         RobotFileError::Schema { key, .. } | RobotFileError::Invalid { key, .. } => key.as_str(),

@@ -3,7 +3,7 @@
 //! the table itself so that the registry can name the table without a module cycle.
 
 use super::constraints::ConstraintsSpec;
-use super::robot_file::{RobotFileSpec, robot_skeleton};
+use super::robot_file::{RobotFileSpec, position_task, robot_skeleton};
 use crate::registry::{Actuation, StudyMechanism, Unit, Variable};
 use crate::registry::{BuildError, ForwardVisitor, WorkspaceVisitor, visit};
 use crate::{Infeasible, StudyError};
@@ -20,16 +20,28 @@ use toml::Value;
 /// platform position.
 #[derive(Debug)]
 pub struct BuiltRobotFile {
-    model: RobotModel,
+    robot: Frame,
     modes: Vec<WorkingMode>,
-    /// The translational robot, or why the task is not `["x", "y", "z"]`.
-    position: Result<Robot<3>, Infeasible>,
+}
+
+/// A robot file's model, as a translational robot when its task is the platform position.
+#[derive(Debug)]
+enum Frame {
+    Position(Robot<3>),
+    /// Another task, with the error that a translational study gives.
+    Task {
+        model: RobotModel,
+        not_position: Infeasible,
+    },
 }
 
 impl BuiltRobotFile {
     /// The validated model.
     pub fn model(&self) -> &RobotModel {
-        &self.model
+        match &self.robot {
+            Frame::Position(robot) => robot.model(),
+            Frame::Task { model, .. } => model,
+        }
     }
 
     /// The study's working modes ([`RobotFileSpec::working_modes`]).
@@ -43,9 +55,10 @@ impl BuiltRobotFile {
     /// [`BuildError::Design`] at `mechanism.robot_file.task` when its task is not the platform
     /// position.
     pub fn translational(&self) -> Result<&Robot<3>, BuildError> {
-        self.position
-            .as_ref()
-            .map_err(|e| BuildError::Design(e.clone()))
+        match &self.robot {
+            Frame::Position(robot) => Ok(robot),
+            Frame::Task { not_position, .. } => Err(BuildError::Design(not_position.clone())),
+        }
     }
 }
 
@@ -60,14 +73,14 @@ impl StudyMechanism for RobotFileSpec {
     fn build(&self) -> Result<BuiltRobotFile, BuildError> {
         let model = self.model().map_err(design)?;
         let modes = self.working_modes(&model).map_err(design)?;
-        let position = self
-            .translational(model.clone())
-            .map_err(Infeasible::robot_file);
-        Ok(BuiltRobotFile {
-            model,
-            modes,
-            position,
-        })
+        let robot = match position_task(&model) {
+            Ok(()) => Frame::Position(self.translational(model).map_err(design)?),
+            Err(e) => Frame::Task {
+                model,
+                not_position: Infeasible::robot_file(e),
+            },
+        };
+        Ok(BuiltRobotFile { robot, modes })
     }
 
     /// The robot in its platform position (a robot file whose task is `["x", "y", "z"]`):

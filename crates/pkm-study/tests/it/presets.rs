@@ -2,10 +2,8 @@
 //! library design builds that design back, to rounding of the degree conversions.
 
 use pkm_mechanisms::{Placement, UJointAxes, presets};
-use pkm_study::schema::mechanism::{
-    RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec, rotary_delta, stewart_orientation,
-    three_upu, tsai,
-};
+use pkm_study::StudyMechanism;
+use pkm_study::schema::mechanism::{RotaryDeltaSpec, StewartSpec, ThreeUpuSpec, TsaiSpec};
 
 fn close(a: &[f64], b: &[f64]) {
     for (x, y) in a.iter().zip(b) {
@@ -19,7 +17,7 @@ fn the_table_of_a_library_design_builds_that_design() {
         presets::nuwar(Placement::canonical()),
         presets::miller_delta(Placement::canonical()),
     ] {
-        let built = rotary_delta(&RotaryDeltaSpec::from(d)).unwrap().design();
+        let built = RotaryDeltaSpec::from(d).build().unwrap().design();
         close(
             &[
                 built.base_radius,
@@ -40,7 +38,7 @@ fn the_table_of_a_library_design_builds_that_design() {
         );
     }
     let d = presets::stamper_max_gci();
-    let built = tsai(&TsaiSpec::from(d)).unwrap().design();
+    let built = TsaiSpec::from(d).build().unwrap().design();
     close(
         &[
             built.a,
@@ -53,10 +51,7 @@ fn the_table_of_a_library_design_builds_that_design() {
         &[d.a, d.b, d.d_plus_e, d.c_minus_r, d.phi2, d.phi3],
     );
     let d = presets::wolf_shoham_stewart_s4_1();
-    let built = stewart_orientation(&StewartSpec::from(d))
-        .unwrap()
-        .platform()
-        .design();
+    let built = StewartSpec::from(d).build().unwrap().platform().design();
     close(
         &[
             built.base_radius,
@@ -72,9 +67,7 @@ fn the_table_of_a_library_design_builds_that_design() {
         ],
     );
     let d = presets::park_3upu();
-    let built = three_upu(&ThreeUpuSpec::try_from(d).unwrap())
-        .unwrap()
-        .design();
+    let built = ThreeUpuSpec::try_from(d).unwrap().build().unwrap().design();
     close(&built.azimuths, &d.azimuths);
     for (b, a) in built.upper.iter().zip(&d.upper) {
         assert!((b.u1 - a.u1).norm() < 1e-12 && (b.u2 - a.u2).norm() < 1e-12);

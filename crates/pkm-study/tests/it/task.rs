@@ -400,7 +400,7 @@ fn every_setting_is_refused_at_its_key_before_the_first_start() {
 fn the_three_upu_table_is_one_for_every_study() {
     // The task's 3-UPU table is the workspace's: its tilts are design variables of the registry,
     // and the built mechanism carries them (rows of a tilted design differ from Park's).
-    use pkm_study::schema::mechanism::{ThreeUpuSpec, three_upu};
+    use pkm_study::schema::mechanism::ThreeUpuSpec;
     use pkm_study::{MechanismSpec, StudyMechanism};
     let study: TaskStudy = from_toml_str(&example("three_upu_singularity.toml")).unwrap();
     let MechanismSpec::ThreeUpu(spec) = &study.mechanism else {
@@ -414,8 +414,8 @@ fn the_three_upu_table_is_one_for_every_study() {
         ..spec.clone()
     };
     let pose = Isometry3::translation(0.0, 0.0, 0.2);
-    let tilted = three_upu(spec).unwrap().wrench_rows(&pose).unwrap();
-    let parks = three_upu(&park).unwrap().wrench_rows(&pose).unwrap();
+    let tilted = spec.build().unwrap().wrench_rows(&pose).unwrap();
+    let parks = park.build().unwrap().wrench_rows(&pose).unwrap();
     assert!((tilted - parks).norm() > 0.1);
     let direct = ThreeUpu::new(upu_design())
         .unwrap()

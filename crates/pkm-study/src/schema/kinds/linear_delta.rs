@@ -45,20 +45,6 @@ fn paper_leans() -> [bool; 3] {
     LinearDeltaMode::PAPER.leans_positive
 }
 
-/// The Linear Delta of a `[mechanism.linear_delta]` table.
-///
-/// # Errors
-/// [`BuildError::Design`] with the library's reason for an invalid design.
-pub fn linear_delta(s: &LinearDeltaSpec) -> Result<LinearDelta, BuildError> {
-    let ratios = LinearDeltaRatios {
-        l1_over_yr: s.l1_over_yr.0,
-        ya_over_yr: s.ya_over_yr.0,
-        zr_over_yr: s.zr_over_yr.0,
-        l2_over_l1: s.l2_over_l1.0,
-    };
-    LinearDelta::new(LinearDeltaDesign { ratios, yr: s.yr.0 }).map_err(design_error)
-}
-
 impl StudyMechanism for LinearDeltaSpec {
     design_variables! {
         "l1_over_yr" Ratio => |s| s.l1_over_yr.0,
@@ -74,8 +60,22 @@ impl StudyMechanism for LinearDeltaSpec {
         "linear_delta"
     }
 
+    /// The Linear Delta of a `[mechanism.linear_delta]` table.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] with the library's reason for an invalid design.
     fn build(&self) -> Result<LinearDelta, BuildError> {
-        linear_delta(self)
+        let ratios = LinearDeltaRatios {
+            l1_over_yr: self.l1_over_yr.0,
+            ya_over_yr: self.ya_over_yr.0,
+            zr_over_yr: self.zr_over_yr.0,
+            l2_over_l1: self.l2_over_l1.0,
+        };
+        LinearDelta::new(LinearDeltaDesign {
+            ratios,
+            yr: self.yr.0,
+        })
+        .map_err(design_error)
     }
 
     fn actuation(&self) -> Actuation {

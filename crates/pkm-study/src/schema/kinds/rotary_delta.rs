@@ -50,32 +50,6 @@ fn default_elbows() -> Vec<ElbowMode> {
     vec![ElbowMode::Out]
 }
 
-/// The rotary Delta of a `[mechanism.rotary_delta]` table.
-///
-/// # Errors
-/// [`BuildError::Design`] with the library's reason for an invalid design.
-pub fn rotary_delta(s: &RotaryDeltaSpec) -> Result<RotaryDelta, BuildError> {
-    let placement = Placement {
-        motor_plane_z: s.motor_plane_z.0,
-        azimuth_motor_1: s.azimuth_motor_1_deg.radians(),
-    };
-    let delta = RotaryDelta::new(RotaryDeltaDesign {
-        base_radius: s.base_radius.0,
-        plate_offset: s.plate_offset.0,
-        arm: s.arm.0,
-        forearm: s.forearm.0,
-        alpha: s.alpha_deg.radians(),
-        beta: s.beta_deg.radians(),
-        placement,
-    })
-    .map_err(design_error)?;
-    Ok(if s.turned_plate_offsets {
-        delta.with_turned_plate_offsets()
-    } else {
-        delta
-    })
-}
-
 /// The table of a library design (the papers' presets: `pkm_mechanisms::presets`), with the
 /// table's defaults for what the design does not hold (radial plate offsets, the `out` elbow).
 impl From<RotaryDeltaDesign> for RotaryDeltaSpec {
@@ -113,8 +87,30 @@ impl StudyMechanism for RotaryDeltaSpec {
         "rotary_delta"
     }
 
+    /// The rotary Delta of a `[mechanism.rotary_delta]` table.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] with the library's reason for an invalid design.
     fn build(&self) -> Result<RotaryDelta, BuildError> {
-        rotary_delta(self)
+        let placement = Placement {
+            motor_plane_z: self.motor_plane_z.0,
+            azimuth_motor_1: self.azimuth_motor_1_deg.radians(),
+        };
+        let delta = RotaryDelta::new(RotaryDeltaDesign {
+            base_radius: self.base_radius.0,
+            plate_offset: self.plate_offset.0,
+            arm: self.arm.0,
+            forearm: self.forearm.0,
+            alpha: self.alpha_deg.radians(),
+            beta: self.beta_deg.radians(),
+            placement,
+        })
+        .map_err(design_error)?;
+        Ok(if self.turned_plate_offsets {
+            delta.with_turned_plate_offsets()
+        } else {
+            delta
+        })
     }
 
     fn actuation(&self) -> Actuation {

@@ -48,26 +48,6 @@ fn no_rotation() -> [Degrees; 3] {
     [Degrees(0.0); 3]
 }
 
-/// The constant-orientation view of a `[mechanism.stewart_gough]` table.
-///
-/// # Errors
-/// [`BuildError::Design`] with the library's reason for an invalid design or rotation.
-pub fn stewart_orientation(s: &StewartSpec) -> Result<ConstantOrientation, BuildError> {
-    let d = s;
-    let platform = StewartGough::new(StewartDesign {
-        layout: stewart_layout(d),
-        ..StewartDesign::from_deg(
-            d.base_radius.0,
-            d.platform_radius.0,
-            d.base_separation_deg.0,
-            d.platform_separation_deg.0,
-        )
-    })
-    .map_err(design_error)?;
-    let w = Vector3::from(s.rotation_deg.map(Degrees::radians));
-    ConstantOrientation::new(platform, w).map_err(design_error)
-}
-
 /// The library's joint layout of a `[mechanism.stewart_gough]` table.
 pub fn stewart_layout(spec: &StewartSpec) -> JointLayout {
     JointLayout {
@@ -107,8 +87,23 @@ impl StudyMechanism for StewartSpec {
         "stewart_gough"
     }
 
+    /// The constant-orientation view of a `[mechanism.stewart_gough]` table.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] with the library's reason for an invalid design or rotation.
     fn build(&self) -> Result<ConstantOrientation, BuildError> {
-        stewart_orientation(self)
+        let platform = StewartGough::new(StewartDesign {
+            layout: stewart_layout(self),
+            ..StewartDesign::from_deg(
+                self.base_radius.0,
+                self.platform_radius.0,
+                self.base_separation_deg.0,
+                self.platform_separation_deg.0,
+            )
+        })
+        .map_err(design_error)?;
+        let w = Vector3::from(self.rotation_deg.map(Degrees::radians));
+        ConstantOrientation::new(platform, w).map_err(design_error)
     }
 
     fn actuation(&self) -> Actuation {

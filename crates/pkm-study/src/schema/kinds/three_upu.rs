@@ -64,22 +64,6 @@ fn park_azimuths() -> [Degrees; 3] {
     [Degrees(-90.0), Degrees(30.0), Degrees(150.0)]
 }
 
-/// The 3-UPU of a `[mechanism.three_upu]` table: Park's U-joint axes at its azimuths, tilted
-/// by its `beta*_deg`, `gamma*_deg` ([`tilted_axes`](pkm_design_problems::upu::tilted_axes)).
-///
-/// # Errors
-/// [`BuildError::Design`] with the library's reason for an invalid design.
-pub fn three_upu(s: &ThreeUpuSpec) -> Result<ThreeUpu, BuildError> {
-    let azimuths = s.azimuths_deg.map(Degrees::radians);
-    ThreeUpu::new(ThreeUpuDesign {
-        base_radius: s.base_radius.0,
-        platform_radius: s.platform_radius.0,
-        azimuths,
-        upper: pkm_design_problems::upu::tilted_axes(azimuths, &s.tilts_deg()),
-    })
-    .map_err(design_error)
-}
-
 /// The table of a library design whose upper axes are Park's at its azimuths (untilted; the
 /// papers' preset `park_3upu`).
 ///
@@ -133,8 +117,20 @@ impl StudyMechanism for ThreeUpuSpec {
         "three_upu"
     }
 
+    /// The 3-UPU of a `[mechanism.three_upu]` table: Park's U-joint axes at its azimuths, tilted
+    /// by its `beta*_deg`, `gamma*_deg` ([`tilted_axes`](pkm_design_problems::upu::tilted_axes)).
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] with the library's reason for an invalid design.
     fn build(&self) -> Result<ThreeUpu, BuildError> {
-        three_upu(self)
+        let azimuths = self.azimuths_deg.map(Degrees::radians);
+        ThreeUpu::new(ThreeUpuDesign {
+            base_radius: self.base_radius.0,
+            platform_radius: self.platform_radius.0,
+            azimuths,
+            upper: pkm_design_problems::upu::tilted_axes(azimuths, &self.tilts_deg()),
+        })
+        .map_err(design_error)
     }
 
     fn actuation(&self) -> Actuation {

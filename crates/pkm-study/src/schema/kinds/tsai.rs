@@ -53,22 +53,6 @@ fn default_tsai_modes() -> Vec<[Elbow; 3]> {
     vec![[Elbow::Out; 3]]
 }
 
-/// The Tsai platform of a `[mechanism.tsai]` table.
-///
-/// # Errors
-/// [`BuildError::Design`] with the library's reason for an invalid design.
-pub fn tsai(s: &TsaiSpec) -> Result<Tsai3Dof, BuildError> {
-    Tsai3Dof::new(TsaiDesign::from_deg(
-        s.a.0,
-        s.b.0,
-        s.d_plus_e.0,
-        s.c_minus_r.0,
-        s.phi2_deg.0,
-        s.phi3_deg.0,
-    ))
-    .map_err(design_error)
-}
-
 /// The table of a library design (the papers' presets), in the default working mode.
 impl From<TsaiDesign> for TsaiSpec {
     fn from(d: TsaiDesign) -> Self {
@@ -100,8 +84,20 @@ impl StudyMechanism for TsaiSpec {
         "tsai"
     }
 
+    /// The Tsai platform of a `[mechanism.tsai]` table.
+    ///
+    /// # Errors
+    /// [`BuildError::Design`] with the library's reason for an invalid design.
     fn build(&self) -> Result<Tsai3Dof, BuildError> {
-        tsai(self)
+        Tsai3Dof::new(TsaiDesign::from_deg(
+            self.a.0,
+            self.b.0,
+            self.d_plus_e.0,
+            self.c_minus_r.0,
+            self.phi2_deg.0,
+            self.phi3_deg.0,
+        ))
+        .map_err(design_error)
     }
 
     fn actuation(&self) -> Actuation {
