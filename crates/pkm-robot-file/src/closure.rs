@@ -11,7 +11,7 @@ use crate::chain::{JointValue, stack};
 use crate::lm::LeastSquares;
 use crate::model::RobotModel;
 use crate::pose::{PoseCoordinates, hybrid_rates, platform_pose};
-use nalgebra::{DMatrix, DVector, Rotation3, Vector3};
+use nalgebra::{DMatrix, DVector, Point3, Rotation3, Vector3};
 
 /// A full configuration: the six pose coordinates and every joint value of every leg.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,6 +53,22 @@ pub(crate) struct ClosureProblem<'a> {
     pub free_pose: Vec<usize>,
     /// Whether the actuators are held at their values.
     pub fixed_actuators: bool,
+    /// What each leg's residual measures.
+    pub residual: LegResidual,
+}
+
+/// The residual of one leg's closure. Every form vanishes exactly when the leg closes (the
+/// last two measure the position at a point $p$ of the platform, platform frame, instead of
+/// its origin), but their landscapes differ far from a solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum LegResidual {
+    /// $[\log(R_E R_X^\top)^\vee;\ p_E - p_X]$: the pose error at the platform origin.
+    Pose,
+    /// $[\log(R_E R_X^\top)^\vee;\ E\,p - X\,p]$: the pose error at a point $p$ that the
+    /// leg's last joints pass through, so they turn the platform about it without moving it.
+    PoseAt(Vector3<f64>),
+    /// $[0;\ E\,p - X\,p]$: the position of $p$ alone (with no free pose coordinate).
+    PositionOf(Vector3<f64>),
 }
 
 impl ClosureProblem<'_> {
@@ -87,23 +103,37 @@ impl LeastSquares for ClosureProblem<'_> {
             let leg = &model.legs[i];
             let lt = leg.twists(&c.joints[i]);
             let end = lt.displacement * model.home_pose;
-            let rot = (end.rotation * target.rotation.inverse()).scaled_axis();
-            let pos = end.translation.vector - target.translation.vector;
+            let at = |p: &Vector3<f64>| {
+                let (e, x) = (
+                    (end * Point3::from(*p)).coords,
+                    (target * Point3::from(*p)).coords,
+                );
+                (e - x, e)
+            };
+            let rotation = || (end.rotation * target.rotation.inverse()).scaled_axis();
+            let (rot, (pos, p_end)) = match &self.residual {
+                LegResidual::Pose => (rotation(), at(&Vector3::zeros())),
+                LegResidual::PoseAt(p) => (rotation(), at(p)),
+                LegResidual::PositionOf(p) => (Vector3::zeros(), at(p)),
+            };
             r.fixed_rows_mut::<6>(6 * block)
                 .copy_from(&stack(&rot, &pos));
             for (k, &pose_k) in self.free_pose.iter().enumerate() {
                 jac.fixed_view_mut::<6, 1>(6 * block, k)
                     .copy_from(&(-rates.column(pose_k)));
             }
-            let p_end = end.translation.vector;
             for (joint, twist) in &lt.twists {
                 if !self.is_free(i, *joint) {
                     continue;
                 }
                 let w: Vector3<f64> = twist.fixed_rows::<3>(0).into();
                 let v: Vector3<f64> = twist.fixed_rows::<3>(3).into();
+                let w_rows = match self.residual {
+                    LegResidual::PositionOf(_) => Vector3::zeros(),
+                    _ => w,
+                };
                 jac.fixed_view_mut::<6, 1>(6 * block, col)
-                    .copy_from(&stack(&w, &(v + w.cross(&p_end))));
+                    .copy_from(&stack(&w_rows, &(v + w.cross(&p_end))));
                 col += 1;
             }
         }

@@ -3,7 +3,7 @@
 //! labelled by continuation back to the home configuration (never by a determinant's sign).
 
 use crate::chain::JointValue;
-use crate::closure::{ClosureProblem, Configuration};
+use crate::closure::{ClosureProblem, Configuration, LegResidual};
 use crate::jacobian::SingularityMargins;
 use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::RobotModel;
@@ -101,6 +101,7 @@ impl RobotModel {
                 })
                 .collect(),
             fixed_actuators: true,
+            residual: LegResidual::Pose,
         };
         let (mut c, _) = levenberg_marquardt(&problem, start, settings)?;
         c.pose = crate::pose::canonical(self.orientation, &c.pose);

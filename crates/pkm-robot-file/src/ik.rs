@@ -1,17 +1,18 @@
 //! Inverse kinematics of the whole robot: the dependent pose coordinates, then each leg's
 //! actuator (closed form on the mode's branch, or damped Newton), then its passive joints.
 
-use crate::chain::JointValue;
-use crate::closure::{ClosureProblem, Configuration};
+use crate::chain::{Joint, JointValue};
+use crate::closure::{ClosureProblem, Configuration, LegResidual};
 use crate::leg_ik::LegClass;
 use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::{RobotModel, WorkingMode};
 use crate::pose::CoordinateRole;
 use crate::pose::{PoseCoordinates, platform_pose};
-use nalgebra::{DVector, Rotation3, Vector3};
+use nalgebra::{DVector, Quaternion, UnitQuaternion, Vector3};
 use pkm_traits::KinematicsError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
 
 /// Seeds tried for a numerical leg after its home values: a fixed number of ChaCha8 draws.
 const NUMERIC_LEG_STARTS: u64 = 8;
@@ -58,7 +59,7 @@ impl RobotModel {
         let angle = self
             .orientation
             .rotation_angle(&Vector3::new(pose[3], pose[4], pose[5]));
-        if !(angle <= std::f64::consts::PI) {
+        if !(angle <= PI) {
             return Err(pkm_traits::InvalidInput::new(
                 "rotation angle of x",
                 angle,
@@ -113,6 +114,7 @@ impl RobotModel {
             legs: (0..self.legs.len()).collect(),
             free_pose: dependent,
             fixed_actuators: false,
+            residual: LegResidual::Pose,
         };
         let settings = SolverSettings::default();
         if let Ok((c, _)) = levenberg_marquardt(&problem, config.clone(), &settings) {
@@ -134,8 +136,10 @@ impl RobotModel {
     ///
     /// # Errors
     /// [`KinematicsError::Unreachable`] naming the leg that cannot reach the pose or would leave
-    /// its actuator range; [`KinematicsError::NotConverged`] when a numerical solution fails;
-    /// [`KinematicsError::NonFinite`] / [`KinematicsError::InvalidInput`] for a bad `x`.
+    /// its actuator range; [`KinematicsError::NotConverged`] when the dependent coordinates
+    /// cannot be solved; [`KinematicsError::LegNotConverged`] naming the leg and the stage when
+    /// its joints cannot be solved; [`KinematicsError::NonFinite`] /
+    /// [`KinematicsError::InvalidInput`] for a bad `x`.
     pub fn inverse_kinematics_configuration(
         &self,
         x: &[f64],
@@ -249,7 +253,13 @@ impl RobotModel {
     }
 
     /// Leg `i` by damped Newton from its home values (its actuator held at `motion` when given),
-    /// then seeded restarts.
+    /// then in two stages from there (see [`RobotModel::staged_leg_solve`]), then in two stages
+    /// from [`NUMERIC_LEG_STARTS`] seeded starts spread over each joint's whole range: revolute
+    /// angles in $[-\pi, \pi)$, prismatic travels within 1.5 robot sizes, spherical joints over
+    /// the rotation group.
+    ///
+    /// # Errors
+    /// [`KinematicsError::LegNotConverged`] naming the leg, the stage and the best residual.
     fn newton_leg(
         &self,
         i: usize,
@@ -261,48 +271,113 @@ impl RobotModel {
             legs: vec![i],
             free_pose: vec![],
             fixed_actuators: motion.is_some(),
+            residual: LegResidual::Pose,
         };
         let mut start = config.clone();
         start.joints[i] = self.legs[i].home_values();
         if let Some(motion) = motion {
             start.joints[i][self.legs[i].actuator] = JointValue::Scalar(motion);
         }
-        self.solve_from_seeds(&problem, i, start)
-    }
-
-    fn solve_from_seeds(
-        &self,
-        problem: &ClosureProblem<'_>,
-        i: usize,
-        start: Configuration,
-    ) -> Result<Vec<JointValue>, KinematicsError> {
         let settings = SolverSettings::default();
-        let mut last = match levenberg_marquardt(problem, start.clone(), &settings) {
-            Ok((c, _)) => return Ok(c.joints[i].clone()),
-            Err(e) => e,
-        };
         let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
-        for _ in 0..NUMERIC_LEG_STARTS {
-            let mut seed = start.clone();
-            for (j, value) in seed.joints[i].iter_mut().enumerate() {
-                if problem.fixed_actuators && j == self.legs[i].actuator {
-                    continue;
-                }
-                *value = match value {
-                    JointValue::Scalar(_) => JointValue::Scalar(rng.random_range(-1.5..1.5)),
-                    JointValue::Ball(_) => JointValue::Ball(Rotation3::new(Vector3::new(
-                        rng.random_range(-1.0..1.0),
-                        rng.random_range(-1.0..1.0),
-                        rng.random_range(-1.0..1.0),
-                    ))),
-                };
-            }
-            match levenberg_marquardt(problem, seed, &settings) {
-                Ok((c, _)) => return Ok(c.joints[i].clone()),
-                Err(e) => last = e,
+        let mut best = f64::NAN;
+        for k in 0..=NUMERIC_LEG_STARTS {
+            let seed = if k == 0 {
+                start.clone()
+            } else {
+                self.seeded_leg(i, &start, problem.fixed_actuators, &mut rng)
+            };
+            let direct = || levenberg_marquardt(&problem, seed.clone(), &settings).map(|(c, _)| c);
+            let solved = match k {
+                0 => direct().or_else(|_| self.staged_leg_solve(&problem, seed.clone(), &settings)),
+                _ => self.staged_leg_solve(&problem, seed.clone(), &settings),
+            };
+            match solved {
+                Ok(c) => return Ok(c.joints[i].clone()),
+                Err(KinematicsError::NotConverged { residual, .. }) => best = best.min(residual),
+                Err(_) => {}
             }
         }
-        Err(last)
+        Err(KinematicsError::LegNotConverged {
+            leg: i,
+            stage: if motion.is_some() {
+                "passive joints"
+            } else {
+                "joints"
+            },
+            starts: NUMERIC_LEG_STARTS as usize + 1,
+            residual: best,
+        })
+    }
+
+    /// The closure `problem` of one leg from `start`. A leg whose closed form places a platform
+    /// point $C$ is solved in two stages: first the position of $C$ alone (the joints through
+    /// $C$ do not move it, and placing a point by the joints before it has one local minimum
+    /// up to the antipodal maximum), then the whole pose from there. Closing the whole pose
+    /// directly from a far start can stall in a local minimum of the mixed rotation and
+    /// position residual (a 3-RPR at a far assembly mode did from every start in a quarter
+    /// turn of home).
+    fn staged_leg_solve(
+        &self,
+        problem: &ClosureProblem<'_>,
+        start: Configuration,
+        settings: &SolverSettings,
+    ) -> Result<Configuration, KinematicsError> {
+        let point = problem
+            .legs
+            .first()
+            .and_then(|&i| self.classes[i].platform_point());
+        let Some(p) = point.filter(|_| problem.fixed_actuators) else {
+            return Ok(levenberg_marquardt(problem, start, settings)?.0);
+        };
+        let stage = |residual| ClosureProblem {
+            residual,
+            ..problem.clone()
+        };
+        // The first stage only starts the second: placed to 1e-6 robot sizes, the second ends
+        // in its quadratic convergence instead of at the first's tolerance.
+        let rough = SolverSettings {
+            tolerance: settings.tolerance.max(1e-6 * self.size),
+            ..*settings
+        };
+        let placed = levenberg_marquardt(&stage(LegResidual::PositionOf(p)), start, &rough)?.0;
+        Ok(levenberg_marquardt(&stage(LegResidual::PoseAt(p)), placed, settings)?.0)
+    }
+
+    /// `start` with leg `i`'s joints (but its actuator when `hold_actuator`) drawn from `rng`.
+    fn seeded_leg(
+        &self,
+        i: usize,
+        start: &Configuration,
+        hold_actuator: bool,
+        rng: &mut ChaCha8Rng,
+    ) -> Configuration {
+        let mut seed = start.clone();
+        for (j, (value, joint)) in seed.joints[i]
+            .iter_mut()
+            .zip(&self.legs[i].joints)
+            .enumerate()
+        {
+            if hold_actuator && j == self.legs[i].actuator {
+                continue;
+            }
+            *value = match joint {
+                Joint::Revolute { .. } => JointValue::Scalar(rng.random_range(-PI..PI)),
+                Joint::Prismatic { .. } => {
+                    JointValue::Scalar(self.size * rng.random_range(-1.5..1.5))
+                }
+                Joint::Spherical { .. } => {
+                    let q = Quaternion::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    );
+                    JointValue::Ball(UnitQuaternion::from_quaternion(q).to_rotation_matrix())
+                }
+            };
+        }
+        seed
     }
 
     fn check_limits(&self, i: usize, config: &Configuration) -> Result<(), KinematicsError> {

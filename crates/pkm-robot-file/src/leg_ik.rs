@@ -76,6 +76,15 @@ impl LegClass {
         }
     }
 
+    /// The platform point (platform frame) that the closed form places, if any.
+    pub(crate) fn platform_point(&self) -> Option<Vector3<f64>> {
+        match *self {
+            Self::Distance { platform, .. } => Some(platform),
+            Self::RevoluteArm { wrist, .. } | Self::PrismaticArm { wrist, .. } => Some(wrist),
+            Self::Numeric => None,
+        }
+    }
+
     /// Number of closed-form branches.
     pub(crate) fn branch_count(&self) -> usize {
         match self {

@@ -10,6 +10,10 @@
 use nalgebra::{DMatrix, DVector};
 use pkm_traits::KinematicsError;
 
+/// Squared column norm, relative to the largest, below which an unknown is held (a null
+/// direction of the Jacobian to rounding).
+const NULL_COLUMN: f64 = 1e-24;
+
 /// Settings of `levenberg_marquardt`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
@@ -104,6 +108,12 @@ pub(crate) fn levenberg_marquardt<P: LeastSquares>(
 }
 
 /// The damped step, scaled to the step limits; `None` when the system cannot be factored.
+///
+/// An unknown whose Jacobian column is zero to rounding ($\|J_k\|^2 \le 10^{-24}
+/// \max_l \|J_l\|^2$: it does not move the residual, as a joint through the point that a
+/// position-only stage places) is held: left in the system, its rounding-level gradient
+/// divided by a rounding-level diagonal would give a huge step, and scaling the step to the
+/// limits would then shrink every useful component to nothing.
 fn damped_step(
     normal: &DMatrix<f64>,
     gradient: &DVector<f64>,
@@ -111,11 +121,19 @@ fn damped_step(
     limits: &DVector<f64>,
 ) -> Option<DVector<f64>> {
     let mut a = normal.clone();
+    let mut g = gradient.clone();
     let scale = normal.diagonal().amax().max(1e-300);
     for k in 0..a.nrows() {
-        a[(k, k)] += lambda * normal[(k, k)].max(1e-9 * scale);
+        if normal[(k, k)] <= NULL_COLUMN * scale {
+            a.row_mut(k).fill(0.0);
+            a.column_mut(k).fill(0.0);
+            a[(k, k)] = 1.0;
+            g[k] = 0.0;
+        } else {
+            a[(k, k)] += lambda * normal[(k, k)].max(1e-9 * scale);
+        }
     }
-    let delta = -a.cholesky()?.solve(gradient);
+    let delta = -a.cholesky()?.solve(&g);
     let ratio = delta
         .iter()
         .zip(limits.iter())
@@ -158,6 +176,36 @@ mod tests {
         fn apply(&self, x: &f64, d: &DVector<f64>) -> f64 {
             x + d[0]
         }
+    }
+
+    /// $x^2 = 2$ with a spectator unknown $y$ that moves the residual by rounding only.
+    struct RootWithSpectator;
+
+    impl LeastSquares for RootWithSpectator {
+        type State = (f64, f64);
+        fn evaluate(&self, &(x, y): &(f64, f64)) -> Option<(DVector<f64>, DMatrix<f64>)> {
+            let r = x * x - 2.0 + 1e-17 * y;
+            Some((
+                DVector::from_element(1, r),
+                DMatrix::from_row_slice(1, 2, &[2.0 * x, 1e-17]),
+            ))
+        }
+        fn step_limits(&self) -> DVector<f64> {
+            DVector::from_element(2, 0.5)
+        }
+        fn apply(&self, &(x, y): &(f64, f64), d: &DVector<f64>) -> (f64, f64) {
+            (x + d[0], y + d[1])
+        }
+    }
+
+    /// A null column is held: without that, its huge step scaled to the limit left the useful
+    /// component at 1e-8 of what it should be, and the solve stalled.
+    #[test]
+    fn a_null_direction_does_not_stall_the_others() {
+        let ((x, y), _) =
+            levenberg_marquardt(&RootWithSpectator, (3.0, 0.0), &SolverSettings::default())
+                .unwrap();
+        assert!((x - 2f64.sqrt()).abs() < 1e-12 && y == 0.0, "{x} {y}");
     }
 
     #[test]

@@ -221,6 +221,21 @@ pub enum KinematicsError {
         /// Norm of the loop-closure residual at the last iterate.
         residual: f64,
     },
+    /// The numerical solution of one leg's joints did not converge from any of its starts.
+    #[error(
+        "leg {leg}: the {stage} did not converge from {starts} starts (best |Φ| = {residual:.3e})"
+    )]
+    LegNotConverged {
+        /// Index of the leg, from 0.
+        leg: usize,
+        /// What was solved (`"passive joints"` with the actuator held, `"joints"` of a leg
+        /// without a closed form).
+        stage: &'static str,
+        /// Starts tried (home values, then seeded ones).
+        starts: usize,
+        /// The smallest loop-closure residual reached, or NaN when no start evaluated.
+        residual: f64,
+    },
     /// An input coordinate is NaN or infinite.
     #[error("non-finite input: {what} = {value}")]
     NonFinite {

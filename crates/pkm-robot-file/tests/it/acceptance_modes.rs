@@ -233,3 +233,106 @@ fn dietmaier_stewart_gough_has_forty_real_assembly_modes() {
     assert_genuine(&model, &q, &modes);
     assert_eq!(modes.len(), 40);
 }
+
+/// A planar 3-RPR file: base joints at `a`, platform joints at `b` (platform frame), the platform
+/// frame at `home` (unrotated) in the home pose, each P axis along its leg at home.
+fn three_rpr_file(a: &[Vector2<f64>; 3], b: &[Vector2<f64>; 3], home: Vector2<f64>) -> String {
+    let mut text = format!(
+        "name = \"3-RPR\"\ntask = [\"x\", \"y\", \"rz\"]\n[home]\nposition = [{}, {}, 0.0]\n",
+        home.x, home.y
+    );
+    for (a, b) in a.iter().zip(b) {
+        let c = home + b;
+        let d = c - a;
+        text += &format!(
+            "[[legs]]\njoints = [\n  {{ type = \"R\", axis = [0.0, 0.0, 1.0], point = [{}, {}, 0.0] }},\n  \
+             {{ type = \"P\", axis = [{}, {}, 0.0], actuated = true, offset = {} }},\n  \
+             {{ type = \"R\", axis = [0.0, 0.0, 1.0], point = [{}, {}, 0.0] }},\n]\n",
+            a.x,
+            a.y,
+            d.x,
+            d.y,
+            d.norm(),
+            c.x,
+            c.y
+        );
+    }
+    text
+}
+
+/// Every assembly mode of `model` at `q` has its full configuration, actuators back to `q` to
+/// 1e-9 relative, and finite singularity margins; returns the number of modes.
+fn assert_every_mode_solved(model: &RobotModel, q: &[f64], starts: usize) -> usize {
+    let settings = EnumerationSettings {
+        starts,
+        ..EnumerationSettings::default()
+    };
+    let modes = model.assembly_modes(q, &settings).unwrap();
+    let scale = q.iter().fold(0.0, |m: f64, v| m.max(v.abs()));
+    for m in &modes {
+        let c = model
+            .inverse_kinematics_configuration(&m.task, model.home_mode())
+            .unwrap_or_else(|e| panic!("mode at {:?}: {e}", m.task));
+        let back = model.actuators_of(&c);
+        for (got, want) in back.iter().zip(q) {
+            assert!((got - want).abs() < 1e-9 * scale, "{back} vs {q:?}");
+        }
+        let margins = model.singularity_margins(&c).unwrap();
+        assert!(margins.inverse.is_finite() && margins.direct.is_finite());
+    }
+    modes.len()
+}
+
+/// Issue 29: a 3-RPR in the proportions of the planar examples of the literature (lengths of
+/// 10 to 20 units, the home pose away from the origin) has six real assembly modes, and every
+/// one has its configuration, J and margins. Before the two-stage leg solve, the passive joints
+/// of one mode (the platform a half turn of leg 3 from home) did not converge from any start.
+#[test]
+fn three_rpr_every_assembly_mode_has_its_configuration() {
+    let a = [
+        Vector2::new(0.0, 0.0),
+        Vector2::new(15.91, 0.0),
+        Vector2::new(0.0, 10.0),
+    ];
+    let (l3, theta) = (20.84, 0.882_f64);
+    let b = [
+        Vector2::new(0.0, 0.0),
+        Vector2::new(17.04, 0.0),
+        Vector2::new(l3 * theta.cos(), l3 * theta.sin()),
+    ];
+    let q = [14.98, 15.38, 12.0];
+    let model = RobotModel::from_toml(&three_rpr_file(&a, &b, Vector2::new(5.0, 8.0))).unwrap();
+    assert_eq!(independent_rpr_count(&a, &b, &q), 6);
+    assert_eq!(assert_every_mode_solved(&model, &q, 2_000), 6);
+}
+
+/// Issue 29, as a class: 3-RPR designs drawn at random at two scales (1 and 20 units), every
+/// assembly mode found has its configuration. Before the two-stage leg solve, 11 of the 168
+/// modes of 100 such designs failed.
+#[test]
+fn random_three_rpr_designs_reach_every_assembly_mode() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let mut point = |s: f64| {
+        Vector2::new(
+            s * rng.random_range(-1.0..1.0),
+            s * rng.random_range(-1.0..1.0),
+        )
+    };
+    let mut modes = 0;
+    for k in 0..24 {
+        let scale = if k % 2 == 0 { 1.0 } else { 20.0 };
+        let home = point(scale);
+        let a = [point(scale), point(scale), point(scale)];
+        let b = [point(0.5 * scale), point(0.5 * scale), point(0.5 * scale)];
+        let model = RobotModel::from_toml(&three_rpr_file(&a, &b, home)).unwrap();
+        let q: Vec<f64> = (0..3)
+            .map(|i| {
+                (home + b[i] - a[i]).norm()
+                    * (0.6 + 0.8 * (k as f64 * 0.37 + i as f64 * 0.23).fract())
+            })
+            .collect();
+        modes += assert_every_mode_solved(&model, &q, 200);
+    }
+    assert!(modes >= 24, "{modes} modes in 24 designs");
+}
