@@ -227,7 +227,9 @@ fn group_point(joints: &[Joint], hint: Option<Vector3<f64>>, size: f64) -> Optio
 
 /// The points of two groups, each single-R group taking the foot of the other group's point
 /// on its axis. Two single R joints keep their own points, and must be parallel or meet (a
-/// planar or spherical pair), where $|C - E|$ is the only condition between them.
+/// planar or spherical pair), where $|C - E|$ is the only condition between them; when both
+/// are written through one point $O$ (a spherical chain with every joint at its centre), each
+/// takes the point of its axis at distance `size` from $O$ instead.
 fn group_points(
     first: &[Joint],
     second: &[Joint],
@@ -248,6 +250,11 @@ fn group_points(
         ],
     ) = (first, second)
     {
+        if (p2 - p1).norm() < 1e-9 * size && a1.cross(a2).norm() > 1e-9 {
+            // Two axes written through one point O (a spherical pair as published): any point
+            // of each axis is carried by its link, so take each at distance `size` from O.
+            return Some((p1 + a1 * size, p2 + a2 * size));
+        }
         let coplanar = (p2 - p1).dot(&a1.cross(a2)).abs() < 1e-9 * size;
         return coplanar.then_some((*p1, *p2));
     }

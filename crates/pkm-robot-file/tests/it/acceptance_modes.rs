@@ -139,6 +139,38 @@ fn agile_eye_working_and_assembly_modes() {
     );
 }
 
+/// Issue 29: the Agile Eye written as its published geometry gives it, every joint point at
+/// the centre, is recognised as three spherical revolute arms (it fell to the numerical solver
+/// with one working mode) and has the eight working modes and the same IK as the file with
+/// points at unit distance along the axes.
+#[test]
+fn agile_eye_with_every_joint_at_the_centre_has_eight_working_modes() {
+    let text = common::robot_text("agile_eye.toml");
+    let centred: String = text
+        .lines()
+        .map(|line| {
+            let Some(at) = line.find("point = [") else {
+                return format!("{line}\n");
+            };
+            let end = at + line[at..].find(']').unwrap() + 1;
+            format!("{}point = [0.0, 0.0, 0.0]{}\n", &line[..at], &line[end..])
+        })
+        .collect();
+    assert_ne!(centred, text);
+    let (published, unit) = (
+        RobotModel::from_toml(&centred).unwrap(),
+        common::robot("agile_eye.toml"),
+    );
+    assert_eq!(published.leg_solvers(), vec!["revolute arm"; 3]);
+    assert_eq!(published.working_modes().len(), 8);
+    let x = [0.2, -0.1, 0.15];
+    for mode in unit.working_modes() {
+        let want = unit.inverse_kinematics(&x, mode).unwrap();
+        let got = published.inverse_kinematics(&x, mode).unwrap();
+        assert!((&want - &got).amax() < 1e-12, "{mode:?}: {got} vs {want}");
+    }
+}
+
 /// Acceptance 7: the Hexa with the TUBS Hexa2 dimensions reaches a test pose, and each leg's
 /// actuation wrench is the force along its rod (elbow U centre to platform S centre).
 #[test]
