@@ -424,7 +424,7 @@ enum Against {
 }
 
 /// The ratios that `docs/performance.md` quotes: (what, pkm bench, what it is compared with).
-const RATIOS: [(&str, &str, Against); 9] = [
+const RATIOS: [(&str, &str, Against); 11] = [
     (
         "Delta design index, 1 thread, vs NumPy SVD",
         "delta_kernel/batch/1_threads",
@@ -469,6 +469,16 @@ const RATIOS: [(&str, &str, Against); 9] = [
         "IK + J + 1/κ of the Delta: hand-written model vs the same robot from a file (goal: the file within 5 ×)",
         "robot_file/rotary_delta/ik_j_inverse_kappa/hand_written",
         Against::Bench("robot_file/rotary_delta/ik_j_inverse_kappa/general"),
+    ),
+    (
+        "Forward kinematics from a guess, Delta: hand-written vs from its file (goal: the file within 3 ×)",
+        "robot_file/forward_kinematics/rotary_delta/hand_written",
+        Against::Bench("robot_file/forward_kinematics/rotary_delta/general"),
+    ),
+    (
+        "Forward kinematics from a guess, Tsai: hand-written vs from its file (goal: the file within 3 ×)",
+        "robot_file/forward_kinematics/tsai/hand_written",
+        Against::Bench("robot_file/forward_kinematics/tsai/general"),
     ),
 ];
 

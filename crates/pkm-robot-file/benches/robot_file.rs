@@ -1,29 +1,40 @@
 //! IK + J + 1/κ of a general 3-DOF robot from a file against the hand-written model of the same
 //! robot: the rotary Delta of Miller 2004 (`examples/robots/rotary_delta.toml` and
-//! `pkm_mechanisms::RotaryDelta`), over 256 seeded poses. Numbers go to `docs/performance.md`.
+//! `pkm_mechanisms::RotaryDelta`), over 256 seeded poses; and forward kinematics from a guess
+//! (the pose plus 0.01 m per coordinate) on the Delta and Tsai files against their hand-written
+//! models. Numbers go to `docs/performance.md`.
 
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Matrix3, Vector3};
-use pkm_mechanisms::{ElbowMode, Placement, RotaryDelta, presets};
+use pkm_mechanisms::{Elbow, ElbowMode, Placement, RotaryDelta, Tsai3Dof, presets};
 use pkm_robot_file::Robot;
-use pkm_traits::InverseKinematics;
+use pkm_traits::{ForwardKinematics, InverseKinematics, NewtonSettings};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 
-fn poses() -> Vec<Vector3<f64>> {
+/// 256 seeded poses in the box `x, y ∈ [-0.1, 0.1]`, `z ∈ z_range`.
+fn poses(z_range: std::ops::Range<f64>) -> Vec<Vector3<f64>> {
     let mut rng = ChaCha8Rng::seed_from_u64(18);
     (0..256)
         .map(|_| {
             Vector3::new(
                 rng.random_range(-0.1..0.1),
                 rng.random_range(-0.1..0.1),
-                rng.random_range(-0.85..-0.55),
+                rng.random_range(z_range.clone()),
             )
         })
         .collect()
+}
+
+fn robot(file: &str) -> Robot<3> {
+    let path = format!(
+        "{}/../../examples/robots/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    Robot::<3>::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 fn inverse_condition(j: &Matrix3<f64>) -> f64 {
@@ -44,13 +55,9 @@ fn sweep<M: InverseKinematics<3, 3>>(m: &M, mode: M::WorkingMode, xs: &[Vector3<
 }
 
 fn ik_j_kappa(c: &mut Criterion) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../examples/robots/rotary_delta.toml"
-    );
-    let robot = Robot::<3>::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let robot = robot("rotary_delta.toml");
     let hand = RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap();
-    let xs = poses();
+    let xs = poses(-0.85..-0.55);
     let mut group = c.benchmark_group("robot_file/rotary_delta");
     group.throughput(Throughput::Elements(xs.len() as u64));
     group.sample_size(20);
@@ -63,5 +70,54 @@ fn ik_j_kappa(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, ik_j_kappa);
+/// The actuators of each pose in `mode`, with the guess `x + 0.01`.
+fn fk_rows<M: InverseKinematics<3, 3>>(
+    m: &M,
+    mode: M::WorkingMode,
+    xs: &[Vector3<f64>],
+) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    xs.iter()
+        .filter_map(|x| Some((m.inverse_kinematics(x, mode).ok()?, x.add_scalar(0.01))))
+        .collect()
+}
+
+/// Sum of the solved coordinates over the rows (every row must converge).
+fn solve_all<M: ForwardKinematics<3>>(m: &M, rows: &[(Vector3<f64>, Vector3<f64>)]) -> f64 {
+    let settings = NewtonSettings::default();
+    rows.iter()
+        .map(|(q, guess)| m.forward_kinematics(q, guess, &settings).unwrap().sum())
+        .sum()
+}
+
+fn forward_kinematics(c: &mut Criterion) {
+    let delta = (
+        robot("rotary_delta.toml"),
+        RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap(),
+    );
+    let tsai = (
+        robot("tsai.toml"),
+        Tsai3Dof::new(presets::stamper_max_gci()).unwrap(),
+    );
+    let delta_rows = fk_rows(&delta.1, ElbowMode::Out, &poses(-0.85..-0.55));
+    let tsai_rows = fk_rows(&tsai.1, [Elbow::Out; 3], &poses(0.35..0.55));
+    let mut group = c.benchmark_group("robot_file/forward_kinematics");
+    group.sample_size(20);
+    group.throughput(Throughput::Elements(delta_rows.len() as u64));
+    group.bench_function("rotary_delta/general", |b| {
+        b.iter(|| solve_all(&delta.0, black_box(&delta_rows)))
+    });
+    group.bench_function("rotary_delta/hand_written", |b| {
+        b.iter(|| solve_all(&delta.1, black_box(&delta_rows)))
+    });
+    group.throughput(Throughput::Elements(tsai_rows.len() as u64));
+    group.bench_function("tsai/general", |b| {
+        b.iter(|| solve_all(&tsai.0, black_box(&tsai_rows)))
+    });
+    group.bench_function("tsai/hand_written", |b| {
+        b.iter(|| solve_all(&tsai.1, black_box(&tsai_rows)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, ik_j_kappa, forward_kinematics);
 criterion_main!(benches);

@@ -132,11 +132,48 @@ impl RobotModel {
         Ok(())
     }
 
+    /// The working mode whose closed-form actuator of each leg at `x` is nearest `q` (see
+    /// [`RobotModel::nearest_branch`]), those actuator coordinates handed to `set(leg, q)`:
+    /// the $\mathrm{IK}_i$ of the reduced closure $\Phi_i = q_i - \mathrm{IK}_i(x)$. Actuator
+    /// ranges are not checked (an iterate of the forward kinematics may leave them).
+    pub(crate) fn closed_form_nearest_with(
+        &self,
+        x: &[f64],
+        q: &[f64],
+        mut set: impl FnMut(usize, f64),
+    ) -> Result<WorkingMode, KinematicsError> {
+        let pose = self.closed_form_pose(x)?;
+        let mut mode = WorkingMode(0);
+        for (i, &q_i) in q.iter().enumerate().take(self.legs.len()) {
+            let (branch, value) =
+                self.nearest_branch(i, &pose, q_i)
+                    .ok_or(KinematicsError::Unreachable {
+                        leg: i,
+                        discriminant: f64::NAN,
+                    })?;
+            mode = mode.with_branch(i, branch);
+            set(i, value);
+        }
+        Ok(mode)
+    }
+
     /// $J = D^{-1}J_aT$ on the closed-form path, entry $(i, k)$ handed to `set(i, k, J_ik)`.
     pub(crate) fn closed_form_jacobian_with(
         &self,
         x: &[f64],
         mode: WorkingMode,
+        set: impl FnMut(usize, usize, f64),
+    ) -> Result<(), KinematicsError> {
+        self.closed_form_jacobian_rows(x, mode, true, set)
+    }
+
+    /// [`RobotModel::closed_form_jacobian_with`], the actuator ranges checked when
+    /// `check_limits`.
+    pub(crate) fn closed_form_jacobian_rows(
+        &self,
+        x: &[f64],
+        mode: WorkingMode,
+        check_limits: bool,
         mut set: impl FnMut(usize, usize, f64),
     ) -> Result<(), KinematicsError> {
         let coordinates = self.pose_with_task(x)?;
@@ -152,7 +189,9 @@ impl RobotModel {
         }
         for i in 0..self.legs.len() {
             let leg = self.closed_form_leg(i, &pose, mode.branch(i))?;
-            self.check_actuator_limits(i, self.legs[i].offset + leg.motion)?;
+            if check_limits {
+                self.check_actuator_limits(i, self.legs[i].offset + leg.motion)?;
+            }
             let d = reciprocal_product_vectors(&leg.wrench, &leg.actuator_twist);
             if !(d.abs() > 1e-12 * self.size) {
                 return Err(KinematicsError::Singular {
@@ -165,5 +204,203 @@ impl RobotModel {
             }
         }
         Ok(())
+    }
+}
+
+/// The algebraic loop closure of a robot whose legs all have a closed form, in the task
+/// coordinates and the actuators alone:
+/// $$\Phi_i(x, q) = \tfrac12\left(\lvert C_i(x) - E_i(q_i)\rvert^2 - L_i(q_i)^2\right),$$
+/// with $C_i$ the leg's platform point, $E_i$ its base point $A$ (distance class) or its elbow
+/// point moved by the actuator (arm classes), and $L_i$ the leg length $\lvert C_0 - A\rvert
+/// \pm q_i$ or the rod. Unlike the reduced closure $q_i - \mathrm{IK}_i(x)$ it is defined at
+/// every $x$, out of reach too, as the hand-written models' closures are: Newton on it steps
+/// as theirs do, and stays on the guess's assembly mode where theirs does.
+pub(crate) struct AlgebraicClosure<'a>(pub &'a RobotModel);
+
+/// One leg of [`AlgebraicClosure`]: $C - E$, $L$, $\partial E / \partial q$ and
+/// $\partial L / \partial q$.
+struct AlgebraicLeg {
+    rod: Vector3<f64>,
+    length: f64,
+    d_elbow: Vector3<f64>,
+    d_length: f64,
+}
+
+impl AlgebraicClosure<'_> {
+    /// Leg `i` at platform pose `pose` with actuator coordinate `q_i`.
+    fn leg(&self, i: usize, pose: &Isometry3<f64>, q_i: f64) -> AlgebraicLeg {
+        let model = self.0;
+        let motion = q_i - model.legs[i].offset;
+        let at = |p: &Vector3<f64>| (pose * Point3::from(*p)).coords;
+        let (c, e, length, d_elbow, d_length) = match model.classes[i] {
+            LegClass::Distance {
+                base,
+                platform,
+                home_length,
+                sign,
+            } => (
+                at(&platform),
+                base,
+                home_length + sign * motion,
+                Vector3::zeros(),
+                sign,
+            ),
+            LegClass::RevoluteArm {
+                axis,
+                foot,
+                arm,
+                wrist,
+                rod,
+            } => {
+                let arm = Rotation3::from_axis_angle(&Unit::new_unchecked(axis), motion) * arm;
+                (at(&wrist), foot + arm, rod, axis.cross(&arm), 0.0)
+            }
+            LegClass::PrismaticArm {
+                axis,
+                elbow,
+                wrist,
+                rod,
+            } => (at(&wrist), elbow + axis * motion, rod, axis, 0.0),
+            LegClass::Numeric => (
+                Vector3::repeat(f64::NAN),
+                Vector3::zeros(),
+                f64::NAN,
+                Vector3::zeros(),
+                f64::NAN,
+            ),
+        };
+        AlgebraicLeg {
+            rod: c - e,
+            length,
+            d_elbow,
+            d_length,
+        }
+    }
+
+    /// The full pose coordinates of `x` (NaN where they are not valid).
+    fn coordinates(&self, x: &[f64]) -> crate::pose::PoseCoordinates {
+        self.0.pose_with_task(x).unwrap_or([f64::NAN; 6])
+    }
+}
+
+impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
+    fn closure(&self, x: &pkm_traits::Task<N>, q: &pkm_traits::Joints<N>) -> pkm_traits::Joints<N> {
+        let pose = platform_pose(self.0.orientation, &self.coordinates(x.as_slice()));
+        pkm_traits::Joints::<N>::from_fn(|i, _| {
+            let leg = self.leg(i, &pose, q[i]);
+            0.5 * (leg.rod.norm_squared() - leg.length * leg.length)
+        })
+    }
+
+    /// $\partial \Phi_i / \partial x_k = (C_i - E_i) \cdot \dot C_{i,k}$, the velocity of $C_i$
+    /// per unit rate of task coordinate $k$.
+    fn jacobian_x(
+        &self,
+        x: &pkm_traits::Task<N>,
+        q: &pkm_traits::Joints<N>,
+    ) -> nalgebra::SMatrix<f64, N, N> {
+        let coordinates = self.coordinates(x.as_slice());
+        let pose = platform_pose(self.0.orientation, &coordinates);
+        let mut j = nalgebra::SMatrix::<f64, N, N>::zeros();
+        if self.0.task.iter().all(|&k| k < 3) {
+            // A translation: C moves with the platform origin.
+            for i in 0..N {
+                let rod = self.leg(i, &pose, q[i]).rod;
+                for (k, &coordinate) in self.0.task.iter().enumerate().take(N) {
+                    j[(i, k)] = rod[coordinate];
+                }
+            }
+            return j;
+        }
+        let h = hybrid_rates(self.0.orientation, &coordinates);
+        let origin = Vector3::new(coordinates[0], coordinates[1], coordinates[2]);
+        for i in 0..N {
+            let leg = self.leg(i, &pose, q[i]);
+            let c = (pose * Point3::from(self.0.classes[i].platform_point().unwrap_or_default()))
+                .coords;
+            for (k, &coordinate) in self.0.task.iter().enumerate().take(N) {
+                let w: Vector3<f64> = h.fixed_view::<3, 1>(0, coordinate).into();
+                let v: Vector3<f64> = h.fixed_view::<3, 1>(3, coordinate).into();
+                j[(i, k)] = leg.rod.dot(&(v + w.cross(&(c - origin))));
+            }
+        }
+        j
+    }
+
+    /// $\partial \Phi_i / \partial q_i = -(C_i - E_i) \cdot \partial E_i/\partial q_i - L_i\,
+    /// \partial L_i / \partial q_i$.
+    fn jacobian_q(
+        &self,
+        x: &pkm_traits::Task<N>,
+        q: &pkm_traits::Joints<N>,
+    ) -> nalgebra::SMatrix<f64, N, N> {
+        let pose = platform_pose(self.0.orientation, &self.coordinates(x.as_slice()));
+        nalgebra::SMatrix::<f64, N, N>::from_fn(|i, k| {
+            if i != k {
+                return 0.0;
+            }
+            let leg = self.leg(i, &pose, q[i]);
+            -leg.rod.dot(&leg.d_elbow) - leg.length * leg.d_length
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pkm_traits::{ClosedChain, InverseKinematics, Joints, Task};
+
+    fn model(file: &str) -> RobotModel {
+        let path = format!(
+            "{}/../../examples/robots/{file}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
+    /// $\Phi = 0$ at `x`, $J_x$ and $J_q$ equal central differences of $\Phi$ to 1e-7
+    /// relative, and $-J_q^{-1}J_x$ is the velocity Jacobian of the screws to 1e-9 relative.
+    fn check<const N: usize>(file: &str, x: Task<N>) {
+        let robot = crate::Robot::<N>::new(model(file)).unwrap();
+        let closure = AlgebraicClosure(robot.model());
+        let mode = robot.model().home_mode();
+        let q = robot.inverse_kinematics(&x, mode).unwrap();
+        let phi = closure.closure(&x, &q);
+        assert!(phi.amax() < 1e-12, "{file}: Φ = {phi}");
+        let (j_x, j_q) = (closure.jacobian_x(&x, &q), closure.jacobian_q(&x, &q));
+        let h = 1e-6;
+        for k in 0..N {
+            let e = Task::<N>::from_fn(|r, _| if r == k { h } else { 0.0 });
+            let fd = (closure.closure(&(x + e), &q) - closure.closure(&(x - e), &q)) / (2.0 * h);
+            assert!(
+                (fd - j_x.column(k)).amax() < 1e-7 * j_x.amax(),
+                "{file} J_x[:, {k}]"
+            );
+            let e = Joints::<N>::from_fn(|r, _| if r == k { h } else { 0.0 });
+            let fd = (closure.closure(&x, &(q + e)) - closure.closure(&x, &(q - e))) / (2.0 * h);
+            assert!(
+                (fd - j_q.column(k)).amax() < 1e-7 * j_q.amax(),
+                "{file} J_q[:, {k}]"
+            );
+        }
+        let j = -(j_q.try_inverse().unwrap() * j_x);
+        let screws = robot.velocity_jacobian_at(&x, mode).unwrap();
+        assert!(
+            (j - screws).amax() < 1e-9 * screws.amax(),
+            "{file}:\n{j}\n{screws}"
+        );
+    }
+
+    /// Every closed-form class (revolute arms: Tsai, Delta; prismatic arms: Orthoglide;
+    /// distance legs: 3-UPU, 3-RPR with rotation, Stewart–Gough in six coordinates).
+    #[test]
+    fn the_algebraic_closure_vanishes_and_differentiates_to_the_screw_jacobian() {
+        check("tsai.toml", Task::<3>::new(0.05, -0.04, 0.45));
+        check("rotary_delta.toml", Task::<3>::new(0.05, -0.04, -0.7));
+        check("orthoglide.toml", Task::<3>::new(0.02, -0.03, 0.04));
+        check("three_upu.toml", Task::<3>::new(0.03, -0.02, 0.32));
+        check("three_rpr.toml", Task::<3>::new(0.02, -0.03, 0.05));
+        let x = Task::<6>::from_column_slice(&[0.01, -0.02, 0.31, 0.05, -0.03, 0.04]);
+        check("stewart_gough.toml", x);
     }
 }

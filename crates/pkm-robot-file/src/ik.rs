@@ -8,7 +8,7 @@ use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::{RobotModel, WorkingMode};
 use crate::pose::CoordinateRole;
 use crate::pose::{PoseCoordinates, platform_pose};
-use nalgebra::{DVector, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{DVector, Isometry3, Quaternion, UnitQuaternion, Vector3};
 use pkm_traits::KinematicsError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -206,30 +206,39 @@ impl RobotModel {
             c.joints[i] = joints;
             return Ok(self.legs[i].offset + c.actuator_motion(self, i));
         }
-        let revolute = matches!(class, LegClass::RevoluteArm { .. });
-        let distance = |m: f64| {
-            let d = self.legs[i].offset + m - q_i;
-            if revolute {
-                crate::leg_ik::wrap_angle(d).abs()
-            } else {
-                d.abs()
-            }
-        };
-        (0..class.branch_count() as u8)
-            .filter_map(|b| class.solve(&target, b).ok())
-            .min_by(|a, b| distance(*a).total_cmp(&distance(*b)))
-            .map(|m| {
-                let q = self.legs[i].offset + m;
-                if revolute {
-                    q_i + crate::leg_ik::wrap_angle(q - q_i)
-                } else {
-                    q
-                }
-            })
+        self.nearest_branch(i, &target, q_i)
+            .map(|(_, q)| q)
             .ok_or(KinematicsError::Unreachable {
                 leg: i,
                 discriminant: f64::NAN,
             })
+    }
+
+    /// The closed-form branch of leg `i` at platform pose `target` whose actuator coordinate is
+    /// nearest `q_i` (a revolute actuator compared modulo 2π and moved by whole turns to lie
+    /// within π of `q_i`), and that coordinate; `None` when no branch reaches the pose.
+    pub(crate) fn nearest_branch(
+        &self,
+        i: usize,
+        target: &Isometry3<f64>,
+        q_i: f64,
+    ) -> Option<(u8, f64)> {
+        let class = self.classes[i];
+        let revolute = matches!(class, LegClass::RevoluteArm { .. });
+        // (branch, distance from q_i, coordinate)
+        let near = |b: u8, m: f64| {
+            let q = self.legs[i].offset + m;
+            if revolute {
+                let d = crate::leg_ik::wrap_angle(q - q_i);
+                (b, d.abs(), q_i + d)
+            } else {
+                (b, (q - q_i).abs(), q)
+            }
+        };
+        (0..class.branch_count() as u8)
+            .filter_map(|b| class.solve(target, b).ok().map(|m| near(b, m)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(b, _, q)| (b, q))
     }
 
     /// Leg `i`'s joints with its actuator at `motion`, the passive joints by damped Newton from
