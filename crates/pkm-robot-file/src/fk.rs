@@ -9,6 +9,7 @@ use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::RobotModel;
 use crate::pose::CoordinateRole;
 use crate::pose::OrientationKind;
+use crate::self_motion::{SINGULAR_MARGIN, SelfMotion};
 use nalgebra::{Rotation3, Vector3};
 use pkm_traits::{InvalidInput, KinematicsError};
 use rand::{Rng, SeedableRng};
@@ -52,10 +53,13 @@ pub struct AssemblyMode {
     /// home assembly mode enumerated `k`-th at home (0 is the home configuration itself);
     /// `None` when the path meets a singularity.
     pub home_label: Option<usize>,
-    /// The singularity margins there; a mode with a zero margin is a singular solution (a
-    /// self-motion, as the Agile Eye's platform axis on an actuated axis), valid for a range
-    /// of actuator coordinates.
+    /// The singularity margins there; a mode with a zero margin is a singular solution (an
+    /// actuator free at a fixed pose, as the Agile Eye's platform axis on an actuated axis,
+    /// valid for a range of actuator coordinates; or a self-motion).
     pub margins: SingularityMargins,
+    /// `Some` when the mode is one point of a continuum of solutions at these actuator
+    /// coordinates (a self-motion), reported once for every solution found on it.
+    pub self_motion: Option<SelfMotion>,
 }
 
 impl AssemblyMode {
@@ -193,9 +197,36 @@ impl RobotModel {
         } else {
             self.solutions(&self.home_actuators(), settings)?
         };
+        let margins: Vec<SingularityMargins> = found
+            .iter()
+            .map(|c| {
+                self.singularity_margins(c).unwrap_or(SingularityMargins {
+                    inverse: 0.0,
+                    direct: 0.0,
+                    constraint: Some(0.0),
+                })
+            })
+            .collect();
+        let singular: Vec<usize> = (0..found.len())
+            .filter(|&k| !(margins[k].direct >= SINGULAR_MARGIN))
+            .collect();
+        let mut self_motion: Vec<Option<Option<SelfMotion>>> = vec![Some(None); found.len()];
+        for group in self.self_motions(q, &found, &singular) {
+            let motion = SelfMotion {
+                samples: group.len(),
+                extent: self.extent(&found, &group),
+            };
+            for &k in &group[1..] {
+                self_motion[k] = None;
+            }
+            self_motion[group[0]] = Some(Some(motion));
+        }
         Ok(found
             .into_iter()
-            .map(|c| {
+            .zip(margins)
+            .zip(self_motion)
+            .filter_map(|((c, margins), motion)| {
+                let self_motion = motion?;
                 let home_label = self
                     .continuation(q, &self.home_actuators(), c.clone())
                     .ok()
@@ -205,17 +236,13 @@ impl RobotModel {
                             .position(|m| same_pose(self.orientation, m, &back, settings.distinct))
                     });
                 let task = self.task.iter().map(|&k| c.pose[k]).collect();
-                let margins = self.singularity_margins(&c).unwrap_or(SingularityMargins {
-                    inverse: 0.0,
-                    direct: 0.0,
-                    constraint: Some(0.0),
-                });
-                AssemblyMode {
+                Some(AssemblyMode {
                     configuration: c,
                     task,
                     home_label,
                     margins,
-                }
+                    self_motion,
+                })
             })
             .collect())
     }

@@ -54,6 +54,7 @@ mod parameters;
 mod points;
 mod pose;
 mod robot;
+mod self_motion;
 mod svd;
 mod task_workspace;
 mod workspace;
@@ -72,4 +73,5 @@ pub use model::{MAX_JOINTS_PER_LEG, MIN_CHARACTERISTIC_LENGTH, RobotModel, Worki
 pub use points::{LegPoint, LegPointKind, LegPoints, LegSegment};
 pub use pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};
 pub use robot::{Robot, task_of};
+pub use self_motion::SelfMotion;
 pub use task_workspace::{MarginLimits, OrientationLevels, OrientationSet, TaskWorkspace};

@@ -368,3 +368,43 @@ fn random_three_rpr_designs_reach_every_assembly_mode() {
     }
     assert!(modes >= 24, "{modes} modes in 24 designs");
 }
+
+/// Issue 29: a 3-RPR whose platform triangle is its base triangle, with three equal leg
+/// lengths, translates on a circle of diameter 1 m (the legs stay parallel: a self-motion).
+/// Its assembly modes at those lengths report the circle once, with the number of solutions
+/// found on it and their extent (over half a metre, in characteristic lengths), instead of one
+/// "mode" per solution (616 modes before, 614 of them on the circle); every other solution is
+/// regular.
+#[test]
+fn a_self_motion_is_reported_once() {
+    let a = [
+        Vector2::new(-0.4, 0.0),
+        Vector2::new(0.4, 0.0),
+        Vector2::new(0.1, 0.5),
+    ];
+    let model = RobotModel::from_toml(&three_rpr_file(&a, &a, Vector2::new(0.0, 0.5))).unwrap();
+    let settings = EnumerationSettings {
+        starts: 1_000,
+        ..EnumerationSettings::default()
+    };
+    let modes = model.assembly_modes(&[0.5, 0.5, 0.5], &settings).unwrap();
+    let continua: Vec<_> = modes
+        .iter()
+        .filter_map(|m| m.self_motion.as_ref())
+        .collect();
+    let singular = modes.iter().filter(|m| m.is_singular(1e-6)).count();
+    println!(
+        "{} modes, {singular} singular, continua {continua:?}",
+        modes.len()
+    );
+    assert_eq!(continua.len(), 1, "{continua:?}");
+    assert_eq!(singular, 1, "{} modes", modes.len());
+    let size = model.characteristic_length();
+    assert!(continua[0].samples >= 50 && continua[0].extent > 0.5 / size);
+    // The reported point lies on the circle: legs parallel, the platform unrotated.
+    let task = &modes.iter().find(|m| m.self_motion.is_some()).unwrap().task;
+    assert!(
+        (task[0].hypot(task[1]) - 0.5).abs() < 1e-9 && task[2].abs() < 1e-9,
+        "{task:?}"
+    );
+}
