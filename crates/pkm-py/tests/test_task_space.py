@@ -11,6 +11,7 @@ from conftest import ROOT
 
 EXAMPLES = [
     "three_prs_reachable.toml",
+    "exechon_reachable.toml",
     "five_bar_reachable.toml",
     "stewart_gough_constant_orientation.toml",
     "stewart_gough_dexterous.toml",

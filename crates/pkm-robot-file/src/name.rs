@@ -1,6 +1,7 @@
 //! The architecture name (`3-PRS`, `6-UPS`, `RR+RRR`) checked against the expanded joints.
 //!
-//! A name is `<n>-<chain>` (n identical legs) or chains joined by `+`. The actuated joint may
+//! A name is terms joined by `+`, each `<n>-<chain>` (n identical legs) or a chain (one leg):
+//! `3-PRS`, `RR+RRR`, `2-UPR+SPR`, `3-UPS+UP`. The actuated joint may
 //! be marked by an underscore before its letter (`3-_PRS`) or a combining low line after it
 //! (`3-P̲RS`, U+0332); when marked, it must be the actuated joint.
 
@@ -35,37 +36,45 @@ fn parse_chain(chain: &str) -> Option<NamedLeg> {
     (!letters.is_empty() && !mark_next).then_some(NamedLeg { letters, actuated })
 }
 
+/// The legs of a name: terms joined by `+`, each `<n>-<chain>` (n identical legs) or a chain
+/// (one leg), at most [`crate::file::MAX_LEGS`] legs in all.
 fn parse_name(name: &str) -> Option<Vec<NamedLeg>> {
-    let name = name.trim();
-    if let Some((count, chain)) = name.split_once('-') {
-        let count: usize = count.trim().parse().ok()?;
-        if count == 0 || count > crate::file::MAX_LEGS {
+    let mut legs = Vec::new();
+    for term in name.trim().split('+') {
+        let (count, chain) = match term.split_once('-') {
+            Some((count, chain)) => (count.trim().parse::<usize>().ok()?, chain),
+            None => (1, term),
+        };
+        if count == 0 || legs.len() + count > crate::file::MAX_LEGS {
             return None;
         }
         let leg = parse_chain(chain.trim())?;
-        return Some(
-            (0..count)
-                .map(|_| NamedLeg {
-                    letters: leg.letters.clone(),
-                    actuated: leg.actuated,
-                })
-                .collect(),
-        );
+        legs.extend((0..count).map(|_| NamedLeg {
+            letters: leg.letters.clone(),
+            actuated: leg.actuated,
+        }));
     }
-    name.split('+').map(|c| parse_chain(c.trim())).collect()
+    Some(legs)
 }
 
-/// The name the legs spell: `<n>-<letters>` when all legs are alike, else joined by `+`.
+/// The name the legs spell: runs of alike consecutive legs as `<n>-<letters>` (a single leg
+/// as its letters) joined by `+`, e.g. `2-UPR+SPR`.
 pub(crate) fn spelled_name(legs: &[LegChain]) -> String {
-    let first = legs.first().map_or("", |l| l.letters.as_str());
-    if legs.iter().all(|l| l.letters == first) {
-        format!("{}-{first}", legs.len())
-    } else {
-        legs.iter()
-            .map(|l| l.letters.as_str())
-            .collect::<Vec<_>>()
-            .join("+")
+    let mut terms: Vec<(usize, &str)> = Vec::new();
+    for leg in legs {
+        match terms.last_mut() {
+            Some((count, letters)) if *letters == leg.letters => *count += 1,
+            _ => terms.push((1, &leg.letters)),
+        }
     }
+    terms
+        .iter()
+        .map(|&(count, letters)| match count {
+            1 => letters.to_string(),
+            n => format!("{n}-{letters}"),
+        })
+        .collect::<Vec<_>>()
+        .join("+")
 }
 
 /// Checks `name` against `legs` (count, letters, marked actuators).
@@ -131,7 +140,19 @@ mod tests {
             Some(1)
         );
         assert_eq!(parse_name("RR+RRR").map(|v| v.len()), Some(2));
-        for bad in ["", "3-", "0-RRR", "x-RRR", "3-RQR", "3-RR_", "99999-R"] {
+        assert_eq!(parse_name("2-UPR+SPR").map(|v| v.len()), Some(3));
+        assert_eq!(parse_name("3-UPS + UP").map(|v| v.len()), Some(4));
+        for bad in [
+            "",
+            "3-",
+            "0-RRR",
+            "x-RRR",
+            "3-RQR",
+            "3-RR_",
+            "99999-R",
+            "2-RR+",
+            "40-R+40-R",
+        ] {
             assert!(parse_name(bad).is_none(), "{bad}");
         }
     }

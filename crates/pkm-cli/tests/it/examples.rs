@@ -42,6 +42,7 @@ fn the_example_studies_are_valid() {
         "stewart_gough_workspace.toml",
         "robot_file_workspace.toml",
         "three_prs_reachable.toml",
+        "exechon_reachable.toml",
         "five_bar_reachable.toml",
         "stewart_gough_constant_orientation.toml",
         "stewart_gough_dexterous.toml",
@@ -85,7 +86,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        21,
+        22,
         "a new example study needs a check here: {listed:?}"
     );
 }

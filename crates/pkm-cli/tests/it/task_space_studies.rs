@@ -57,6 +57,7 @@ fn run_example(name: &str, kind: &str, unit: &str) -> Value {
 #[test]
 fn every_workspace_kind_runs_on_the_example_robots() {
     run_example("three_prs_reachable.toml", "reachable", "m·rad²");
+    run_example("exechon_reachable.toml", "reachable", "m·rad²");
     run_example("five_bar_reachable.toml", "reachable", "m²");
     run_example(
         "stewart_gough_constant_orientation.toml",
