@@ -104,8 +104,9 @@ pub(crate) fn adjoint(g: &Isometry3<f64>, twist: &Vector6<f64>) -> Vector6<f64> 
 pub struct LegChain {
     /// Joints from the base to the platform.
     pub joints: Vec<Joint>,
-    /// Index of the actuated joint in `joints` (an R or a P joint).
-    pub actuator: usize,
+    /// Index of the actuated joint in `joints` (an R or a P joint); `None` for a passive leg,
+    /// which constrains the platform and drives nothing.
+    pub actuator: Option<usize>,
     /// Actuator coordinate at home (rad or m).
     pub offset: f64,
     /// Actuator range, if any.
@@ -182,7 +183,7 @@ mod tests {
                     center: Vector3::new(0.1, 0.2, 0.5),
                 },
             ],
-            actuator: 1,
+            actuator: Some(1),
             offset: 0.0,
             limits: None,
             letters: "RPS".into(),

@@ -36,9 +36,9 @@ impl Configuration {
 
     /// The motion of each leg's actuator from home (rad or m).
     pub(crate) fn actuator_motion(&self, model: &RobotModel, leg: usize) -> f64 {
-        match self.joints[leg][model.legs[leg].actuator] {
-            JointValue::Scalar(v) => v,
-            JointValue::Ball(_) => f64::NAN,
+        match model.legs[leg].actuator.map(|a| self.joints[leg][a]) {
+            Some(JointValue::Scalar(v)) => v,
+            _ => f64::NAN,
         }
     }
 }
@@ -73,7 +73,7 @@ pub(crate) enum LegResidual {
 
 impl ClosureProblem<'_> {
     fn is_free(&self, leg: usize, joint: usize) -> bool {
-        !(self.fixed_actuators && joint == self.model.legs[leg].actuator)
+        !(self.fixed_actuators && Some(joint) == self.model.legs[leg].actuator)
     }
 
     fn unknowns(&self) -> usize {
@@ -82,7 +82,7 @@ impl ClosureProblem<'_> {
             .iter()
             .map(|&i| {
                 let leg = &self.model.legs[i];
-                leg.dof() - usize::from(self.fixed_actuators)
+                leg.dof() - usize::from(self.fixed_actuators && leg.actuator.is_some())
             })
             .sum();
         self.free_pose.len() + joints

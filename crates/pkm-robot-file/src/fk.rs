@@ -113,7 +113,7 @@ impl RobotModel {
     }
 
     fn set_actuators(&self, c: &mut Configuration, q: &[f64]) -> Result<(), KinematicsError> {
-        if q.len() != self.legs.len() {
+        if q.len() != self.dof() {
             return Err(InvalidInput::new(
                 "q.len()",
                 q.len() as f64,
@@ -124,8 +124,10 @@ impl RobotModel {
         if let Some(&value) = q.iter().find(|v| !v.is_finite()) {
             return Err(KinematicsError::NonFinite { what: "q", value });
         }
-        for (i, leg) in self.legs.iter().enumerate() {
-            c.joints[i][leg.actuator] = JointValue::Scalar(q[i] - leg.offset);
+        for (i, leg) in self.actuated_legs().iter().enumerate() {
+            if let Some(a) = leg.actuator {
+                c.joints[i][a] = JointValue::Scalar(q[i] - leg.offset);
+            }
         }
         Ok(())
     }
@@ -294,7 +296,7 @@ impl RobotModel {
         }
         for (i, leg) in self.legs.iter().enumerate() {
             for (j, value) in c.joints[i].iter_mut().enumerate() {
-                if j == leg.actuator {
+                if Some(j) == leg.actuator {
                     continue;
                 }
                 *value = match value {

@@ -160,7 +160,9 @@ impl RobotModel {
                     self.passive_joints(i, motion, &config)?
                 }
             };
-            self.check_limits(i, &config)?;
+            if i < self.dof() {
+                self.check_limits(i, &config)?;
+            }
         }
         Ok(config)
     }
@@ -175,7 +177,7 @@ impl RobotModel {
         mode: WorkingMode,
     ) -> Result<DVector<f64>, KinematicsError> {
         if self.has_closed_form() {
-            let mut q = DVector::zeros(self.legs.len());
+            let mut q = DVector::zeros(self.dof());
             self.closed_form_actuators_with(x, mode, |i, v| q[i] = v)?;
             return Ok(q);
         }
@@ -185,7 +187,7 @@ impl RobotModel {
 
     /// The actuator coordinates (offset plus motion) of a configuration.
     pub fn actuators_of(&self, config: &Configuration) -> DVector<f64> {
-        DVector::from_fn(self.legs.len(), |i, _| {
+        DVector::from_fn(self.dof(), |i, _| {
             self.legs[i].offset + config.actuator_motion(self, i)
         })
     }
@@ -284,8 +286,8 @@ impl RobotModel {
         };
         let mut start = config.clone();
         start.joints[i] = self.legs[i].home_values();
-        if let Some(motion) = motion {
-            start.joints[i][self.legs[i].actuator] = JointValue::Scalar(motion);
+        if let (Some(motion), Some(a)) = (motion, self.legs[i].actuator) {
+            start.joints[i][a] = JointValue::Scalar(motion);
         }
         let settings = SolverSettings::default();
         let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
@@ -367,7 +369,7 @@ impl RobotModel {
             .zip(&self.legs[i].joints)
             .enumerate()
         {
-            if hold_actuator && j == self.legs[i].actuator {
+            if hold_actuator && Some(j) == self.legs[i].actuator {
                 continue;
             }
             *value = match joint {

@@ -52,7 +52,7 @@ pub struct SingularityMargins {
     pub constraint: Option<f64>,
 }
 
-/// Unit twists of leg `i`: the actuator's, and the passive ones.
+/// Unit twists of leg `i`: the actuator's (zero for a passive leg), and the passive ones.
 fn leg_twists(
     model: &RobotModel,
     config: &Configuration,
@@ -63,7 +63,7 @@ fn leg_twists(
     let mut actuator = Vector6::zeros();
     let mut passive = Vec::with_capacity(lt.twists.len());
     for (j, t) in lt.twists {
-        if j == leg.actuator {
+        if Some(j) == leg.actuator {
             actuator = t;
         } else {
             passive.push(t);
@@ -101,10 +101,14 @@ impl RobotModel {
         &self,
         config: &Configuration,
     ) -> Result<ScrewJacobians, KinematicsError> {
-        let n = self.legs.len();
+        let n = self.dof();
         let mut j_a = DMatrix::zeros(n, 6);
         let mut d = DVector::zeros(n);
         let mut constraints = Vec::new();
+        for i in n..self.legs.len() {
+            // A passive leg: constraint wrenches only.
+            constraints.extend(constraint_wrenches(&leg_twists(self, config, i).1));
+        }
         for i in 0..n {
             let (actuator, passive) = leg_twists(self, config, i);
             let w = actuation_wrench(&actuator, &passive).ok_or(KinematicsError::Singular {
@@ -208,11 +212,11 @@ impl RobotModel {
             Err(e) => return Err(e),
         };
         let l = self.characteristic_length;
-        let inverse = (0..self.legs.len())
+        let inverse = (0..self.dof())
             .map(|i| {
                 let revolute = matches!(
-                    self.legs[i].joints[self.legs[i].actuator],
-                    crate::chain::Joint::Revolute { .. }
+                    self.legs[i].actuator.map(|a| self.legs[i].joints[a]),
+                    Some(crate::chain::Joint::Revolute { .. })
                 );
                 jac.d[i].abs() / if revolute { l } else { 1.0 }
             })
@@ -222,7 +226,7 @@ impl RobotModel {
         let free = self.non_idle_basis(config, l);
         let direct_matrix = stack_rows(&homogenise(&jac.j_a), &homogenise(&jac.j_c)) * &free;
         let direct = smallest_singular_value(&direct_matrix, free.ncols());
-        let expected = free.ncols().saturating_sub(self.legs.len());
+        let expected = free.ncols().saturating_sub(self.dof());
         let constraint = (expected > 0).then(|| {
             let j_c = homogenise(&jac.j_c);
             let k = expected.min(j_c.nrows());

@@ -271,10 +271,11 @@ fn group_points(
 }
 
 fn distance_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClass> {
-    let Joint::Prismatic { axis } = leg.joints[leg.actuator] else {
+    let actuator = leg.actuator?;
+    let Joint::Prismatic { axis } = leg.joints[actuator] else {
         return None;
     };
-    let (before, after) = (&leg.joints[..leg.actuator], &leg.joints[leg.actuator + 1..]);
+    let (before, after) = (&leg.joints[..actuator], &leg.joints[actuator + 1..]);
     let (a, c) = group_points(before, after, size)?;
     let along = c - a;
     let home_length = along.norm();
@@ -290,7 +291,7 @@ fn distance_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<Le
 }
 
 fn arm_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClass> {
-    if leg.actuator != 0 {
+    if leg.actuator != Some(0) {
         return None;
     }
     let rest = &leg.joints[1..];

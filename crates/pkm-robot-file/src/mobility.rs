@@ -31,7 +31,7 @@ pub(crate) fn check_mobility(
 ) -> Result<Vec<[f64; 6]>, RobotFileError> {
     let mut wrenches = Vec::new();
     let mut per_leg = Vec::with_capacity(legs.len());
-    for leg in legs {
+    for (i, leg) in legs.iter().enumerate() {
         let twists: Vec<_> = leg
             .twists(&leg.home_values())
             .twists
@@ -39,6 +39,14 @@ pub(crate) fn check_mobility(
             .map(|t| t.1)
             .collect();
         let constraints = constraint_wrenches(&twists);
+        if leg.actuator.is_none() && constraints.is_empty() {
+            return Err(RobotFileError::invalid(
+                format!("legs[{i}]"),
+                leg.letters.as_str(),
+                "a passive leg (no actuated joint) must constrain the platform, but its joints \
+                 span every twist at home: drop it, or actuate one of its joints",
+            ));
+        }
         per_leg.push(constraints.len());
         wrenches.extend(constraints);
     }

@@ -108,6 +108,7 @@ impl RobotModel {
         let home = home_coordinates(file)?;
         let home_pose = platform_pose(file.orientation, &home);
         let legs = expand_legs(file)?;
+        let actuated = actuated_legs(&legs)?;
         crate::name::check_name(&file.name, &legs)?;
         let size = robot_size(&legs, &home_pose);
         let characteristic_length = match file.characteristic_length {
@@ -124,14 +125,14 @@ impl RobotModel {
         let task: Vec<usize> = (0..6)
             .filter(|&k| roles[k] == CoordinateRole::Task)
             .collect();
-        if task.len() != legs.len() {
+        if task.len() != actuated {
             return Err(RobotFileError::invalid(
                 "task",
                 &file.task,
                 format!(
-                    "{} task coordinates for {} actuated legs: one actuator per task coordinate",
+                    "{} task coordinates for {actuated} actuated legs: one actuator per task \
+                     coordinate",
                     task.len(),
-                    legs.len()
                 ),
             ));
         }
@@ -182,12 +183,13 @@ impl RobotModel {
         &self.name
     }
 
-    /// Number of task coordinates (= actuated legs).
+    /// Number of task coordinates (= actuated legs, the first legs; passive legs follow).
     pub fn dof(&self) -> usize {
         self.task.len()
     }
 
-    /// The legs, expanded into elementary joints.
+    /// The legs, expanded into elementary joints: the actuated ones ([`RobotModel::dof`] of
+    /// them, leg `i` driving actuator `i`), then the passive ones.
     pub fn legs(&self) -> &[LegChain] {
         &self.legs
     }
@@ -220,7 +222,12 @@ impl RobotModel {
 
     /// The actuator coordinates at home (the offsets).
     pub fn home_actuators(&self) -> Vec<f64> {
-        self.legs.iter().map(|l| l.offset).collect()
+        self.actuated_legs().iter().map(|l| l.offset).collect()
+    }
+
+    /// The actuated legs (the first [`RobotModel::dof`] legs).
+    pub(crate) fn actuated_legs(&self) -> &[LegChain] {
+        &self.legs[..self.dof()]
     }
 
     /// The working mode of the home configuration.
@@ -233,9 +240,12 @@ impl RobotModel {
         self.characteristic_length
     }
 
-    /// Number of closed-form branches of each leg (1 or 2; 1 for a numerical leg).
+    /// Number of closed-form branches of each actuated leg (1 or 2; 1 for a numerical leg).
     pub fn branch_counts(&self) -> Vec<usize> {
-        self.classes.iter().map(LegClass::branch_count).collect()
+        self.classes[..self.dof()]
+            .iter()
+            .map(LegClass::branch_count)
+            .collect()
     }
 
     /// Every working mode: all combinations of the legs' branches.
@@ -252,17 +262,17 @@ impl RobotModel {
         modes
     }
 
-    /// The label of `mode`: one character per leg, `+` for branch 1 and `-` for branch 0 (a
-    /// leg with one branch is `-` unless its bit is set).
+    /// The label of `mode`: one character per actuated leg, `+` for branch 1 and `-` for
+    /// branch 0 (a leg with one branch is `-` unless its bit is set).
     pub fn mode_label(&self, mode: WorkingMode) -> String {
-        (0..self.legs.len())
+        (0..self.dof())
             .map(|i| if mode.branch(i) == 1 { '+' } else { '-' })
             .collect()
     }
 
     /// The working mode of `label`: `home` ([`RobotModel::home_mode`]) or one character per
-    /// leg, `+` (branch 1) or `-` (branch 0), as [`RobotModel::mode_label`] writes it; a leg
-    /// with one branch ignores its character.
+    /// actuated leg, `+` (branch 1) or `-` (branch 0), as [`RobotModel::mode_label`] writes
+    /// it; a leg with one branch ignores its character.
     ///
     /// # Errors
     /// [`RobotFileError::Invalid`] at `key` for another label.
@@ -270,14 +280,14 @@ impl RobotModel {
         if label == "home" {
             return Ok(self.home_mode);
         }
-        let legs = self.legs.len();
+        let legs = self.dof();
         let valid = label.chars().count() == legs && label.chars().all(|c| c == '+' || c == '-');
         if !valid {
             return Err(RobotFileError::invalid(
                 key,
                 label,
                 format!(
-                    "a working mode is \"home\" or one `+` or `-` per leg ({legs} legs; the \
+                    "a working mode is \"home\" or one `+` or `-` per actuated leg ({legs} legs; the \
                      home mode is \"{}\")",
                     self.mode_label(self.home_mode)
                 ),
@@ -298,9 +308,17 @@ impl RobotModel {
     }
 
     /// Name of each leg's inverse-kinematic solution (`distance`, `revolute arm`,
-    /// `prismatic arm`, `numerical`).
+    /// `prismatic arm`, `numerical`; `passive (numerical)` for a leg without an actuator, whose
+    /// joints are solved by damped Newton).
     pub fn leg_solvers(&self) -> Vec<&'static str> {
-        self.classes.iter().map(LegClass::label).collect()
+        self.classes
+            .iter()
+            .zip(&self.legs)
+            .map(|(class, leg)| match leg.actuator {
+                Some(_) => class.label(),
+                None => "passive (numerical)",
+            })
+            .collect()
     }
 }
 
@@ -464,12 +482,25 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
         letters.push(letter(spec.kind));
         joints.extend(elementary_joints(&key, spec)?);
     }
-    let [(actuator, spec, key)] = actuated.as_slice() else {
-        return Err(RobotFileError::invalid(
-            format!("legs[{i}]"),
-            actuated.len(),
-            "exactly one joint per leg must be `actuated = true`",
-        ));
+    let (actuator, spec, key) = match actuated.as_slice() {
+        [] => {
+            return Ok(LegChain {
+                joints,
+                actuator: None,
+                offset: 0.0,
+                limits: None,
+                letters,
+            });
+        }
+        [one] => one,
+        _ => {
+            return Err(RobotFileError::invalid(
+                format!("legs[{i}]"),
+                actuated.len(),
+                "at most one joint per leg can be `actuated = true` (a leg with none is a \
+                 passive, constraining leg; several actuators in one leg are not supported)",
+            ));
+        }
     };
     if !matches!(spec.kind, JointType::R | JointType::P) {
         return Err(RobotFileError::invalid(
@@ -480,7 +511,7 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
     }
     Ok(LegChain {
         joints,
-        actuator: *actuator,
+        actuator: Some(*actuator),
         offset: spec.offset,
         limits: spec.limits,
         letters,
@@ -592,6 +623,33 @@ fn check_scalars(key: &str, spec: &JointSpec) -> Result<(), RobotFileError> {
 }
 
 /// The points of a leg's joints (R points, S centres).
+/// The number of actuated legs, which must come first: a passive leg (no actuated joint)
+/// after every actuated one, so that actuator `i` is leg `i`'s.
+///
+/// # Errors
+/// The first actuated leg that follows a passive one, or a robot without an actuated leg.
+fn actuated_legs(legs: &[LegChain]) -> Result<usize, RobotFileError> {
+    let actuated = legs.iter().take_while(|l| l.actuator.is_some()).count();
+    if let Some(late) = legs[actuated..].iter().position(|l| l.actuator.is_some()) {
+        return Err(RobotFileError::invalid(
+            format!("legs[{}]", actuated + late),
+            "actuated",
+            format!(
+                "follows the passive leg legs[{actuated}]: list every passive leg (no actuated \
+                 joint) after the actuated ones, whose order numbers the actuators"
+            ),
+        ));
+    }
+    if actuated == 0 {
+        return Err(RobotFileError::invalid(
+            "legs",
+            legs.len(),
+            "no leg has an actuated joint",
+        ));
+    }
+    Ok(actuated)
+}
+
 fn joint_points(leg: &LegChain) -> impl Iterator<Item = Vector3<f64>> + '_ {
     leg.joints.iter().filter_map(|j| match j {
         Joint::Revolute { point, .. } => Some(*point),

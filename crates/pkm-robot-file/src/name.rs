@@ -111,7 +111,10 @@ fn letter_of_actuator(leg: &LegChain) -> Option<usize> {
             'U' | 'C' => 2,
             _ => 1,
         };
-        if (joint..joint + width).contains(&leg.actuator) {
+        if leg
+            .actuator
+            .is_some_and(|a| (joint..joint + width).contains(&a))
+        {
             return Some(k);
         }
         joint += width;

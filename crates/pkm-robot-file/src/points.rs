@@ -115,12 +115,12 @@ impl RobotModel {
                     continue;
                 }
             };
-            let actuator = j == chain.actuator;
+            let actuator = Some(j) == chain.actuator;
             let spherical = matches!(joint, Joint::Spherical { .. });
             if stations.is_empty() && !pending.is_empty() {
                 stations.push(self.rail_origin(leg, &pending, point));
             }
-            let after_actuated_p = pending.contains(&chain.actuator);
+            let after_actuated_p = chain.actuator.is_some_and(|a| pending.contains(&a));
             match stations.last_mut() {
                 Some(last) if pending.is_empty() && (last.home - point).norm() <= tolerance => {
                     last.actuator |= actuator;
@@ -157,7 +157,8 @@ impl RobotModel {
         let chain = &self.legs[leg];
         let mut origin = first;
         for &k in pending {
-            if let (true, Joint::Prismatic { axis }) = (k == chain.actuator, &chain.joints[k]) {
+            if let (true, Joint::Prismatic { axis }) = (Some(k) == chain.actuator, &chain.joints[k])
+            {
                 origin -= axis * chain.offset;
             }
         }
@@ -171,17 +172,27 @@ impl RobotModel {
         }
     }
 
-    /// Ends the layout with the platform anchor: the last joint point, or (after trailing P
-    /// joints, or for a leg without joint points) the platform point at its home position.
+    /// Ends the layout with the platform anchor: the last joint point; after trailing P joints,
+    /// the foot of the platform origin on the last one's axis through the last joint point
+    /// (the platform's point on the slider's line, as the Tricept's central leg carries it);
+    /// for a leg without joint points, the platform origin.
     fn close_layout(
         &self,
         leg: usize,
         mut stations: Vec<Station>,
         pending: Vec<usize>,
     ) -> Vec<Station> {
-        let anchor = stations
-            .last()
-            .map_or(self.home_pose.translation.vector, |s| s.home);
+        let origin = self.home_pose.translation.vector;
+        let anchor = match (
+            stations.last(),
+            pending.last().map(|&k| self.legs[leg].joints[k]),
+        ) {
+            (Some(last), Some(Joint::Prismatic { axis })) => {
+                last.home + axis * (origin - last.home).dot(&axis)
+            }
+            (Some(last), _) => last.home,
+            (None, _) => origin,
+        };
         if stations.is_empty() {
             stations.push(self.rail_origin(leg, &pending, anchor));
         }
@@ -312,7 +323,7 @@ impl RobotModel {
     pub fn leg_reach_ball(&self, leg: usize) -> Option<(Vector3<f64>, f64)> {
         let chain = self.legs.get(leg)?;
         let layout = self.leg_layout(leg);
-        let travel = |k: usize| match (k == chain.actuator, chain.limits) {
+        let travel = |k: usize| match (Some(k) == chain.actuator, chain.limits) {
             (true, Some([lo, hi])) => {
                 Some((lo - chain.offset).abs().max((hi - chain.offset).abs()))
             }
@@ -369,13 +380,14 @@ fn angle_between(a: &Vector3<f64>, b: &Vector3<f64>) -> Option<f64> {
 }
 
 /// The segments between consecutive stations of a layout whose actuated joint is `actuator`.
-fn segments(layout: &[Station], actuator: usize) -> Vec<LegSegment> {
+fn segments(layout: &[Station], actuator: Option<usize>) -> Vec<LegSegment> {
     (1..layout.len())
         .map(|b| LegSegment {
             from: b - 1,
             to: b,
             prismatic: layout[b].prismatic.clone(),
-            actuated: layout[b - 1].actuator || layout[b].prismatic.contains(&actuator),
+            actuated: layout[b - 1].actuator
+                || actuator.is_some_and(|a| layout[b].prismatic.contains(&a)),
             home_length: (layout[b].home - layout[b - 1].home).norm(),
         })
         .collect()

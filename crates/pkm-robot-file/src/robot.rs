@@ -83,7 +83,7 @@ impl RobotModel {
         x: &[f64],
         q: &[f64],
     ) -> Result<Configuration, KinematicsError> {
-        if q.len() != self.legs.len() {
+        if q.len() != self.dof() {
             return Err(InvalidInput::new(
                 "q.len()",
                 q.len() as f64,

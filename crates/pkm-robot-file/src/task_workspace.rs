@@ -260,7 +260,7 @@ impl RobotModel {
         x: &[f64],
         mode: WorkingMode,
     ) -> Result<f64, KinematicsError> {
-        let n = self.legs.len();
+        let n = self.dof();
         let mut j = DMatrix::zeros(n, self.task.len());
         if self.has_closed_form() {
             self.closed_form_jacobian_with(x, mode, |i, k, v| j[(i, k)] = v)?;
@@ -271,8 +271,8 @@ impl RobotModel {
         let l = self.characteristic_length;
         for (i, mut row) in j.row_iter_mut().enumerate() {
             if matches!(
-                self.legs[i].joints[self.legs[i].actuator],
-                Joint::Revolute { .. }
+                self.legs[i].actuator.map(|a| self.legs[i].joints[a]),
+                Some(Joint::Revolute { .. })
             ) {
                 row *= l;
             }

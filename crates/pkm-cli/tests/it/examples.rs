@@ -41,6 +41,7 @@ fn the_example_studies_are_valid() {
         "three_upu_workspace.toml",
         "stewart_gough_workspace.toml",
         "robot_file_workspace.toml",
+        "tricept_workspace.toml",
         "three_prs_reachable.toml",
         "exechon_reachable.toml",
         "five_bar_reachable.toml",
@@ -86,7 +87,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        22,
+        23,
         "a new example study needs a check here: {listed:?}"
     );
 }

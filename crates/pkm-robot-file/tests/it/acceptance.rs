@@ -213,3 +213,60 @@ fn exechon_head_agrees_with_its_closed_form() {
     let pose = model.full_pose(&[0.8, 0.1, 0.1]).unwrap();
     assert!(pose[0].abs().max(pose[1].abs()) > 1e-4, "{pose:?}");
 }
+
+/// Issue 33: a Tricept-type head (`tricept.toml`, illustrative dimensions): three actuated UPS
+/// legs and a central passive UP leg, which a robot file could not describe before (`legs[3]:
+/// exactly one joint per leg must be actuated`). The passive leg is a U at the base centre O
+/// with axes x then y, so the platform turns by $R = R_x(\alpha) R_y(\beta)$ with
+/// $R\hat z = p / \lvert p\rvert$: $\beta = \arcsin u_x$, $\alpha = \operatorname{atan2}(-u_y,
+/// u_z)$. At seeded positions the solved orientation is that $R$ (the platform's constrained
+/// motion), each actuator is $\lvert p + R b_i - A_i\rvert$, J equals central differences of
+/// that closed form, and forward kinematics from a guess returns the position.
+#[test]
+fn tricept_head_agrees_with_its_closed_form() {
+    use pkm_traits::{ForwardKinematics, NewtonSettings};
+    let robot = Robot::<3>::new(common::robot("tricept.toml")).unwrap();
+    let model = robot.model();
+    assert_eq!(model.legs().len(), 4);
+    assert_eq!(model.leg_solvers()[3], "passive (numerical)");
+    let corner = |radius: f64, k: usize| {
+        let t = std::f64::consts::TAU * k as f64 / 3.0;
+        Vector3::new(radius * t.cos(), radius * t.sin(), 0.0)
+    };
+    let closed_form = |p: &Vector3<f64>| {
+        let u = p.normalize();
+        let r = Rotation3::from_axis_angle(&Vector3::x_axis(), (-u.y).atan2(u.z))
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), u.x.asin());
+        let q = Vector3::from_fn(|i, _| (p + r * corner(0.1, i) - corner(0.3, i)).norm());
+        (r, q)
+    };
+    let mode = model.home_mode();
+    for k in 0..30 {
+        let s = |a: f64| (k as f64 * a).sin();
+        let x = Vector3::new(0.15 * s(0.9), 0.15 * s(2.3), 0.6 + 0.12 * s(1.7));
+        let (r, q_closed) = closed_form(&x);
+        let pose = model.full_pose(x.as_slice()).unwrap();
+        let solved = Rotation3::new(Vector3::new(pose[3], pose[4], pose[5]));
+        assert!((solved.matrix() - r.matrix()).amax() < 1e-12, "R at {x}");
+        let q = robot.inverse_kinematics(&x, mode).unwrap();
+        assert!(
+            (q - q_closed).amax() < 1e-12,
+            "IK at {x}: {q} vs {q_closed}"
+        );
+        let j = robot.velocity_jacobian_at(&x, mode).unwrap();
+        let h = 1e-6;
+        for c in 0..3 {
+            let mut e = Vector3::zeros();
+            e[c] = h;
+            let fd = (closed_form(&(x + e)).1 - closed_form(&(x - e)).1) / (2.0 * h);
+            assert!(
+                (fd - j.column(c)).amax() < 1e-7,
+                "J[:, {c}] at {x}: {fd} vs {j}"
+            );
+        }
+        let fk = robot
+            .forward_kinematics(&q, &x.add_scalar(0.01), &NewtonSettings::default())
+            .unwrap();
+        assert!((fk - x).amax() < 1e-9, "FK at {x}: {fk}");
+    }
+}

@@ -359,3 +359,61 @@ fn a_leg_folded_onto_its_base_joint_has_a_free_angle() {
     let near = model.inverse_kinematics(&[-0.08, 0.01], model.home_mode());
     assert!(near.is_ok(), "{near:?}");
 }
+
+/// Issue 33: the refusals around passive legs name the key and the reason.
+#[test]
+fn passive_leg_mistakes_are_refused_with_their_key() {
+    let text = common::robot_text("tricept.toml");
+    let passive = text.find("[[legs]]   # the passive leg").unwrap();
+    let refusal = |edited: &str| match RobotModel::from_toml(edited) {
+        Err(RobotFileError::Invalid {
+            key, requirement, ..
+        }) => format!("{key}: {requirement}"),
+        other => panic!("{other:?}"),
+    };
+    // The passive leg first: the actuators would be numbered past it.
+    let first = text.find("[[legs]]").unwrap();
+    let moved = format!(
+        "{}{}\n{}",
+        &text[..first],
+        &text[passive..],
+        &text[first..passive]
+    );
+    let r = refusal(&moved);
+    assert!(
+        r.starts_with("legs[1]:") && r.contains("passive leg legs[0]"),
+        "{r}"
+    );
+    // A passive leg that constrains nothing (a UPS: six freedoms).
+    let free = text.replace(
+        "  { type = \"P\", axis = [0.0, 0.0, 1.0] },\n]",
+        "  { type = \"P\", axis = [0.0, 0.0, 1.0] },\n  { type = \"S\", point = [0.0, 0.0, 0.6] },\n]",
+    );
+    assert_ne!(free, text);
+    let r = refusal(&free.replace("3-UPS+UP", "3-UPS+UPS"));
+    assert!(
+        r.starts_with("legs[3]:") && r.contains("must constrain"),
+        "{r}"
+    );
+    // Two actuators in one leg.
+    let two = text.replacen(
+        "{ type = \"S\", point",
+        "{ type = \"S\", actuated = true, point",
+        1,
+    );
+    let r = refusal(&two);
+    assert!(
+        r.starts_with("legs[0]") && r.contains("at most one joint"),
+        "{r}"
+    );
+    // Four actuators for three task coordinates.
+    let four = text.replace(
+        "{ type = \"P\", axis = [0.0, 0.0, 1.0] }",
+        "{ type = \"P\", axis = [0.0, 0.0, 1.0], actuated = true, offset = 0.6 }",
+    );
+    let r = refusal(&four);
+    assert!(
+        r.starts_with("task:") && r.contains("4 actuated legs"),
+        "{r}"
+    );
+}

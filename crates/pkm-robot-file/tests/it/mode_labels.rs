@@ -1,5 +1,5 @@
 //! Working-mode labels (`RobotModel::mode_label`, `RobotModel::working_mode`): one `+` or `-`
-//! per leg, read back to the same mode for every mode of every example file; `home` is the
+//! per actuated leg, read back to the same mode for every mode of every example file; `home` is the
 //! home mode; anything else is refused at its key.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -15,7 +15,7 @@ fn every_mode_label_reads_back_to_its_mode() {
         let model = robot(&file);
         for mode in model.working_modes() {
             let label = model.mode_label(mode);
-            assert_eq!(label.chars().count(), model.legs().len(), "{file}");
+            assert_eq!(label.chars().count(), model.dof(), "{file}");
             assert_eq!(
                 model.working_mode("modes[0]", &label).unwrap(),
                 mode,

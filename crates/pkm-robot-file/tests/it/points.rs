@@ -14,21 +14,28 @@ use pkm_robot_file::{Joint, LegPointKind, RobotModel};
 /// Agreement of positions and lengths (m).
 const EXACT: f64 = 1e-12;
 
-/// The file's platform point of every leg: its last joint point (R point or S centre).
+/// The file's platform point of every leg: its last joint point (R point or S centre), or,
+/// when P joints follow it, the foot of the home platform origin on the last P axis through it.
 fn platform_points(model: &RobotModel) -> Vec<Vector3<f64>> {
+    let origin = Vector3::new(model.home()[0], model.home()[1], model.home()[2]);
     model
         .legs()
         .iter()
         .map(|leg| {
-            leg.joints
+            let last = leg
+                .joints
                 .iter()
-                .rev()
-                .find_map(|j| match j {
-                    Joint::Revolute { point, .. } => Some(*point),
-                    Joint::Spherical { center } => Some(*center),
-                    Joint::Prismatic { .. } => None,
-                })
-                .unwrap()
+                .rposition(|j| !matches!(j, Joint::Prismatic { .. }))
+                .unwrap();
+            let point = match leg.joints[last] {
+                Joint::Revolute { point, .. } => point,
+                Joint::Spherical { center } => center,
+                Joint::Prismatic { .. } => unreachable!(),
+            };
+            match leg.joints.last() {
+                Some(Joint::Prismatic { axis }) => point + axis * (origin - point).dot(axis),
+                _ => point,
+            }
         })
         .collect()
 }

@@ -717,7 +717,7 @@ fn a_bad_working_mode_is_reported_at_its_key() {
         e.path().unwrap().to_string(),
         "mechanism.robot_file.modes[1]"
     );
-    assert!(e.to_string().contains("one `+` or `-` per leg"), "{e}");
+    assert!(e.to_string().contains("one `+` or `-` per actuated leg"), "{e}");
     let mut table = robot_table("tsai.toml");
     table.insert("modes".into(), toml::Value::Array(vec![]));
     let e = RobotFileSpec::inline(table).check().unwrap_err();
