@@ -24,7 +24,7 @@ impl TaskSpaceModel {
 
     /// The number of actuators.
     pub(crate) fn joints(&self) -> usize {
-        self.model.dof()
+        self.model.actuator_count()
     }
 
     /// The workspace of the studies (no margin bound).

@@ -28,7 +28,7 @@ impl RobotModel {
     /// Whether the closed-form path applies: no dependent coordinate, every leg closed-form.
     pub(crate) fn has_closed_form(&self) -> bool {
         !self.roles.contains(&CoordinateRole::Dependent)
-            && self.classes[..self.dof()]
+            && self.classes[..self.actuator_count()]
                 .iter()
                 .all(|c| *c != LegClass::Numeric)
     }
@@ -126,7 +126,7 @@ impl RobotModel {
         mut set: impl FnMut(usize, f64),
     ) -> Result<(), KinematicsError> {
         let pose = self.closed_form_pose(x)?;
-        for i in 0..self.dof() {
+        for i in 0..self.actuator_count() {
             let q = self.legs[i].offset + self.closed_form_motion(i, &pose, mode.branch(i))?;
             self.check_actuator_limits(i, q)?;
             set(i, q);
@@ -146,7 +146,7 @@ impl RobotModel {
     ) -> Result<WorkingMode, KinematicsError> {
         let pose = self.closed_form_pose(x)?;
         let mut mode = WorkingMode(0);
-        for (i, &q_i) in q.iter().enumerate().take(self.dof()) {
+        for (i, &q_i) in q.iter().enumerate().take(self.actuator_count()) {
             let (branch, value) =
                 self.nearest_branch(i, &pose, q_i)
                     .ok_or(KinematicsError::Unreachable {
@@ -189,7 +189,7 @@ impl RobotModel {
             let pd: Vector3<f64> = h.fixed_view::<3, 1>(3, k).into();
             *t = stack(&w, &(pd - w.cross(&p)));
         }
-        for i in 0..self.dof() {
+        for i in 0..self.actuator_count() {
             let leg = self.closed_form_leg(i, &pose, mode.branch(i))?;
             if check_limits {
                 self.check_actuator_limits(i, self.legs[i].offset + leg.motion)?;

@@ -58,6 +58,17 @@ pub enum RobotFileError {
         /// An orthonormal basis of the platform twist system, ray order `[ω; v_O]`.
         twist_system: Vec<[f64; 6]>,
     },
+    /// A redundantly actuated robot was requested as a model of the square kinematics traits.
+    #[error(
+        "the robot has {actuators} actuators for {task} task coordinates (redundant actuation): \
+         the square kinematics traits (`Robot<N>`) do not apply; use `RobotModel` directly"
+    )]
+    Redundant {
+        /// Number of actuators.
+        actuators: usize,
+        /// Number of task coordinates.
+        task: usize,
+    },
     /// The robot has `found` task coordinates but was requested with `expected`.
     #[error("the robot has {found} task coordinates, the model type takes {expected}")]
     Dimension {

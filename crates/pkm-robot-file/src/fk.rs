@@ -113,7 +113,7 @@ impl RobotModel {
     }
 
     fn set_actuators(&self, c: &mut Configuration, q: &[f64]) -> Result<(), KinematicsError> {
-        if q.len() != self.dof() {
+        if q.len() != self.actuator_count() {
             return Err(InvalidInput::new(
                 "q.len()",
                 q.len() as f64,

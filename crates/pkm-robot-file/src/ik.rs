@@ -160,7 +160,7 @@ impl RobotModel {
                     self.passive_joints(i, motion, &config)?
                 }
             };
-            if i < self.dof() {
+            if i < self.actuator_count() {
                 self.check_limits(i, &config)?;
             }
         }
@@ -177,7 +177,7 @@ impl RobotModel {
         mode: WorkingMode,
     ) -> Result<DVector<f64>, KinematicsError> {
         if self.has_closed_form() {
-            let mut q = DVector::zeros(self.dof());
+            let mut q = DVector::zeros(self.actuator_count());
             self.closed_form_actuators_with(x, mode, |i, v| q[i] = v)?;
             return Ok(q);
         }
@@ -187,7 +187,7 @@ impl RobotModel {
 
     /// The actuator coordinates (offset plus motion) of a configuration.
     pub fn actuators_of(&self, config: &Configuration) -> DVector<f64> {
-        DVector::from_fn(self.dof(), |i, _| {
+        DVector::from_fn(self.actuator_count(), |i, _| {
             self.legs[i].offset + config.actuator_motion(self, i)
         })
     }

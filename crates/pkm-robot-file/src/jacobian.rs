@@ -101,7 +101,7 @@ impl RobotModel {
         &self,
         config: &Configuration,
     ) -> Result<ScrewJacobians, KinematicsError> {
-        let n = self.dof();
+        let n = self.actuator_count();
         let mut j_a = DMatrix::zeros(n, 6);
         let mut d = DVector::zeros(n);
         let mut constraints = Vec::new();
@@ -212,7 +212,7 @@ impl RobotModel {
             Err(e) => return Err(e),
         };
         let l = self.characteristic_length;
-        let inverse = (0..self.dof())
+        let inverse = (0..self.actuator_count())
             .map(|i| {
                 let revolute = matches!(
                     self.legs[i].actuator.map(|a| self.legs[i].joints[a]),

@@ -56,6 +56,8 @@ pub struct RobotModel {
     pub(crate) home: PoseCoordinates,
     pub(crate) home_pose: Isometry3<f64>,
     pub(crate) legs: Vec<LegChain>,
+    /// The number of actuated legs, the first ones (actuator `i` is leg `i`'s).
+    pub(crate) actuated: usize,
     pub(crate) classes: Vec<LegClass>,
     pub(crate) characteristic_length: f64,
     /// Size of the robot (m): the largest distance of a joint point from the home platform
@@ -125,13 +127,13 @@ impl RobotModel {
         let task: Vec<usize> = (0..6)
             .filter(|&k| roles[k] == CoordinateRole::Task)
             .collect();
-        if task.len() != actuated {
+        if task.len() > actuated {
             return Err(RobotFileError::invalid(
                 "task",
                 &file.task,
                 format!(
-                    "{} task coordinates for {actuated} actuated legs: one actuator per task \
-                     coordinate",
+                    "{} task coordinates for {actuated} actuated legs: at least one actuator \
+                     per task coordinate",
                     task.len(),
                 ),
             ));
@@ -150,6 +152,7 @@ impl RobotModel {
             home,
             home_pose,
             legs,
+            actuated,
             classes,
             characteristic_length,
             size,
@@ -183,13 +186,20 @@ impl RobotModel {
         &self.name
     }
 
-    /// Number of task coordinates (= actuated legs, the first legs; passive legs follow).
+    /// Number of task coordinates.
     pub fn dof(&self) -> usize {
         self.task.len()
     }
 
-    /// The legs, expanded into elementary joints: the actuated ones ([`RobotModel::dof`] of
-    /// them, leg `i` driving actuator `i`), then the passive ones.
+    /// Number of actuators: the actuated legs, the first legs (passive legs follow); at least
+    /// [`RobotModel::dof`], more for a redundantly actuated robot.
+    pub fn actuator_count(&self) -> usize {
+        self.actuated
+    }
+
+    /// The legs, expanded into elementary joints: the actuated ones
+    /// ([`RobotModel::actuator_count`] of them, leg `i` driving actuator `i`), then the passive
+    /// ones.
     pub fn legs(&self) -> &[LegChain] {
         &self.legs
     }
@@ -225,9 +235,9 @@ impl RobotModel {
         self.actuated_legs().iter().map(|l| l.offset).collect()
     }
 
-    /// The actuated legs (the first [`RobotModel::dof`] legs).
+    /// The actuated legs (the first [`RobotModel::actuator_count`] legs).
     pub(crate) fn actuated_legs(&self) -> &[LegChain] {
-        &self.legs[..self.dof()]
+        &self.legs[..self.actuated]
     }
 
     /// The working mode of the home configuration.
@@ -242,7 +252,7 @@ impl RobotModel {
 
     /// Number of closed-form branches of each actuated leg (1 or 2; 1 for a numerical leg).
     pub fn branch_counts(&self) -> Vec<usize> {
-        self.classes[..self.dof()]
+        self.classes[..self.actuated]
             .iter()
             .map(LegClass::branch_count)
             .collect()
@@ -265,7 +275,7 @@ impl RobotModel {
     /// The label of `mode`: one character per actuated leg, `+` for branch 1 and `-` for
     /// branch 0 (a leg with one branch is `-` unless its bit is set).
     pub fn mode_label(&self, mode: WorkingMode) -> String {
-        (0..self.dof())
+        (0..self.actuated)
             .map(|i| if mode.branch(i) == 1 { '+' } else { '-' })
             .collect()
     }
@@ -280,7 +290,7 @@ impl RobotModel {
         if label == "home" {
             return Ok(self.home_mode);
         }
-        let legs = self.dof();
+        let legs = self.actuated;
         let valid = label.chars().count() == legs && label.chars().all(|c| c == '+' || c == '-');
         if !valid {
             return Err(RobotFileError::invalid(

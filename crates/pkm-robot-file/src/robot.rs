@@ -37,16 +37,22 @@ impl<const N: usize> Robot<N> {
     /// Wraps `model`.
     ///
     /// # Errors
-    /// [`RobotFileError::Dimension`] unless the model has `N` task coordinates.
+    /// [`RobotFileError::Dimension`] unless the model has `N` task coordinates;
+    /// [`RobotFileError::Redundant`] when it has more actuators than that.
     pub fn new(model: RobotModel) -> Result<Self, RobotFileError> {
-        if model.dof() == N {
-            Ok(Self { model })
-        } else {
-            Err(RobotFileError::Dimension {
+        if model.dof() != N {
+            return Err(RobotFileError::Dimension {
                 expected: N,
                 found: model.dof(),
-            })
+            });
         }
+        if model.actuator_count() != N {
+            return Err(RobotFileError::Redundant {
+                actuators: model.actuator_count(),
+                task: N,
+            });
+        }
+        Ok(Self { model })
     }
 
     /// Reads a robot file with `N` task coordinates.
@@ -83,7 +89,7 @@ impl RobotModel {
         x: &[f64],
         q: &[f64],
     ) -> Result<Configuration, KinematicsError> {
-        if q.len() != self.dof() {
+        if q.len() != self.actuator_count() {
             return Err(InvalidInput::new(
                 "q.len()",
                 q.len() as f64,

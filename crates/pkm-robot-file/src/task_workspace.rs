@@ -260,7 +260,7 @@ impl RobotModel {
         x: &[f64],
         mode: WorkingMode,
     ) -> Result<f64, KinematicsError> {
-        let n = self.dof();
+        let n = self.actuator_count();
         let mut j = DMatrix::zeros(n, self.task.len());
         if self.has_closed_form() {
             self.closed_form_jacobian_with(x, mode, |i, k, v| j[(i, k)] = v)?;

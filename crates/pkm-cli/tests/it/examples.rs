@@ -44,6 +44,7 @@ fn the_example_studies_are_valid() {
         "tricept_workspace.toml",
         "three_prs_reachable.toml",
         "exechon_reachable.toml",
+        "four_rrr_reachable.toml",
         "five_bar_reachable.toml",
         "stewart_gough_constant_orientation.toml",
         "stewart_gough_dexterous.toml",
@@ -87,7 +88,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        23,
+        24,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -270,3 +270,159 @@ fn tricept_head_agrees_with_its_closed_form() {
         assert!((fk - x).amax() < 1e-9, "FK at {x}: {fk}");
     }
 }
+
+/// The 4-RRR's legs: base point A, platform point b (platform frame), the motor angle of the
+/// home elbow branch from the two-circle intersection with links of 0.4 m.
+fn four_rrr_ik(x: &Vector3<f64>) -> nalgebra::Vector4<f64> {
+    let corners = [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)];
+    let (c, s) = (x.z.cos(), x.z.sin());
+    nalgebra::Vector4::from_fn(|i, _| {
+        let (sx, sy) = corners[i];
+        let a = Vector2::new(0.5 * sx, 0.5 * sy);
+        let b = Vector2::new(x.x + 0.1 * (c * sx - s * sy), x.y + 0.1 * (s * sx + c * sy));
+        let d = b - a;
+        let along = d.norm() / 2.0; // equal links: the elbow above the midpoint
+        let h = (0.16 - along * along).sqrt();
+        let u = d / d.norm();
+        let e = a + u * along + Vector2::new(-u.y, u.x) * h;
+        (e.y - a.y).atan2(e.x - a.x)
+    })
+}
+
+/// Issue 33: a redundantly actuated planar 4-RRR (`four_rrr.toml`): the IK against the
+/// two-circle closed form, the 4 × 3 J and its singular values against central differences of
+/// that closed form, forward kinematics from consistent actuator values (the pose, residual 0)
+/// and from inconsistent ones (the least-squares pose of an independent Gauss–Newton on the
+/// closed form, with its residual), and the force distribution against the least-norm
+/// solution by hand, with and without effort limits.
+#[test]
+fn redundant_four_rrr_kinematics_and_force_distribution() {
+    use nalgebra::{DMatrix, Matrix4x3, Vector4};
+    let model = common::robot("four_rrr.toml");
+    assert_eq!((model.dof(), model.actuator_count()), (3, 4));
+    assert!(matches!(
+        Robot::<3>::new(model.clone()),
+        Err(pkm_robot_file::RobotFileError::Redundant { .. })
+    ));
+    let fd_jacobian = |x: &Vector3<f64>| {
+        let h = 1e-6;
+        Matrix4x3::from_fn(|i, k| {
+            let mut e = Vector3::zeros();
+            e[k] = h;
+            (four_rrr_ik(&(x + e))[i] - four_rrr_ik(&(x - e))[i]) / (2.0 * h)
+        })
+    };
+    let mode = model.home_mode();
+    let x = Vector3::new(0.03, -0.02, 0.1);
+    let q = model.inverse_kinematics(x.as_slice(), mode).unwrap();
+    let closed = four_rrr_ik(&x);
+    let wrapped = |d: f64| {
+        (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+    };
+    for i in 0..4 {
+        assert!(
+            wrapped(closed[i] - q[i]).abs() < 1e-12,
+            "IK {q} vs {closed}"
+        );
+    }
+    let config = model
+        .inverse_kinematics_configuration(x.as_slice(), mode)
+        .unwrap();
+    let j = model.screw_jacobians(&config).unwrap().j;
+    assert_eq!(j.shape(), (4, 3));
+    let j_fd = fd_jacobian(&x);
+    assert!((&j - DMatrix::from_column_slice(4, 3, j_fd.as_slice())).amax() < 1e-7);
+    let (sv, sv_fd) = (j.singular_values(), j_fd.singular_values());
+    for k in 0..3 {
+        assert!(
+            (sv[k] - sv_fd[k]).abs() < 1e-7 * sv_fd[0],
+            "σ {sv} vs {sv_fd}"
+        );
+    }
+    // Consistent actuator values: the pose back, residual zero.
+    let guess = [0.0, 0.0, 0.0];
+    let back = model
+        .forward_kinematics_least_squares(q.as_slice(), &guess)
+        .unwrap();
+    assert!(
+        (Vector3::from_column_slice(&back.task) - x).amax() < 1e-10,
+        "{:?}",
+        back.task
+    );
+    assert!(back.residual.amax() < 1e-12);
+    // Inconsistent ones: leg 2 off by 5 mrad. An independent Gauss–Newton on the closed form.
+    let mut q_bad = closed;
+    q_bad[2] += 5e-3;
+    let mut x_ls = x;
+    for _ in 0..50 {
+        let jac = fd_jacobian(&x_ls);
+        let step = (jac.transpose() * jac).try_inverse().unwrap()
+            * jac.transpose()
+            * (q_bad - four_rrr_ik(&x_ls));
+        x_ls += step;
+    }
+    let ls = model
+        .forward_kinematics_least_squares(q_bad.as_slice(), x.as_slice())
+        .unwrap();
+    assert!(
+        (Vector3::from_column_slice(&ls.task) - x_ls).amax() < 1e-8,
+        "{:?} vs {x_ls}",
+        ls.task
+    );
+    let r_hand = q_bad - four_rrr_ik(&x_ls);
+    assert!((Vector4::from_column_slice(ls.residual.as_slice()) - r_hand).amax() < 1e-8);
+    assert!(r_hand.norm() > 1e-3 && r_hand.norm() < 5e-3, "{r_hand}");
+    // Force distribution: 10 N along x, -5 N along y and 2 N·m about z at the platform origin.
+    let p = Vector3::new(x.x, x.y, 0.0);
+    let force = Vector3::new(10.0, -5.0, 0.0);
+    let moment_o = Vector3::new(0.0, 0.0, 2.0) + p.cross(&force);
+    let wrench = [
+        force.x, force.y, force.z, moment_o.x, moment_o.y, moment_o.z,
+    ];
+    // Generalised forces of (x, y, rz): the force, and the moment about the platform origin.
+    let f_task = Vector3::new(10.0, -5.0, 2.0);
+    let jt = j_fd.transpose();
+    let by_hand = jt.pseudo_inverse(1e-12).unwrap() * f_task;
+    let free = model.force_distribution(&config, &wrench, None).unwrap();
+    assert!(free.held && free.imbalance < 1e-9);
+    let efforts = Vector4::from_column_slice(free.efforts.as_slice());
+    assert!(
+        (efforts - by_hand).amax() < 1e-6 * by_hand.amax(),
+        "{efforts} vs {by_hand}"
+    );
+    // Limits that cut the least-norm efforts: with one redundancy the efforts are
+    // τ0 + z n (n spanning the null space of Jᵀ), z clamped into the interval the limits allow.
+    let n = {
+        let svd = j_fd.svd(true, false);
+        let u = svd.u.unwrap();
+        // The left singular vector outside the column space of J.
+        let full = nalgebra::Matrix4::from_fn(|r, c| if c < 3 { u[(r, c)] } else { 0.0 });
+        let mut v = Vector4::new(1.0, -1.0, 1.0, -1.0);
+        for c in 0..3 {
+            let col = full.column(c).into_owned();
+            v -= col * col.dot(&v);
+        }
+        v.normalize()
+    };
+    let cap = 0.5 * by_hand[0].abs();
+    let limits: Vec<[f64; 2]> = (0..4)
+        .map(|i| if i == 0 { [-cap, cap] } else { [-1e3, 1e3] })
+        .collect();
+    let bounded = model
+        .force_distribution(&config, &wrench, Some(&limits))
+        .unwrap();
+    assert!(bounded.held, "{bounded:?}");
+    let z = (cap.copysign(by_hand[0]) - by_hand[0]) / n[0];
+    let expected = by_hand + n * z;
+    let got = Vector4::from_column_slice(bounded.efforts.as_slice());
+    assert!(
+        (got - expected).amax() < 1e-6 * expected.amax(),
+        "{got} vs {expected}"
+    );
+    // Limits no efforts can meet: reported, not hidden.
+    let tight = vec![[-1e-3, 1e-3]; 4];
+    let refused = model
+        .force_distribution(&config, &wrench, Some(&tight))
+        .unwrap();
+    assert!(!refused.held && refused.imbalance > 1.0, "{refused:?}");
+}

@@ -406,14 +406,22 @@ fn passive_leg_mistakes_are_refused_with_their_key() {
         r.starts_with("legs[0]") && r.contains("at most one joint"),
         "{r}"
     );
-    // Four actuators for three task coordinates.
+    // Four actuators for three task coordinates: a redundantly actuated robot, accepted.
     let four = text.replace(
         "{ type = \"P\", axis = [0.0, 0.0, 1.0] }",
         "{ type = \"P\", axis = [0.0, 0.0, 1.0], actuated = true, offset = 0.6 }",
     );
-    let r = refusal(&four);
+    assert_eq!(RobotModel::from_toml(&four).unwrap().actuator_count(), 4);
+    // Two actuators for three task coordinates: refused.
+    let exechon = common::robot_text("exechon.toml");
+    let two = exechon.replace(
+        "axis = [0.0, -0.3, 0.8], actuated = true, offset = 0.8544003745317531, limits = [0.5, 1.2] }",
+        "axis = [0.0, -0.3, 0.8] }",
+    );
+    assert_ne!(two, exechon);
+    let r = refusal(&two);
     assert!(
-        r.starts_with("task:") && r.contains("4 actuated legs"),
+        r.starts_with("task:") && r.contains("2 actuated legs"),
         "{r}"
     );
 }

@@ -15,7 +15,7 @@ fn every_mode_label_reads_back_to_its_mode() {
         let model = robot(&file);
         for mode in model.working_modes() {
             let label = model.mode_label(mode);
-            assert_eq!(label.chars().count(), model.dof(), "{file}");
+            assert_eq!(label.chars().count(), model.actuator_count(), "{file}");
             assert_eq!(
                 model.working_mode("modes[0]", &label).unwrap(),
                 mode,

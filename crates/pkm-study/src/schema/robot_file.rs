@@ -205,8 +205,21 @@ impl RobotFileSpec {
 /// At `mechanism.robot_file.task` unless the task is `["x", "y", "z"]`.
 pub(crate) fn position_task(model: &RobotModel) -> Result<(), StudyError> {
     let task = model.task_names();
-    if task == ["x", "y", "z"] {
+    if task == ["x", "y", "z"] && model.actuator_count() == 3 {
         return Ok(());
+    }
+    if task == ["x", "y", "z"] {
+        return Err(StudyError::invalid(
+            format!("{KEY_PATH}.legs").as_str(),
+            format!(
+                "without [task_space] a study rates platform positions by 1/κ of a square J: \
+                 this robot has {} actuators for its 3 task coordinates (redundant \
+                 actuation); give [task_space] to measure it in its own task space (1/κ from the \
+                 singular values of its {} × 3 J)",
+                model.actuator_count(),
+                model.actuator_count()
+            ),
+        ));
     }
     Err(StudyError::invalid(
         format!("{KEY_PATH}.task").as_str(),
@@ -223,7 +236,7 @@ fn located(e: RobotFileError) -> StudyError {
         RobotFileError::Schema { key, .. } | RobotFileError::Invalid { key, .. } => key.as_str(),
         RobotFileError::NameMismatch { .. } => "name",
         RobotFileError::Mobility { .. } => "legs",
-        RobotFileError::Dimension { .. } => "task",
+        RobotFileError::Dimension { .. } | RobotFileError::Redundant { .. } => "task",
         _ => "",
     };
     let path = match key.trim_start_matches('.') {

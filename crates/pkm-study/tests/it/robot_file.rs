@@ -717,7 +717,10 @@ fn a_bad_working_mode_is_reported_at_its_key() {
         e.path().unwrap().to_string(),
         "mechanism.robot_file.modes[1]"
     );
-    assert!(e.to_string().contains("one `+` or `-` per actuated leg"), "{e}");
+    assert!(
+        e.to_string().contains("one `+` or `-` per actuated leg"),
+        "{e}"
+    );
     let mut table = robot_table("tsai.toml");
     table.insert("modes".into(), toml::Value::Array(vec![]));
     let e = RobotFileSpec::inline(table).check().unwrap_err();
@@ -811,4 +814,23 @@ fn a_json_study_with_trailing_text_is_refused() {
         assert!(matches!(e, StudyError::Schema { .. }), "{trailing}: {e}");
         assert!(e.to_string().contains("after the study"), "{e}");
     }
+}
+
+/// Issue 33: a redundantly actuated robot whose task is the position (the Tricept with its
+/// central leg actuated too: four actuators) cannot be rated by 1/κ of a square J without
+/// `[task_space]`; the study says so at `mechanism.robot_file.legs`.
+#[test]
+fn a_redundant_robot_without_task_space_is_refused_at_its_legs() {
+    let path = format!(
+        "{}/../../examples/robots/tricept.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(path).unwrap().replace(
+        "{ type = \"P\", axis = [0.0, 0.0, 1.0] }",
+        "{ type = \"P\", axis = [0.0, 0.0, 1.0], actuated = true, offset = 0.6 }",
+    );
+    let spec = RobotFileSpec::inline(toml::from_str(&text).unwrap());
+    let e = spec.translational_robot().unwrap_err();
+    assert_eq!(e.path().unwrap().to_string(), "mechanism.robot_file.legs");
+    assert!(e.to_string().contains("4 actuators"), "{e}");
 }
