@@ -16,6 +16,10 @@ pub(crate) struct TaskSpaceModel {
     pub(crate) constraints: Vec<WorkspaceConstraint>,
 }
 
+/// Largest actuator residual (m or rad) of a redundant robot's forward kinematics that counts
+/// as consistent actuator values.
+const CONSISTENT: f64 = 1e-9;
+
 impl TaskSpaceModel {
     /// The number of task coordinates n.
     pub(crate) fn dimension(&self) -> usize {
@@ -107,6 +111,9 @@ impl TaskSpaceModel {
         joints: &ArrayView2<'_, f64>,
         guess: &ArrayView2<'_, f64>,
     ) -> Result<(Vec<f64>, Vec<bool>), String> {
+        if self.joints() > self.dimension() {
+            return Ok(self.forward_least_squares(joints, guess));
+        }
         match self.dimension() {
             1 => self.forward_n::<1>(joints, guess),
             2 => self.forward_n::<2>(joints, guess),
@@ -116,6 +123,24 @@ impl TaskSpaceModel {
             6 => self.forward_n::<6>(joints, guess),
             n => Err(format!("a task of {n} coordinates (expected 1 to 6)")),
         }
+    }
+
+    /// A redundantly actuated robot's pose from all its actuators: the least-squares pose
+    /// (`RobotModel::forward_kinematics_least_squares`), kept where the actuator values are
+    /// consistent (residual at most [`CONSISTENT`] per actuator), masked elsewhere.
+    fn forward_least_squares(
+        &self,
+        joints: &ArrayView2<'_, f64>,
+        guess: &ArrayView2<'_, f64>,
+    ) -> (Vec<f64>, Vec<bool>) {
+        map_rows(joints.nrows(), self.dimension(), |i, out| {
+            let q: Vec<f64> = joints.row(i).iter().copied().collect();
+            let g: Vec<f64> = guess.row(i).iter().copied().collect();
+            let pose = self.model.forward_kinematics_least_squares(&q, &g).ok()?;
+            (pose.residual.amax() <= CONSISTENT).then_some(())?;
+            out.copy_from_slice(&pose.task);
+            Some(())
+        })
     }
 
     fn forward_n<const N: usize>(

@@ -56,3 +56,21 @@ def test_a_missing_robot_file_is_reported_at_its_key():
     with pytest.raises(pkm.InvalidInput) as e:
         pkm.Mechanism({"robot_file": {"file": str(ROBOTS / "no_such_robot.toml")}})
     assert e.value.key_path == "mechanism.robot_file.file"
+
+
+def test_a_redundant_robot_has_four_actuators_and_a_least_squares_forward_kinematics():
+    """The planar 4-RRR (issue 33): four actuator columns, a 4 x 3 J, the poses back from
+    consistent actuator values to 1e-9, and a masked row where one actuator is 5 mrad off."""
+    m = robot("four_rrr.toml")
+    assert m.joints == 4 and m.task == ["x", "y", "rz"]
+    rng = np.random.default_rng(3)
+    x = np.column_stack([rng.uniform(-0.05, 0.05, 50), rng.uniform(-0.05, 0.05, 50), rng.uniform(-0.2, 0.2, 50)])
+    q, inside = m.inverse_kinematics(x)
+    assert q.shape == (50, 4) and inside.all()
+    j, defined = m.velocity_jacobian(x)
+    assert j.shape == (50, 4, 3) and defined.all()
+    back, ok = m.forward_kinematics(q, x + 0.01)
+    assert ok.all() and np.abs(back - x).max() < 1e-9
+    q[0, 2] += 5e-3
+    back, ok = m.forward_kinematics(q, x + 0.01)
+    assert not ok[0] and np.isnan(back[0]).all() and ok[1:].all()
