@@ -109,9 +109,11 @@ impl RobotModel {
         pose: PoseCoordinates,
         dependent: Vec<usize>,
     ) -> Result<Configuration, KinematicsError> {
+        // Only the legs with constraint wrenches determine the dependent coordinates: a leg of
+        // six freedoms (a UPS) closes at any pose within its reach, which its own solve checks.
         let problem = ClosureProblem {
             model: self,
-            legs: (0..self.legs.len()).collect(),
+            legs: self.constraining.clone(),
             free_pose: dependent,
             fixed_actuators: false,
             residual: LegResidual::Pose,

@@ -17,6 +17,17 @@ pub(crate) fn constraint_wrenches(twists: &[Vector6<f64>]) -> Vec<Vector6<f64>> 
     reciprocal_screw_system(twists, RANK_TOLERANCE).unwrap_or_default()
 }
 
+/// Whether `leg` has constraint wrenches at home (its joints span fewer than six twists).
+pub(crate) fn constrains(leg: &LegChain) -> bool {
+    let twists: Vec<_> = leg
+        .twists(&leg.home_values())
+        .twists
+        .iter()
+        .map(|t| t.1)
+        .collect();
+    !constraint_wrenches(&twists).is_empty()
+}
+
 /// Checks that the platform twist system at home has dimension `task + idle`, moves every
 /// task and idle coordinate independently, and leaves the constant coordinates still.
 /// Returns the twist system (orthonormal basis, `[ω; v_O]`).

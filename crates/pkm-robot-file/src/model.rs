@@ -58,6 +58,9 @@ pub struct RobotModel {
     pub(crate) legs: Vec<LegChain>,
     /// The number of actuated legs, the first ones (actuator `i` is leg `i`'s).
     pub(crate) actuated: usize,
+    /// The legs with constraint wrenches at home (fewer than six freedoms): the ones whose
+    /// closure determines the dependent coordinates.
+    pub(crate) constraining: Vec<usize>,
     pub(crate) classes: Vec<LegClass>,
     pub(crate) characteristic_length: f64,
     /// Size of the robot (m): the largest distance of a joint point from the home platform
@@ -144,6 +147,9 @@ impl RobotModel {
             .iter()
             .map(|leg| LegClass::classify(leg, &home_pose, size))
             .collect::<Vec<_>>();
+        let constraining = (0..legs.len())
+            .filter(|&i| crate::mobility::constrains(&legs[i]))
+            .collect();
         let mut model = Self {
             name: file.name.clone(),
             orientation: file.orientation,
@@ -153,6 +159,7 @@ impl RobotModel {
             home_pose,
             legs,
             actuated,
+            constraining,
             classes,
             characteristic_length,
             size,

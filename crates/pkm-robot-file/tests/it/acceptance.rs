@@ -247,7 +247,9 @@ fn tricept_head_agrees_with_its_closed_form() {
         let (r, q_closed) = closed_form(&x);
         let pose = model.full_pose(x.as_slice()).unwrap();
         let solved = Rotation3::new(Vector3::new(pose[3], pose[4], pose[5]));
-        assert!((solved.matrix() - r.matrix()).amax() < 1e-12, "R at {x}");
+        // The dependent coordinates close to the solver's 1e-12 per residual component.
+        let error = (solved.matrix() - r.matrix()).amax();
+        assert!(error < 1e-11, "R at {x}: {error:e}");
         let q = robot.inverse_kinematics(&x, mode).unwrap();
         assert!(
             (q - q_closed).amax() < 1e-12,
