@@ -17,15 +17,20 @@ pub(crate) fn constraint_wrenches(twists: &[Vector6<f64>]) -> Vec<Vector6<f64>> 
     reciprocal_screw_system(twists, RANK_TOLERANCE).unwrap_or_default()
 }
 
-/// Whether `leg` has constraint wrenches at home (its joints span fewer than six twists).
-pub(crate) fn constrains(leg: &LegChain) -> bool {
+/// The constraint wrenches of `leg` at home.
+fn home_constraints(leg: &LegChain) -> Vec<Vector6<f64>> {
     let twists: Vec<_> = leg
         .twists(&leg.home_values())
         .twists
         .iter()
         .map(|t| t.1)
         .collect();
-    !constraint_wrenches(&twists).is_empty()
+    constraint_wrenches(&twists)
+}
+
+/// Whether `leg` has constraint wrenches at home (its joints span fewer than six twists).
+pub(crate) fn constrains(leg: &LegChain) -> bool {
+    !home_constraints(leg).is_empty()
 }
 
 /// Checks that the platform twist system at home has dimension `task + idle`, moves every
@@ -43,13 +48,7 @@ pub(crate) fn check_mobility(
     let mut wrenches = Vec::new();
     let mut per_leg = Vec::with_capacity(legs.len());
     for (i, leg) in legs.iter().enumerate() {
-        let twists: Vec<_> = leg
-            .twists(&leg.home_values())
-            .twists
-            .iter()
-            .map(|t| t.1)
-            .collect();
-        let constraints = constraint_wrenches(&twists);
+        let constraints = home_constraints(leg);
         if leg.actuator.is_none() && constraints.is_empty() {
             return Err(RobotFileError::invalid(
                 format!("legs[{i}]"),

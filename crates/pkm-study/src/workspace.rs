@@ -15,7 +15,8 @@ use crate::task_space::{self, TaskSpaceResult, TaskSpaceSpec};
 use pkm_draw::chart::{self, Chart};
 use pkm_traits::{ConstrainedWorkspace, Progress, WorkspaceConstraint};
 use pkm_workspace_indices::{
-    BoundingBox, Dim, Plane, PointSet, Slice, TranslationalCondition, VolumeEstimate, Workspace,
+    BoundingBox, Dim, Plane, PointSource, PointStream, Slice, TranslationalCondition,
+    VolumeEstimate, Workspace,
 };
 use serde::{Deserialize, Serialize};
 
@@ -161,7 +162,7 @@ impl WorkspaceVisitor for CheckOnly {
 
 /// What the workspace study computes on a built workspace.
 struct Compute<'a> {
-    points: &'a PointSet,
+    points: &'a PointStream,
     slices: &'a [(Plane, f64, usize)],
     bounds: BoundingBox,
     progress: &'a dyn Progress,
@@ -177,8 +178,7 @@ impl WorkspaceVisitor for Compute<'_> {
     where
         Dim<NQ>: TranslationalCondition<NQ>,
     {
-        self.progress
-            .start("workspace points", self.points.points().len() as u64);
+        self.progress.start("workspace points", self.points.count());
         let estimate = workspace.volume_and_eta(self.points, self.progress);
         self.progress.finish();
         let estimate = estimate?;
@@ -228,8 +228,7 @@ pub fn workspace<M: StudyMechanism>(
     }
     let slices = slice_settings(&study.workspace)?;
     let domain = study.sampling.domain(built.reach_region())?;
-    progress.phase("sampling points");
-    let points = study.sampling.point_set_cancellable(domain, progress)?;
+    let points = study.sampling.point_stream(domain)?;
     let compute = Compute {
         points: &points,
         slices: &slices,

@@ -9,11 +9,12 @@
 
 use crate::parallel::chunked_reduce_ranges;
 use crate::points::MAX_REPLICATES;
-use crate::{Accumulator, CHUNK_SIZE, IndexError, PointSet};
+use crate::{Accumulator, CHUNK_SIZE, IndexError, PointSet, PointSource};
 use nalgebra::Vector3;
 use pkm_traits::checked::finite_or;
 use pkm_traits::{Cancelled, Progress};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// How a standard error was obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -160,16 +161,18 @@ where
 /// # Errors
 /// [`IndexError::Cancelled`]; [`IndexError::NonFinite`] when $\eta$ or its standard error
 /// overflows (finite values of $f$ near `f64::MAX`).
-pub fn workspace_volume_and_eta<F>(
-    points: &PointSet,
+pub fn workspace_volume_and_eta<P, F>(
+    points: &P,
     progress: &dyn Progress,
     local: F,
 ) -> Result<VolumeEstimate, IndexError>
 where
+    P: PointSource + ?Sized,
     F: Fn(&Vector3<f64>) -> Option<f64> + Sync,
 {
     integrate_blocks(
-        points.points(),
+        points.count(),
+        |range| points.block(range),
         points.replicates() as usize,
         points.domain().volume(),
         progress,
@@ -195,14 +198,16 @@ where
 /// of a block (at most [`CHUNK_SIZE`] consecutive points) into `out`, `None` outside; the
 /// values are then summed point by point in index order, so the bits do not depend on how
 /// `values` computes them (one point or a lane kernel at a time) nor on the thread count.
-pub(crate) fn integrate_blocks<F>(
-    points: &[Vector3<f64>],
+pub(crate) fn integrate_blocks<'p, B, F>(
+    n: u64,
+    points: B,
     replicates: usize,
     v_domain: f64,
     progress: &dyn Progress,
     values: F,
 ) -> Result<VolumeEstimate, IndexError>
 where
+    B: Fn(std::ops::Range<u64>) -> Cow<'p, [Vector3<f64>]> + Sync,
     F: Fn(&[Vector3<f64>], &mut [Option<f64>]) + Sync,
 {
     if replicates > MAX_REPLICATES as usize {
@@ -212,16 +217,14 @@ where
             limit: u64::from(MAX_REPLICATES),
         });
     }
-    if points.is_empty() || replicates == 0 || !points.len().is_multiple_of(replicates) {
-        return Err(IndexError::EmptySample {
-            n_samples: points.len() as u64,
-        });
+    if n == 0 || replicates == 0 || !n.is_multiple_of(replicates as u64) {
+        return Err(IndexError::EmptySample { n_samples: n });
     }
-    let m = (points.len() / replicates) as u64;
-    let sums = chunked_reduce_ranges(points.len() as u64, progress, |acc: &mut Sums, range| {
-        let block = &points[range.start as usize..range.end as usize];
+    let m = n / replicates as u64;
+    let sums = chunked_reduce_ranges(n, progress, |acc: &mut Sums, range| {
+        let block = points(range.clone());
         let mut out = vec![None; block.len()];
-        values(block, &mut out);
+        values(&block, &mut out);
         // The replicate of index i is i / m, tracked by its next boundary rather than divided.
         let (mut r, mut next) = ((range.start / m) as usize, (range.start / m + 1) * m);
         for (i, f) in range.zip(out) {

@@ -113,7 +113,7 @@ pub use parallel::{Accumulator, CHUNK_SIZE, chunked_reduce, chunked_reduce_range
 pub use pkm_traits::vector_path::{
     BlockKernel, VECTOR_PATH_VARIABLE, VectorPath, run_block, run_block_on,
 };
-pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet};
+pub use points::{MAX_POINTS, MAX_REPLICATES, PointSet, PointSource, PointStream};
 pub use region::{BoundingBox, Domain, Region};
 pub use sampler::Sampler;
 pub use section_cache::SectionIndexCache;

@@ -10,6 +10,7 @@ use crate::{Domain, IndexError, Sampler};
 use nalgebra::Vector3;
 use pkm_traits::{Cancelled, InvalidInput, Progress, Silent};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Largest number of points a set may hold (2.4 GB of coordinates, within
 /// [`pkm_traits::MEMORY_BUDGET_BYTES`]): larger requests are refused with
@@ -25,9 +26,9 @@ const BLOCK: usize = 4096;
 /// Sample points in a [`Domain`], in replicates.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointSet {
-    domain: Domain,
+    /// What the points are: domain, sampler and counts.
+    stream: PointStream,
     points: Vec<Vector3<f64>>,
-    replicates: u32,
 }
 
 impl PointSet {
@@ -63,30 +64,14 @@ impl PointSet {
         replicates: u32,
         progress: &dyn Progress,
     ) -> Result<Self, IndexError> {
-        let total = check_counts(per_replicate, replicates)?;
-        if let Sampler::Grid { per_axis } = sampler {
-            // Checked: (2³²)³ overflows u64.
-            let cells = u64::from(per_axis).checked_pow(3);
-            if replicates != 1 || cells != Some(per_replicate) {
-                return Err(InvalidInput::new(
-                    "grid points",
-                    per_replicate as f64,
-                    "a grid takes per_axis³ points and one replicate",
-                )
-                .into());
-            }
-        }
-        let points = generate(&domain, sampler, per_replicate, total, progress)?;
-        Ok(Self {
-            domain,
-            points,
-            replicates,
-        })
+        let stream = PointStream::new(domain, sampler, per_replicate, replicates)?;
+        let points = generate(&domain, sampler, per_replicate, stream.count(), progress)?;
+        Ok(Self { stream, points })
     }
 
     /// The domain the points fill.
     pub fn domain(&self) -> &Domain {
-        &self.domain
+        &self.stream.domain
     }
 
     /// All points, replicate after replicate.
@@ -96,18 +81,125 @@ impl PointSet {
 
     /// Number of replicates $R$.
     pub fn replicates(&self) -> u32 {
-        self.replicates
+        self.stream.replicates
     }
 
     /// Points per replicate $m$.
     pub fn per_replicate(&self) -> usize {
-        self.points.len() / self.replicates as usize
+        self.stream.per_replicate as usize
     }
 }
 
-/// Points `0..total` (point $k$: point $k \bmod m$ of replicate $\lfloor k/m \rfloor$, $m$ =
-/// `per_replicate`), in parallel blocks of [`BLOCK`], each block after a cancellation check.
-/// `total` ≤ [`MAX_POINTS`] was checked by the caller.
+/// The points of a [`PointSet`] generated block by block as an estimator reads them, never all
+/// held: an estimate over a stream needs the memory of its chunks, whatever the number of
+/// points. Point $k$ is the set's point $k$, so an estimate over the stream has the bits of
+/// the same estimate over the set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointStream {
+    domain: Domain,
+    sampler: Sampler,
+    per_replicate: u64,
+    replicates: u32,
+}
+
+impl PointStream {
+    /// The points of [`PointSet::new`] with the same arguments, generated when read.
+    ///
+    /// # Errors
+    /// As [`PointSet::new`].
+    pub fn new(
+        domain: Domain,
+        sampler: Sampler,
+        per_replicate: u64,
+        replicates: u32,
+    ) -> Result<Self, IndexError> {
+        check_counts(per_replicate, replicates)?;
+        check_grid(sampler, per_replicate, replicates)?;
+        Ok(Self {
+            domain,
+            sampler,
+            per_replicate,
+            replicates,
+        })
+    }
+
+    /// Points per replicate $m$.
+    pub fn per_replicate(&self) -> u64 {
+        self.per_replicate
+    }
+}
+
+/// Sample points that an estimator reads block by block: a stored [`PointSet`] or a
+/// [`PointStream`].
+pub trait PointSource: Sync {
+    /// What the points are: domain, sampler and counts.
+    fn stream(&self) -> &PointStream;
+    /// Points `range` (indices into all points, replicate after replicate).
+    fn block(&self, range: std::ops::Range<u64>) -> Cow<'_, [Vector3<f64>]>;
+    /// The domain the points fill.
+    fn domain(&self) -> &Domain {
+        &self.stream().domain
+    }
+    /// Number of replicates $R$.
+    fn replicates(&self) -> u32 {
+        self.stream().replicates
+    }
+    /// Number of points, all replicates.
+    fn count(&self) -> u64 {
+        self.stream().per_replicate * u64::from(self.stream().replicates)
+    }
+}
+
+impl PointSource for PointSet {
+    fn stream(&self) -> &PointStream {
+        &self.stream
+    }
+    fn block(&self, range: std::ops::Range<u64>) -> Cow<'_, [Vector3<f64>]> {
+        Cow::Borrowed(&self.points[range.start as usize..range.end as usize])
+    }
+}
+
+impl PointSource for PointStream {
+    fn stream(&self) -> &PointStream {
+        self
+    }
+    fn block(&self, range: std::ops::Range<u64>) -> Cow<'_, [Vector3<f64>]> {
+        Cow::Owned(
+            range
+                .map(|k| point(&self.domain, self.sampler, self.per_replicate, k))
+                .collect(),
+        )
+    }
+}
+
+/// Checks that a grid sampler has `per_axis³` points and one replicate.
+///
+/// # Errors
+/// [`IndexError::Invalid`] for a grid of another size or several replicates.
+fn check_grid(sampler: Sampler, per_replicate: u64, replicates: u32) -> Result<(), IndexError> {
+    if let Sampler::Grid { per_axis } = sampler {
+        // Checked: (2³²)³ overflows u64.
+        let cells = u64::from(per_axis).checked_pow(3);
+        if replicates != 1 || cells != Some(per_replicate) {
+            return Err(InvalidInput::new(
+                "grid points",
+                per_replicate as f64,
+                "a grid takes per_axis³ points and one replicate",
+            )
+            .into());
+        }
+    }
+    Ok(())
+}
+
+/// Point $k$: point $k \bmod m$ of replicate $\lfloor k/m \rfloor$, $m$ = `per_replicate`.
+fn point(domain: &Domain, sampler: Sampler, per_replicate: u64, k: u64) -> Vector3<f64> {
+    let (r, i) = (k / per_replicate, k % per_replicate);
+    domain.map(sampler.reseeded(r).unit_cube(i))
+}
+
+/// Points `0..total` ([`point`]), in parallel blocks of [`BLOCK`], each block after a
+/// cancellation check. `total` ≤ [`MAX_POINTS`] was checked by the caller.
 fn generate(
     domain: &Domain,
     sampler: Sampler,
@@ -121,10 +213,8 @@ fn generate(
         .enumerate()
         .try_for_each(|(b, block)| {
             progress.check()?;
-            for (j, point) in block.iter_mut().enumerate() {
-                let k = (b * BLOCK + j) as u64;
-                let (r, i) = (k / per_replicate, k % per_replicate);
-                *point = domain.map(sampler.reseeded(r).unit_cube(i));
+            for (j, p) in block.iter_mut().enumerate() {
+                *p = point(domain, sampler, per_replicate, (b * BLOCK + j) as u64);
             }
             Ok(())
         })?;
@@ -219,5 +309,28 @@ mod tests {
             let stopped = PointSet::new_cancellable(domain(), sobol, m, 2, &cancel);
             assert_eq!(stopped, Err(IndexError::Cancelled), "after {checks} checks");
         }
+    }
+
+    /// A stream holds the set's points (every block equal to the set's slice, bit for bit, for
+    /// each sampler and block boundary), and an estimate over it has the set's bits.
+    #[test]
+    fn a_stream_is_the_set_generated_when_read() {
+        for sampler in [Sampler::Sobol { seed: 3 }, Sampler::MonteCarlo { seed: 9 }] {
+            let set = PointSet::new(domain(), sampler, 5_000, 3).unwrap();
+            let stream = PointStream::new(domain(), sampler, 5_000, 3).unwrap();
+            assert_eq!(stream.count(), 15_000);
+            for range in [0..1, 4_999..5_001, 0..15_000, 14_000..15_000] {
+                assert_eq!(stream.block(range.clone()), set.block(range));
+            }
+            let local = |x: &Vector3<f64>| (x.z > -0.3).then_some(x.norm());
+            let on_set = crate::workspace_volume_and_eta(&set, &Silent, local).unwrap();
+            let on_stream = crate::workspace_volume_and_eta(&stream, &Silent, local).unwrap();
+            assert_eq!(on_set, on_stream);
+        }
+        let grid = Sampler::Grid { per_axis: 4 };
+        assert!(PointStream::new(domain(), grid, 64, 1).is_ok());
+        assert!(PointStream::new(domain(), grid, 65, 1).is_err());
+        assert!(PointStream::new(domain(), grid, 64, 2).is_err());
+        assert!(PointStream::new(domain(), Sampler::Sobol { seed: 0 }, 0, 1).is_err());
     }
 }

@@ -11,6 +11,7 @@ use crate::IndexError;
 use crate::estimator::{integrate_blocks, point_by_point};
 use nalgebra::Vector3;
 use pkm_traits::{InvalidInput, Progress};
+use std::borrow::Cow;
 use std::f64::consts::PI;
 
 /// Volume and global index estimated from one point set.
@@ -97,10 +98,19 @@ where
         )
         .into());
     }
-    let e = integrate_blocks(unit_points, 1, v_h, progress, |block, out| {
-        let scaled: Vec<Vector3<f64>> = block.iter().map(|p| p * radius).collect();
-        values(&scaled, out);
-    })?;
+    let block =
+        |r: std::ops::Range<u64>| Cow::Borrowed(&unit_points[r.start as usize..r.end as usize]);
+    let e = integrate_blocks(
+        unit_points.len() as u64,
+        block,
+        1,
+        v_h,
+        progress,
+        |block, out| {
+            let scaled: Vec<Vector3<f64>> = block.iter().map(|p| p * radius).collect();
+            values(&scaled, out);
+        },
+    )?;
     Ok(HemisphereEstimate {
         n: e.n_points,
         n_inside: e.n_inside,

@@ -17,6 +17,7 @@
 //! platform at a fixed orientation, `NQ = 6`): $J$ is then $NQ \times 3$ and $1/\kappa$ is
 //! $\sigma_3/\sigma_1$ of its singular values ([`TranslationalCondition`]). `NQ` defaults to 3.
 
+use crate::PointSource;
 use crate::estimator::{count_volume, integrate_blocks};
 use crate::point_groups::PointGroups;
 use crate::volume::hemisphere_estimate_blocks;
@@ -408,13 +409,14 @@ where
     ///
     /// # Errors
     /// [`IndexError::Cancelled`].
-    pub fn volume_and_eta(
+    pub fn volume_and_eta<P: PointSource + ?Sized>(
         &self,
-        points: &PointSet,
+        points: &P,
         progress: &dyn Progress,
     ) -> Result<VolumeEstimate, IndexError> {
         integrate_blocks(
-            points.points(),
+            points.count(),
+            |range| points.block(range),
             points.replicates() as usize,
             points.domain().volume(),
             progress,

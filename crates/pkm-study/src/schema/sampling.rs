@@ -5,7 +5,7 @@ use super::units::{Degrees, Metres, PositiveMetres};
 use crate::StudyError;
 use nalgebra::Vector3;
 use pkm_traits::{Progress, Silent};
-use pkm_workspace_indices::{Domain, IndexError, PointSet, Region, Sampler};
+use pkm_workspace_indices::{Domain, IndexError, PointSet, PointStream, Region, Sampler};
 use serde::{Deserialize, Serialize};
 
 /// How workspace points are drawn.
@@ -212,35 +212,46 @@ impl SamplingSpec {
         domain: Domain,
         progress: &dyn Progress,
     ) -> Result<PointSet, StudyError> {
-        let points = match self.sampler {
-            SamplerKind::Sobol => PointSet::new_cancellable(
-                domain,
+        let (sampler, per_replicate, replicates) = self.counts();
+        PointSet::new_cancellable(domain, sampler, per_replicate, replicates, progress)
+            .map_err(|e| self.count_error(e))
+    }
+
+    /// The points of [`point_set`](Self::point_set), generated as an estimate reads them
+    /// (the memory of one estimate stays that of its chunks, whatever `points`).
+    ///
+    /// # Errors
+    /// As [`point_set`](Self::point_set).
+    pub fn point_stream(&self, domain: Domain) -> Result<PointStream, StudyError> {
+        let (sampler, per_replicate, replicates) = self.counts();
+        PointStream::new(domain, sampler, per_replicate, replicates)
+            .map_err(|e| self.count_error(e))
+    }
+
+    /// The sampler, the points per replicate and the replicates of this table.
+    fn counts(&self) -> (Sampler, u64, u32) {
+        match self.sampler {
+            SamplerKind::Sobol => (
                 Sampler::Sobol { seed: self.seed },
                 self.points,
                 self.replicates,
-                progress,
             ),
-            SamplerKind::MonteCarlo => PointSet::new_cancellable(
-                domain,
+            SamplerKind::MonteCarlo => (
                 Sampler::MonteCarlo { seed: self.seed },
                 self.points,
                 self.replicates,
-                progress,
             ),
             SamplerKind::Grid => {
                 let n = u64::from(self.per_axis);
-                PointSet::new_cancellable(
-                    domain,
+                (
                     Sampler::Grid {
                         per_axis: self.per_axis,
                     },
                     n.saturating_mul(n).saturating_mul(n),
                     1,
-                    progress,
                 )
             }
-        };
-        points.map_err(|e| self.count_error(e))
+        }
     }
 
     /// An estimator's refusal of the counts at the key that sets them (`sampling.points`,
