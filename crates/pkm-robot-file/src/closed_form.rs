@@ -222,6 +222,8 @@ pub(crate) struct AlgebraicClosure<'a>(pub &'a RobotModel);
 /// One leg of [`AlgebraicClosure`]: $C - E$, $L$, $\partial E / \partial q$ and
 /// $\partial L / \partial q$.
 struct AlgebraicLeg {
+    /// $C$.
+    point: Vector3<f64>,
     rod: Vector3<f64>,
     length: f64,
     d_elbow: Vector3<f64>,
@@ -272,6 +274,7 @@ impl AlgebraicClosure<'_> {
             ),
         };
         AlgebraicLeg {
+            point: c,
             rod: c - e,
             length,
             d_elbow,
@@ -318,12 +321,10 @@ impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
         let origin = Vector3::new(coordinates[0], coordinates[1], coordinates[2]);
         for i in 0..N {
             let leg = self.leg(i, &pose, q[i]);
-            let c = (pose * Point3::from(self.0.classes[i].platform_point().unwrap_or_default()))
-                .coords;
             for (k, &coordinate) in self.0.task.iter().enumerate().take(N) {
                 let w: Vector3<f64> = h.fixed_view::<3, 1>(0, coordinate).into();
                 let v: Vector3<f64> = h.fixed_view::<3, 1>(3, coordinate).into();
-                j[(i, k)] = leg.rod.dot(&(v + w.cross(&(c - origin))));
+                j[(i, k)] = leg.rod.dot(&(v + w.cross(&(leg.point - origin))));
             }
         }
         j

@@ -230,10 +230,15 @@ fn dykstra(
     lo: &DVector<f64>,
     hi: &DVector<f64>,
 ) -> DVector<f64> {
-    let project_affine = |z: &DVector<f64>| -> DVector<f64> {
-        let correction = least_squares_solve(a, &(force - a * z)).unwrap_or_else(|| z * 0.0);
-        z + correction
-    };
+    // The projection onto {Aτ = F} is z + A⁺(F − Az): A⁺ once for every sweep.
+    let pseudo_inverse = bounded_svd(a.clone(), true, true)
+        .and_then(|svd| {
+            let largest = svd.singular_values.amax();
+            svd.pseudo_inverse(1e-12 * largest).ok()
+        })
+        .unwrap_or_else(|| DMatrix::zeros(a.ncols(), a.nrows()));
+    let project_affine =
+        |z: &DVector<f64>| -> DVector<f64> { z + &pseudo_inverse * (force - a * z) };
     let scale = start.amax().max(lo.amax()).max(hi.amax()).max(1.0);
     let mut x = start.clone();
     let (mut p, mut q) = (DVector::zeros(x.len()), DVector::zeros(x.len()));

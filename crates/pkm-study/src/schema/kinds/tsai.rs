@@ -68,6 +68,20 @@ impl From<TsaiDesign> for TsaiSpec {
     }
 }
 
+impl TsaiSpec {
+    /// The six design values in the table's units: a, b, d + e, c − r (m), φ2, φ3 (degrees).
+    fn values(&self) -> [f64; 6] {
+        [
+            self.a.0,
+            self.b.0,
+            self.d_plus_e.0,
+            self.c_minus_r.0,
+            self.phi2_deg.0,
+            self.phi3_deg.0,
+        ]
+    }
+}
+
 impl StudyMechanism for TsaiSpec {
     design_variables! {
         "a" Length => |s| s.a.0,
@@ -89,13 +103,9 @@ impl StudyMechanism for TsaiSpec {
     /// # Errors
     /// [`BuildError::Design`] with the library's reason for an invalid design.
     fn build(&self) -> Result<Tsai3Dof, BuildError> {
+        let [a, b, d_plus_e, c_minus_r, phi2_deg, phi3_deg] = self.values();
         Tsai3Dof::new(TsaiDesign::from_deg(
-            self.a.0,
-            self.b.0,
-            self.d_plus_e.0,
-            self.c_minus_r.0,
-            self.phi2_deg.0,
-            self.phi3_deg.0,
+            a, b, d_plus_e, c_minus_r, phi2_deg, phi3_deg,
         ))
         .map_err(design_error)
     }
@@ -146,14 +156,7 @@ impl StudyMechanism for TsaiSpec {
     /// in them.
     fn design_problem(&self) -> Option<DesignProblem> {
         Some(DesignProblem::Tsai {
-            nominal: [
-                self.a.0,
-                self.b.0,
-                self.d_plus_e.0,
-                self.c_minus_r.0,
-                self.phi2_deg.0,
-                self.phi3_deg.0,
-            ],
+            nominal: self.values(),
         })
     }
 }
