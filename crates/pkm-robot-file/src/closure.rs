@@ -12,6 +12,7 @@ use crate::lm::LeastSquares;
 use crate::model::RobotModel;
 use crate::pose::{PoseCoordinates, hybrid_rates, platform_pose};
 use nalgebra::{DMatrix, DVector, Point3, Rotation3, Vector3};
+use pkm_traits::KinematicsError;
 
 /// A full configuration: the six pose coordinates and every joint value of every leg.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,9 +37,47 @@ impl Configuration {
 
     /// The motion of each leg's actuator from home (rad or m).
     pub(crate) fn actuator_motion(&self, model: &RobotModel, leg: usize) -> f64 {
-        match model.legs[leg].actuator.map(|a| self.joints[leg][a]) {
-            Some(JointValue::Scalar(v)) => v,
+        let value = model.legs[leg]
+            .actuator
+            .and_then(|a| self.joints.get(leg)?.get(a));
+        match value {
+            Some(JointValue::Scalar(v)) => *v,
             _ => f64::NAN,
+        }
+    }
+}
+
+impl RobotModel {
+    /// `Err(InvalidInput)` unless `config` is a configuration of this robot: one list of
+    /// joint values per leg, one value per joint, of the joint's kind.
+    pub(crate) fn check_configuration(
+        &self,
+        config: &Configuration,
+    ) -> Result<(), KinematicsError> {
+        let fits = config.joints.len() == self.legs.len()
+            && self.legs.iter().zip(&config.joints).all(|(leg, values)| {
+                values.len() == leg.joints.len()
+                    && leg.joints.iter().zip(values).all(|(joint, value)| {
+                        matches!(
+                            (joint, value),
+                            (crate::chain::Joint::Spherical { .. }, JointValue::Ball(_))
+                                | (
+                                    crate::chain::Joint::Revolute { .. }
+                                        | crate::chain::Joint::Prismatic { .. },
+                                    JointValue::Scalar(_)
+                                )
+                        )
+                    })
+            });
+        if fits {
+            Ok(())
+        } else {
+            Err(pkm_traits::InvalidInput::new(
+                "configuration",
+                config.joints.len() as f64,
+                "must be a configuration of this robot (its legs and joints)",
+            )
+            .into())
         }
     }
 }

@@ -91,6 +91,7 @@ impl RobotModel {
         seed: &Configuration,
         settings: &SolverSettings,
     ) -> Result<Configuration, KinematicsError> {
+        self.check_configuration(seed)?;
         let mut start = seed.clone();
         self.set_actuators(&mut start, q)?;
         let problem = ClosureProblem {

@@ -187,7 +187,8 @@ impl RobotModel {
         Ok(self.actuators_of(&config))
     }
 
-    /// The actuator coordinates (offset plus motion) of a configuration.
+    /// The actuator coordinates (offset plus motion) of a configuration; NaN for an actuator
+    /// that a configuration of another robot does not have.
     pub fn actuators_of(&self, config: &Configuration) -> DVector<f64> {
         DVector::from_fn(self.actuator_count(), |i, _| {
             self.legs[i].offset + config.actuator_motion(self, i)

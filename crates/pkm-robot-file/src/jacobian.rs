@@ -101,6 +101,7 @@ impl RobotModel {
         &self,
         config: &Configuration,
     ) -> Result<ScrewJacobians, KinematicsError> {
+        self.check_configuration(config)?;
         let n = self.actuator_count();
         let mut j_a = DMatrix::zeros(n, 6);
         let mut d = DVector::zeros(n);

@@ -415,3 +415,71 @@ fn passive_leg_mistakes_are_refused_with_their_key() {
     );
     refused(&short, "task", "2 actuated legs");
 }
+
+/// A configuration of another robot, and non-finite or absurd inputs to the functions added
+/// for redundant actuation: typed errors, never a panic or a silent NaN.
+#[test]
+fn foreign_configurations_and_hostile_redundancy_inputs_are_typed_errors() {
+    let (four, tsai) = (common::robot("four_rrr.toml"), common::robot("tsai.toml"));
+    let foreign = tsai
+        .inverse_kinematics_configuration(&tsai.home_task(), tsai.home_mode())
+        .unwrap();
+    assert!(four.screw_jacobians(&foreign).is_err());
+    assert!(four.singularity_margins(&foreign).is_err());
+    assert!(four.force_distribution(&foreign, &[1.0; 6], None).is_err());
+    assert!(
+        four.forward_kinematics_from(&four.home_actuators(), &foreign)
+            .is_err()
+    );
+    assert!(four.actuators_of(&foreign)[3].is_nan());
+    assert!(four.leg_clearance(&foreign).is_none());
+    assert!(four.passive_bends(&foreign).is_none());
+    let home = four
+        .inverse_kinematics_configuration(&four.home_task(), four.home_mode())
+        .unwrap();
+    let q = four.home_actuators();
+    for bad in [f64::NAN, f64::INFINITY, -f64::INFINITY] {
+        assert!(
+            four.force_distribution(&home, &[bad, 0.0, 0.0, 0.0, 0.0, 0.0], None)
+                .is_err()
+        );
+        let mut q_bad = q.clone();
+        q_bad[1] = bad;
+        assert!(
+            four.forward_kinematics_least_squares(&q_bad, &[0.0; 3])
+                .is_err(),
+            "{bad}"
+        );
+        assert!(
+            four.forward_kinematics_least_squares(&q, &[0.0, bad, 0.0])
+                .is_err(),
+            "{bad}"
+        );
+    }
+    for limits in [
+        vec![[0.0, 1.0]; 3],
+        vec![[1.0, 0.0]; 4],
+        vec![[f64::NAN, 1.0]; 4],
+    ] {
+        assert!(
+            four.force_distribution(&home, &[1.0; 6], Some(&limits))
+                .is_err()
+        );
+    }
+    let wide = vec![[-f64::INFINITY, f64::INFINITY]; 4];
+    let d = four.force_distribution(
+        &home,
+        &[1e300, -1e300, 0.0, 5e-324, 0.0, 1e300],
+        Some(&wide),
+    );
+    assert!(
+        d.as_ref()
+            .is_ok_and(|d| d.efforts.iter().all(|t| t.is_finite()))
+            || d.is_err(),
+        "{d:?}"
+    );
+    assert!(
+        four.forward_kinematics_least_squares(&[1e300; 4], &[0.0; 3])
+            .is_err()
+    );
+}
