@@ -78,10 +78,29 @@ impl Mechanism {
     }
 
     /// The number of actuated joints (3, or 6 for the Stewart–Gough platform; a robot file's
-    /// legs).
+    /// actuators).
     #[getter]
     fn joints(&self) -> usize {
         self.joints
+    }
+
+    /// The name of each actuator of a robot file, the columns of every joint array: the key
+    /// path of its joint (`"legs[0].joints[1]"`; a leg may carry several); `None` for a
+    /// built-in mechanism.
+    #[getter]
+    fn actuators(&self) -> Option<Vec<String>> {
+        let names = |model: &pkm_robot_file::RobotModel| {
+            model
+                .actuator_names()
+                .into_iter()
+                .map(String::from)
+                .collect()
+        };
+        match (&self.task_space, self.built.spec()) {
+            (Some(ts), _) => Some(names(&ts.model)),
+            (None, MechanismSpec::RobotFile(robot)) => robot.model().ok().map(|m| names(&m)),
+            _ => None,
+        }
     }
 
     /// The task coordinates, the columns of every `points` array: `["x", "y", "z"]` (m), or a

@@ -74,3 +74,21 @@ def test_a_redundant_robot_has_four_actuators_and_a_least_squares_forward_kinema
     q[0, 2] += 5e-3
     back, ok = m.forward_kinematics(q, x + 0.01)
     assert not ok[0] and np.isnan(back[0]).all() and ok[1:].all()
+
+
+def test_two_actuators_per_leg_are_named_columns_and_round_trip():
+    """The 3-PPSR on XY stages (issue 33): six actuators in three legs, named by their joints,
+    six joint columns, and the poses back from the actuator values to 1e-9."""
+    m = robot("three_ppsr.toml")
+    assert m.joints == 6 and len(m.task) == 6
+    assert m.actuators == [f"legs[{i}].joints[{j}]" for i in range(3) for j in range(2)]
+    assert robot("tsai.toml").actuators == [f"legs[{i}].joints[0]" for i in range(3)]
+    assert pkm.Mechanism("tsai").actuators is None
+    rng = np.random.default_rng(5)
+    x = np.column_stack(
+        [rng.uniform(-0.03, 0.03, (20, 2)), 0.4 + rng.uniform(-0.03, 0.03, 20), rng.uniform(-0.05, 0.05, (20, 3))]
+    )
+    q, inside = m.inverse_kinematics(x)
+    assert q.shape == (20, 6) and inside.all()
+    back, ok = m.forward_kinematics(q, x + 0.005)
+    assert ok.all() and np.abs(back - x).max() < 1e-9

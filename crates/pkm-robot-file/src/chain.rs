@@ -99,18 +99,28 @@ pub(crate) fn adjoint(g: &Isometry3<f64>, twist: &Vector6<f64>) -> Vector6<f64> 
     stack(&w, &v)
 }
 
-/// One leg: its elementary joints, which one is actuated, and the actuator's offset and range.
+/// One actuated joint of a leg: which joint it is, its home value and its range.
 #[derive(Debug, Clone, PartialEq)]
-pub struct LegChain {
-    /// Joints from the base to the platform.
-    pub joints: Vec<Joint>,
-    /// Index of the actuated joint in `joints` (an R or a P joint); `None` for a passive leg,
-    /// which constrains the platform and drives nothing.
-    pub actuator: Option<usize>,
+pub struct LegActuator {
+    /// Index of the actuated joint in [`LegChain::joints`] (an R or a P joint).
+    pub joint: usize,
     /// Actuator coordinate at home (rad or m).
     pub offset: f64,
     /// Actuator range, if any.
     pub limits: Option<[f64; 2]>,
+    /// The key path of the joint in the file (`legs[1].joints[2]`), the actuator's name.
+    pub name: String,
+}
+
+/// One leg: its elementary joints and its actuators.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LegChain {
+    /// Joints from the base to the platform.
+    pub joints: Vec<Joint>,
+    /// The actuated joints in joint order: none for a passive leg, which constrains the
+    /// platform and drives nothing; one for most legs; several for a leg that carries several
+    /// actuators (each an actuator of its own).
+    pub actuators: Vec<LegActuator>,
     /// The joint letters as written (`UPS`), for the name check.
     pub letters: String,
 }
@@ -124,6 +134,24 @@ pub(crate) struct LegTwists {
 }
 
 impl LegChain {
+    /// The actuator of joint `j`, if it is actuated.
+    pub fn actuator_at(&self, j: usize) -> Option<&LegActuator> {
+        self.actuators.iter().find(|a| a.joint == j)
+    }
+
+    /// Whether joint `j` is actuated.
+    pub fn is_actuated(&self, j: usize) -> bool {
+        self.actuator_at(j).is_some()
+    }
+
+    /// The leg's actuator when it has exactly one (the legs with closed forms).
+    pub(crate) fn sole_actuator(&self) -> Option<&LegActuator> {
+        match self.actuators.as_slice() {
+            [one] => Some(one),
+            _ => None,
+        }
+    }
+
     /// The home values of every joint.
     pub(crate) fn home_values(&self) -> Vec<JointValue> {
         self.joints.iter().map(Joint::home_value).collect()
@@ -183,9 +211,12 @@ mod tests {
                     center: Vector3::new(0.1, 0.2, 0.5),
                 },
             ],
-            actuator: Some(1),
-            offset: 0.0,
-            limits: None,
+            actuators: vec![LegActuator {
+                joint: 1,
+                offset: 0.0,
+                limits: None,
+                name: "legs[0].joints[1]".into(),
+            }],
             letters: "RPS".into(),
         };
         let values = [

@@ -25,10 +25,12 @@ struct ClosedFormLeg {
 }
 
 impl RobotModel {
-    /// Whether the closed-form path applies: no dependent coordinate, every leg closed-form.
+    /// Whether the closed-form path applies: no dependent coordinate, every actuated leg
+    /// closed-form (so with one actuator: actuator `i` is leg `i`'s on this path).
     pub(crate) fn has_closed_form(&self) -> bool {
         !self.roles.contains(&CoordinateRole::Dependent)
-            && self.classes[..self.actuator_count()]
+            && self.one_actuator_per_leg()
+            && self.classes[..self.actuated]
                 .iter()
                 .all(|c| *c != LegClass::Numeric)
     }
@@ -127,7 +129,8 @@ impl RobotModel {
     ) -> Result<(), KinematicsError> {
         let pose = self.closed_form_pose(x)?;
         for i in 0..self.actuator_count() {
-            let q = self.legs[i].offset + self.closed_form_motion(i, &pose, mode.branch(i))?;
+            let q =
+                self.actuator(i).1.offset + self.closed_form_motion(i, &pose, mode.branch(i))?;
             self.check_actuator_limits(i, q)?;
             set(i, q);
         }
@@ -192,7 +195,7 @@ impl RobotModel {
         for i in 0..self.actuator_count() {
             let leg = self.closed_form_leg(i, &pose, mode.branch(i))?;
             if check_limits {
-                self.check_actuator_limits(i, self.legs[i].offset + leg.motion)?;
+                self.check_actuator_limits(i, self.actuator(i).1.offset + leg.motion)?;
             }
             let d = reciprocal_product_vectors(&leg.wrench, &leg.actuator_twist);
             if !(d.abs() > 1e-12 * self.size) {
@@ -234,7 +237,7 @@ impl AlgebraicClosure<'_> {
     /// Leg `i` at platform pose `pose` with actuator coordinate `q_i`.
     fn leg(&self, i: usize, pose: &Isometry3<f64>, q_i: f64) -> AlgebraicLeg {
         let model = self.0;
-        let motion = q_i - model.legs[i].offset;
+        let motion = q_i - model.actuator(i).1.offset;
         let at = |p: &Vector3<f64>| (pose * Point3::from(*p)).coords;
         let (c, e, length, d_elbow, d_length) = match model.classes[i] {
             LegClass::Distance {

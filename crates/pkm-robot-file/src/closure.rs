@@ -35,11 +35,13 @@ impl Configuration {
         self.pose
     }
 
-    /// The motion of each leg's actuator from home (rad or m).
-    pub(crate) fn actuator_motion(&self, model: &RobotModel, leg: usize) -> f64 {
-        let value = model.legs[leg]
-            .actuator
-            .and_then(|a| self.joints.get(leg)?.get(a));
+    /// The motion of actuator `i` from home (rad or m); NaN for an actuator the model lacks.
+    pub(crate) fn actuator_motion(&self, model: &RobotModel, i: usize) -> f64 {
+        let value = model.actuators.get(i).and_then(|&(leg, k)| {
+            self.joints
+                .get(leg)?
+                .get(model.legs[leg].actuators[k].joint)
+        });
         match value {
             Some(JointValue::Scalar(v)) => *v,
             _ => f64::NAN,
@@ -112,7 +114,7 @@ pub(crate) enum LegResidual {
 
 impl ClosureProblem<'_> {
     fn is_free(&self, leg: usize, joint: usize) -> bool {
-        !(self.fixed_actuators && Some(joint) == self.model.legs[leg].actuator)
+        !(self.fixed_actuators && self.model.legs[leg].is_actuated(joint))
     }
 
     fn unknowns(&self) -> usize {
@@ -121,7 +123,12 @@ impl ClosureProblem<'_> {
             .iter()
             .map(|&i| {
                 let leg = &self.model.legs[i];
-                leg.dof() - usize::from(self.fixed_actuators && leg.actuator.is_some())
+                leg.dof()
+                    - if self.fixed_actuators {
+                        leg.actuators.len()
+                    } else {
+                        0
+                    }
             })
             .sum();
         self.free_pose.len() + joints

@@ -118,17 +118,16 @@ impl RobotModel {
             return Err(InvalidInput::new(
                 "q.len()",
                 q.len() as f64,
-                "must equal the number of legs",
+                "must equal the number of actuators",
             )
             .into());
         }
         if let Some(&value) = q.iter().find(|v| !v.is_finite()) {
             return Err(KinematicsError::NonFinite { what: "q", value });
         }
-        for (i, leg) in self.actuated_legs().iter().enumerate() {
-            if let Some(a) = leg.actuator {
-                c.joints[i][a] = JointValue::Scalar(q[i] - leg.offset);
-            }
+        for (i, &q_i) in q.iter().enumerate() {
+            let (leg, actuator) = self.actuator(i);
+            c.joints[leg][actuator.joint] = JointValue::Scalar(q_i - actuator.offset);
         }
         Ok(())
     }
@@ -155,7 +154,7 @@ impl RobotModel {
             return Err(InvalidInput::new(
                 "q.len()",
                 to.len() as f64,
-                "must equal the number of legs",
+                "must equal the number of actuators",
             )
             .into());
         }
@@ -297,7 +296,7 @@ impl RobotModel {
         }
         for (i, leg) in self.legs.iter().enumerate() {
             for (j, value) in c.joints[i].iter_mut().enumerate() {
-                if Some(j) == leg.actuator {
+                if leg.is_actuated(j) {
                     continue;
                 }
                 *value = match value {

@@ -162,9 +162,7 @@ impl RobotModel {
                     self.passive_joints(i, motion, &config)?
                 }
             };
-            if i < self.actuator_count() {
-                self.check_limits(i, &config)?;
-            }
+            self.check_limits(i, &config)?;
         }
         Ok(config)
     }
@@ -191,27 +189,27 @@ impl RobotModel {
     /// that a configuration of another robot does not have.
     pub fn actuators_of(&self, config: &Configuration) -> DVector<f64> {
         DVector::from_fn(self.actuator_count(), |i, _| {
-            self.legs[i].offset + config.actuator_motion(self, i)
+            self.actuator(i).1.offset + config.actuator_motion(self, i)
         })
     }
 
-    /// The actuator coordinate of leg `i` on the closed-form branch nearest `q_i`, or by
-    /// damped Newton for a numerical leg, at the full pose `pose`.
+    /// Actuator `a`'s coordinate on its leg's closed-form branch nearest `q_a`, or by damped
+    /// Newton for a numerical leg, at the full pose of `config`.
     pub(crate) fn nearest_actuator(
         &self,
-        i: usize,
+        a: usize,
         config: &Configuration,
-        q_i: f64,
+        q_a: f64,
     ) -> Result<f64, KinematicsError> {
         let target = platform_pose(self.orientation, &config.pose);
-        let class = self.classes[i];
-        if class == LegClass::Numeric {
+        let (i, actuator) = self.actuator(a);
+        if self.classes[i] == LegClass::Numeric {
             let joints = self.numeric_leg(i, config)?;
             let mut c = config.clone();
             c.joints[i] = joints;
-            return Ok(self.legs[i].offset + c.actuator_motion(self, i));
+            return Ok(actuator.offset + c.actuator_motion(self, a));
         }
-        self.nearest_branch(i, &target, q_i)
+        self.nearest_branch(i, &target, q_a)
             .map(|(_, q)| q)
             .ok_or(KinematicsError::Unreachable {
                 leg: i,
@@ -230,9 +228,10 @@ impl RobotModel {
     ) -> Option<(u8, f64)> {
         let class = self.classes[i];
         let revolute = matches!(class, LegClass::RevoluteArm { .. });
+        let offset = self.legs[i].sole_actuator()?.offset;
         // (branch, distance from q_i, coordinate)
         let near = |b: u8, m: f64| {
-            let q = self.legs[i].offset + m;
+            let q = offset + m;
             if revolute {
                 let d = crate::leg_ik::wrap_angle(q - q_i);
                 (b, d.abs(), q_i + d)
@@ -258,7 +257,7 @@ impl RobotModel {
     }
 
     /// Leg `i` solved whole by damped Newton from its home values, then seeded restarts.
-    fn numeric_leg(
+    pub(crate) fn numeric_leg(
         &self,
         i: usize,
         config: &Configuration,
@@ -289,8 +288,8 @@ impl RobotModel {
         };
         let mut start = config.clone();
         start.joints[i] = self.legs[i].home_values();
-        if let (Some(motion), Some(a)) = (motion, self.legs[i].actuator) {
-            start.joints[i][a] = JointValue::Scalar(motion);
+        if let (Some(motion), Some(a)) = (motion, self.legs[i].sole_actuator()) {
+            start.joints[i][a.joint] = JointValue::Scalar(motion);
         }
         let settings = SolverSettings::default();
         let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
@@ -372,7 +371,7 @@ impl RobotModel {
             .zip(&self.legs[i].joints)
             .enumerate()
         {
-            if hold_actuator && Some(j) == self.legs[i].actuator {
+            if hold_actuator && self.legs[i].is_actuated(j) {
                 continue;
             }
             *value = match joint {
@@ -394,20 +393,29 @@ impl RobotModel {
         seed
     }
 
+    /// `Err(Unreachable)` when an actuator of leg `i` in `config` is outside its range.
     fn check_limits(&self, i: usize, config: &Configuration) -> Result<(), KinematicsError> {
-        self.check_actuator_limits(i, self.legs[i].offset + config.actuator_motion(self, i))
+        for (a, &(leg, _)) in self.actuators.iter().enumerate() {
+            if leg == i {
+                let offset = self.actuator(a).1.offset;
+                self.check_actuator_limits(a, offset + config.actuator_motion(self, a))?;
+            }
+        }
+        Ok(())
     }
 
-    /// `Err(Unreachable)` when actuator coordinate `q` of leg `i` is outside its range.
-    pub(crate) fn check_actuator_limits(&self, i: usize, q: f64) -> Result<(), KinematicsError> {
-        let Some([lo, hi]) = self.legs[i].limits else {
+    /// `Err(Unreachable)` naming its leg when coordinate `q` of actuator `a` is outside its
+    /// range.
+    pub(crate) fn check_actuator_limits(&self, a: usize, q: f64) -> Result<(), KinematicsError> {
+        let (leg, actuator) = self.actuator(a);
+        let Some([lo, hi]) = actuator.limits else {
             return Ok(());
         };
         if (lo..=hi).contains(&q) {
             Ok(())
         } else {
             Err(KinematicsError::Unreachable {
-                leg: i,
+                leg,
                 discriminant: -(lo - q).max(q - hi),
             })
         }

@@ -52,28 +52,26 @@ pub struct SingularityMargins {
     pub constraint: Option<f64>,
 }
 
-/// Unit twists of leg `i`: the actuator's (zero for a passive leg), and the passive ones.
+/// Unit twists of leg `i`'s joints: the actuated ones (in joint order; none for a passive
+/// leg), and the passive ones.
 fn leg_twists(
     model: &RobotModel,
     config: &Configuration,
     i: usize,
-) -> (Vector6<f64>, Vec<Vector6<f64>>) {
+) -> (Vec<Vector6<f64>>, Vec<Vector6<f64>>) {
     let leg = &model.legs[i];
     let lt = leg.twists(&config.joints[i]);
-    let mut actuator = Vector6::zeros();
-    let mut passive = Vec::with_capacity(lt.twists.len());
-    for (j, t) in lt.twists {
-        if Some(j) == leg.actuator {
-            actuator = t;
-        } else {
-            passive.push(t);
-        }
-    }
-    (actuator, passive)
+    let (actuated, passive): (Vec<_>, Vec<_>) = lt
+        .twists
+        .into_iter()
+        .partition(|(j, _)| leg.is_actuated(*j));
+    let twists = |v: Vec<(usize, Vector6<f64>)>| v.into_iter().map(|(_, t)| t).collect();
+    (twists(actuated), twists(passive))
 }
 
-/// The actuation wrench: in the span reciprocal to the passive twists, the direction that
-/// does the most work on the actuator twist (constraint wrenches do none), normalised.
+/// The actuation wrench: in the span reciprocal to the leg's other twists (its passive ones
+/// and its other actuators'), the direction that does the most work on the actuator twist
+/// (constraint wrenches do none), normalised.
 fn actuation_wrench(actuator: &Vector6<f64>, passive: &[Vector6<f64>]) -> Option<Vector6<f64>> {
     let basis = reciprocal_screw_system(passive, RANK_TOLERANCE).ok()?;
     let w: Vector6<f64> = basis
@@ -106,20 +104,32 @@ impl RobotModel {
         let mut j_a = DMatrix::zeros(n, 6);
         let mut d = DVector::zeros(n);
         let mut constraints = Vec::new();
-        for i in n..self.legs.len() {
+        for i in self.actuated..self.legs.len() {
             // A passive leg: constraint wrenches only.
             constraints.extend(constraint_wrenches(&leg_twists(self, config, i).1));
         }
-        for i in 0..n {
-            let (actuator, passive) = leg_twists(self, config, i);
-            let w = actuation_wrench(&actuator, &passive).ok_or(KinematicsError::Singular {
-                matrix: "actuation wrench",
-                sigma_min: 0.0,
-            })?;
-            j_a.set_row(i, &w.transpose());
-            d[i] = reciprocal_product_vectors(&w, &actuator);
+        let mut row = 0;
+        for i in 0..self.actuated {
+            let (actuated, passive) = leg_twists(self, config, i);
+            for (k, actuator) in actuated.iter().enumerate() {
+                let mut others = passive.clone();
+                others.extend(
+                    actuated
+                        .iter()
+                        .enumerate()
+                        .filter(|&(l, _)| l != k)
+                        .map(|(_, t)| *t),
+                );
+                let w = actuation_wrench(actuator, &others).ok_or(KinematicsError::Singular {
+                    matrix: "actuation wrench",
+                    sigma_min: 0.0,
+                })?;
+                j_a.set_row(row, &w.transpose());
+                d[row] = reciprocal_product_vectors(&w, actuator);
+                row += 1;
+            }
             let mut all = passive;
-            all.push(actuator);
+            all.extend(actuated);
             constraints.extend(constraint_wrenches(&all));
         }
         let j_c = DMatrix::from_fn(constraints.len(), 6, |r, c| constraints[r][c]);
@@ -215,9 +225,10 @@ impl RobotModel {
         let l = self.characteristic_length;
         let inverse = (0..self.actuator_count())
             .map(|i| {
+                let (leg, actuator) = self.actuator(i);
                 let revolute = matches!(
-                    self.legs[i].actuator.map(|a| self.legs[i].joints[a]),
-                    Some(crate::chain::Joint::Revolute { .. })
+                    self.legs[leg].joints[actuator.joint],
+                    crate::chain::Joint::Revolute { .. }
                 );
                 jac.d[i].abs() / if revolute { l } else { 1.0 }
             })

@@ -271,7 +271,7 @@ fn group_points(
 }
 
 fn distance_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClass> {
-    let actuator = leg.actuator?;
+    let actuator = leg.sole_actuator()?.joint;
     let Joint::Prismatic { axis } = leg.joints[actuator] else {
         return None;
     };
@@ -291,7 +291,7 @@ fn distance_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<Le
 }
 
 fn arm_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClass> {
-    if leg.actuator != Some(0) {
+    if leg.sole_actuator().map(|a| a.joint) != Some(0) {
         return None;
     }
     let rest = &leg.joints[1..];

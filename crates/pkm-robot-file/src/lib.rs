@@ -60,7 +60,7 @@ mod svd;
 mod task_workspace;
 mod workspace;
 
-pub use chain::{Joint, LegChain};
+pub use chain::{Joint, LegActuator, LegChain};
 pub use closure::Configuration;
 pub use error::RobotFileError;
 pub use file::{

@@ -28,6 +28,37 @@ fn home_constraints(leg: &LegChain) -> Vec<Vector6<f64>> {
     constraint_wrenches(&twists)
 }
 
+/// In a leg with several actuators, each actuator's twist at home must be independent of the
+/// leg's other joint twists: else the actuation wrench that drives it does no work on it
+/// (two actuators in series along one line, say) and the leg's actuators cannot be driven
+/// independently.
+///
+/// # Errors
+/// [`RobotFileError::Invalid`] at the actuator's key path.
+fn check_independent_actuators(leg: &LegChain) -> Result<(), RobotFileError> {
+    if leg.actuators.len() < 2 {
+        return Ok(());
+    }
+    let twists = leg.twists(&leg.home_values()).twists;
+    let all = constraint_wrenches(&twists.iter().map(|t| t.1).collect::<Vec<_>>()).len();
+    for actuator in &leg.actuators {
+        let others: Vec<_> = twists
+            .iter()
+            .filter(|(j, _)| *j != actuator.joint)
+            .map(|t| t.1)
+            .collect();
+        if constraint_wrenches(&others).len() == all {
+            return Err(RobotFileError::invalid(
+                &actuator.name,
+                "actuated",
+                "its twist at home is a combination of the leg's other joint twists, so the \
+                 leg's actuators cannot be driven independently: actuate another joint",
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Whether `leg` has constraint wrenches at home (its joints span fewer than six twists).
 pub(crate) fn constrains(leg: &LegChain) -> bool {
     !home_constraints(leg).is_empty()
@@ -49,7 +80,7 @@ pub(crate) fn check_mobility(
     let mut per_leg = Vec::with_capacity(legs.len());
     for (i, leg) in legs.iter().enumerate() {
         let constraints = home_constraints(leg);
-        if leg.actuator.is_none() && constraints.is_empty() {
+        if leg.actuators.is_empty() && constraints.is_empty() {
             return Err(RobotFileError::invalid(
                 format!("legs[{i}]"),
                 leg.letters.as_str(),
@@ -57,6 +88,7 @@ pub(crate) fn check_mobility(
                  span every twist at home: drop it, or actuate one of its joints",
             ));
         }
+        check_independent_actuators(leg)?;
         per_leg.push(constraints.len());
         wrenches.extend(constraints);
     }

@@ -1,7 +1,7 @@
 //! The validated robot: legs expanded into elementary joints, symmetry applied, the name and
 //! the mobility checked, every leg classified for its inverse kinematics.
 
-use crate::chain::{Joint, LegChain};
+use crate::chain::{Joint, LegActuator, LegChain};
 use crate::error::RobotFileError;
 use crate::file::{JointSpec, JointType, LegSpec, MAX_LEGS, RobotFile};
 use crate::leg_ik::LegClass;
@@ -56,8 +56,12 @@ pub struct RobotModel {
     pub(crate) home: PoseCoordinates,
     pub(crate) home_pose: Isometry3<f64>,
     pub(crate) legs: Vec<LegChain>,
-    /// The number of actuated legs, the first ones (actuator `i` is leg `i`'s).
+    /// The number of actuated legs, the first ones.
     pub(crate) actuated: usize,
+    /// Actuator `i` as (leg, place among the leg's actuators): the legs in order, each leg's
+    /// actuated joints in joint order (actuator `i` is leg `i`'s when every actuated leg has
+    /// one).
+    pub(crate) actuators: Vec<(usize, usize)>,
     /// The legs with constraint wrenches at home (fewer than six freedoms): the ones whose
     /// closure determines the dependent coordinates.
     pub(crate) constraining: Vec<usize>,
@@ -130,14 +134,20 @@ impl RobotModel {
         let task: Vec<usize> = (0..6)
             .filter(|&k| roles[k] == CoordinateRole::Task)
             .collect();
-        if task.len() > actuated {
+        let actuators: Vec<(usize, usize)> = legs
+            .iter()
+            .enumerate()
+            .flat_map(|(i, leg)| (0..leg.actuators.len()).map(move |k| (i, k)))
+            .collect();
+        if task.len() > actuators.len() {
             return Err(RobotFileError::invalid(
                 "task",
                 &file.task,
                 format!(
-                    "{} task coordinates for {actuated} actuated legs: at least one actuator \
-                     per task coordinate",
+                    "{} task coordinates for {} actuators: at least one actuator per task \
+                     coordinate",
                     task.len(),
+                    actuators.len(),
                 ),
             ));
         }
@@ -159,6 +169,7 @@ impl RobotModel {
             home_pose,
             legs,
             actuated,
+            actuators,
             constraining,
             classes,
             characteristic_length,
@@ -198,14 +209,36 @@ impl RobotModel {
         self.task.len()
     }
 
-    /// Number of actuators: the actuated legs, the first legs (passive legs follow); at least
-    /// [`RobotModel::dof`], more for a redundantly actuated robot.
+    /// Number of actuators: the actuated joints of the actuated legs (the first legs; passive
+    /// legs follow); at least [`RobotModel::dof`], more for a redundantly actuated robot.
     pub fn actuator_count(&self) -> usize {
-        self.actuated
+        self.actuators.len()
     }
 
-    /// The legs, expanded into elementary joints: the actuated ones
-    /// ([`RobotModel::actuator_count`] of them, leg `i` driving actuator `i`), then the passive
+    /// Actuator `i`: its leg and its joint, home value and range.
+    ///
+    /// # Panics
+    /// Never for `i < actuator_count()`; callers index within it.
+    pub(crate) fn actuator(&self, i: usize) -> (usize, &LegActuator) {
+        let (leg, k) = self.actuators[i];
+        (leg, &self.legs[leg].actuators[k])
+    }
+
+    /// The name of each actuator in order: the key path of its joint (`legs[1].joints[0]`).
+    pub fn actuator_names(&self) -> Vec<&str> {
+        self.actuators
+            .iter()
+            .map(|&(leg, k)| self.legs[leg].actuators[k].name.as_str())
+            .collect()
+    }
+
+    /// Whether every actuated leg carries one actuator, so that actuator `i` is leg `i`'s.
+    pub(crate) fn one_actuator_per_leg(&self) -> bool {
+        self.actuators.len() == self.actuated
+    }
+
+    /// The legs, expanded into elementary joints: the actuated ones (the first legs; their
+    /// actuators numbered in order, see [`RobotModel::actuator_names`]), then the passive
     /// ones.
     pub fn legs(&self) -> &[LegChain] {
         &self.legs
@@ -239,12 +272,9 @@ impl RobotModel {
 
     /// The actuator coordinates at home (the offsets).
     pub fn home_actuators(&self) -> Vec<f64> {
-        self.actuated_legs().iter().map(|l| l.offset).collect()
-    }
-
-    /// The actuated legs (the first [`RobotModel::actuator_count`] legs).
-    pub(crate) fn actuated_legs(&self) -> &[LegChain] {
-        &self.legs[..self.actuated]
+        (0..self.actuator_count())
+            .map(|i| self.actuator(i).1.offset)
+            .collect()
     }
 
     /// The working mode of the home configuration.
@@ -331,9 +361,9 @@ impl RobotModel {
         self.classes
             .iter()
             .zip(&self.legs)
-            .map(|(class, leg)| match leg.actuator {
-                Some(_) => class.label(),
-                None => "passive (numerical)",
+            .map(|(class, leg)| match leg.actuators.len() {
+                0 => "passive (numerical)",
+                _ => class.label(),
             })
             .collect()
     }
@@ -499,38 +529,27 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
         letters.push(letter(spec.kind));
         joints.extend(elementary_joints(&key, spec)?);
     }
-    let (actuator, spec, key) = match actuated.as_slice() {
-        [] => {
-            return Ok(LegChain {
-                joints,
-                actuator: None,
-                offset: 0.0,
-                limits: None,
-                letters,
-            });
-        }
-        [one] => one,
-        _ => {
-            return Err(RobotFileError::invalid(
-                format!("legs[{i}]"),
-                actuated.len(),
-                "at most one joint per leg can be `actuated = true` (a leg with none is a \
-                 passive, constraining leg; several actuators in one leg are not supported)",
-            ));
-        }
-    };
-    if !matches!(spec.kind, JointType::R | JointType::P) {
-        return Err(RobotFileError::invalid(
-            format!("{key}.type"),
-            spec.kind,
-            "only an R or a P joint can be actuated",
-        ));
-    }
+    let actuators = actuated
+        .into_iter()
+        .map(|(joint, spec, key)| {
+            if !matches!(spec.kind, JointType::R | JointType::P) {
+                return Err(RobotFileError::invalid(
+                    format!("{key}.type"),
+                    spec.kind,
+                    "only an R or a P joint can be actuated",
+                ));
+            }
+            Ok(LegActuator {
+                joint,
+                offset: spec.offset,
+                limits: spec.limits,
+                name: key,
+            })
+        })
+        .collect::<Result<_, _>>()?;
     Ok(LegChain {
         joints,
-        actuator: Some(*actuator),
-        offset: spec.offset,
-        limits: spec.limits,
+        actuators,
         letters,
     })
 }
@@ -641,13 +660,16 @@ fn check_scalars(key: &str, spec: &JointSpec) -> Result<(), RobotFileError> {
 
 /// The points of a leg's joints (R points, S centres).
 /// The number of actuated legs, which must come first: a passive leg (no actuated joint)
-/// after every actuated one, so that actuator `i` is leg `i`'s.
+/// after every actuated one, so that the legs' order numbers the actuators.
 ///
 /// # Errors
 /// The first actuated leg that follows a passive one, or a robot without an actuated leg.
 fn actuated_legs(legs: &[LegChain]) -> Result<usize, RobotFileError> {
-    let actuated = legs.iter().take_while(|l| l.actuator.is_some()).count();
-    if let Some(late) = legs[actuated..].iter().position(|l| l.actuator.is_some()) {
+    let actuated = legs.iter().take_while(|l| !l.actuators.is_empty()).count();
+    if let Some(late) = legs[actuated..]
+        .iter()
+        .position(|l| !l.actuators.is_empty())
+    {
         return Err(RobotFileError::invalid(
             format!("legs[{}]", actuated + late),
             "actuated",

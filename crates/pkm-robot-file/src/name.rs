@@ -1,31 +1,32 @@
 //! The architecture name (`3-PRS`, `6-UPS`, `RR+RRR`) checked against the expanded joints.
 //!
 //! A name is terms joined by `+`, each `<n>-<chain>` (n identical legs) or a chain (one leg):
-//! `3-PRS`, `RR+RRR`, `2-UPR+SPR`, `3-UPS+UP`. The actuated joint may
-//! be marked by an underscore before its letter (`3-_PRS`) or a combining low line after it
-//! (`3-P̲RS`, U+0332); when marked, it must be the actuated joint.
+//! `3-PRS`, `RR+RRR`, `2-UPR+SPR`, `3-UPS+UP`. The actuated joints may
+//! be marked by an underscore before their letters (`3-_PRS`, `3-_P_PSR`) or a combining low
+//! line after them (`3-P̲RS`, U+0332); when a leg's joints are marked, the marked ones must be
+//! exactly its actuated ones.
 
 use crate::chain::LegChain;
 use crate::error::RobotFileError;
 
-/// One leg of a name: its letters and, if marked, the index of the actuated letter.
+/// One leg of a name: its letters and the indices of the marked (actuated) letters.
 #[derive(Debug, PartialEq)]
 struct NamedLeg {
     letters: String,
-    actuated: Option<usize>,
+    actuated: Vec<usize>,
 }
 
 fn parse_chain(chain: &str) -> Option<NamedLeg> {
     let mut letters = String::new();
-    let mut actuated = None;
+    let mut actuated = Vec::new();
     let mut mark_next = false;
     for c in chain.chars() {
         match c {
             '_' => mark_next = true,
-            '\u{332}' if !letters.is_empty() => actuated = Some(letters.chars().count() - 1),
+            '\u{332}' if !letters.is_empty() => actuated.push(letters.chars().count() - 1),
             'R' | 'P' | 'U' | 'S' | 'C' => {
                 if mark_next {
-                    actuated = Some(letters.chars().count());
+                    actuated.push(letters.chars().count());
                     mark_next = false;
                 }
                 letters.push(c);
@@ -51,7 +52,7 @@ fn parse_name(name: &str) -> Option<Vec<NamedLeg>> {
         let leg = parse_chain(chain.trim())?;
         legs.extend((0..count).map(|_| NamedLeg {
             letters: leg.letters.clone(),
-            actuated: leg.actuated,
+            actuated: leg.actuated.clone(),
         }));
     }
     Some(legs)
@@ -94,32 +95,33 @@ pub(crate) fn check_name(name: &str, legs: &[LegChain]) -> Result<(), RobotFileE
         if n.letters != leg.letters {
             return Err(mismatch());
         }
-        if n.actuated
-            .is_some_and(|k| letter_of_actuator(leg) != Some(k))
-        {
+        if !n.actuated.is_empty() && n.actuated != letters_of_actuators(leg) {
             return Err(mismatch());
         }
     }
     Ok(())
 }
 
-/// Index of the letter that holds the actuated elementary joint (a U spans two joints, a C two).
-fn letter_of_actuator(leg: &LegChain) -> Option<usize> {
+/// Indices of the letters that hold the actuated elementary joints, in order (a U spans two
+/// joints, a C two).
+fn letters_of_actuators(leg: &LegChain) -> Vec<usize> {
     let mut joint = 0;
+    let mut marked = Vec::new();
     for (k, c) in leg.letters.chars().enumerate() {
         let width = match c {
             'U' | 'C' => 2,
             _ => 1,
         };
         if leg
-            .actuator
-            .is_some_and(|a| (joint..joint + width).contains(&a))
+            .actuators
+            .iter()
+            .any(|a| (joint..joint + width).contains(&a.joint))
         {
-            return Some(k);
+            marked.push(k);
         }
         joint += width;
     }
-    None
+    marked
 }
 
 #[cfg(test)]
@@ -133,14 +135,20 @@ mod tests {
             parse_name("3-_PRS").and_then(|v| v.into_iter().next()),
             Some(NamedLeg {
                 letters: "PRS".into(),
-                actuated: Some(0)
+                actuated: vec![0]
             })
         );
         assert_eq!(
             parse_name("3-RP\u{332}R")
                 .and_then(|v| v.into_iter().next())
-                .and_then(|l| l.actuated),
-            Some(1)
+                .map(|l| l.actuated),
+            Some(vec![1])
+        );
+        assert_eq!(
+            parse_name("3-_P_PSR")
+                .and_then(|v| v.into_iter().next())
+                .map(|l| l.actuated),
+            Some(vec![0, 1])
         );
         assert_eq!(parse_name("RR+RRR").map(|v| v.len()), Some(2));
         assert_eq!(parse_name("2-UPR+SPR").map(|v| v.len()), Some(3));

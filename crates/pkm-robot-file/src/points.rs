@@ -15,7 +15,7 @@
 //!   \lvert P_b - P_a\rvert \le \lvert h_b - h_a\rvert + \textstyle\sum_k \lvert d_k\rvert, \tag{1}$$
 //! with equality to the home length when no P joint lies between them (a rigid link).
 
-use crate::chain::Joint;
+use crate::chain::{Joint, LegChain};
 use crate::closure::Configuration;
 use crate::model::RobotModel;
 use crate::pose::platform_pose;
@@ -115,12 +115,12 @@ impl RobotModel {
                     continue;
                 }
             };
-            let actuator = Some(j) == chain.actuator;
+            let actuator = chain.is_actuated(j);
             let spherical = matches!(joint, Joint::Spherical { .. });
             if stations.is_empty() && !pending.is_empty() {
                 stations.push(self.rail_origin(leg, &pending, point));
             }
-            let after_actuated_p = chain.actuator.is_some_and(|a| pending.contains(&a));
+            let after_actuated_p = pending.iter().any(|&k| chain.is_actuated(k));
             match stations.last_mut() {
                 Some(last) if pending.is_empty() && (last.home - point).norm() <= tolerance => {
                     last.actuator |= actuator;
@@ -157,9 +157,10 @@ impl RobotModel {
         let chain = &self.legs[leg];
         let mut origin = first;
         for &k in pending {
-            if let (true, Joint::Prismatic { axis }) = (Some(k) == chain.actuator, &chain.joints[k])
+            if let (Some(actuator), Joint::Prismatic { axis }) =
+                (chain.actuator_at(k), &chain.joints[k])
             {
-                origin -= axis * chain.offset;
+                origin -= axis * actuator.offset;
             }
         }
         Station {
@@ -242,7 +243,7 @@ impl RobotModel {
             .collect();
         Some(LegPoints {
             points,
-            segments: segments(&layout, self.legs[leg].actuator),
+            segments: segments(&layout, &self.legs[leg]),
         })
     }
 
@@ -323,11 +324,14 @@ impl RobotModel {
     pub fn leg_reach_ball(&self, leg: usize) -> Option<(Vector3<f64>, f64)> {
         let chain = self.legs.get(leg)?;
         let layout = self.leg_layout(leg);
-        let travel = |k: usize| match (Some(k) == chain.actuator, chain.limits) {
-            (true, Some([lo, hi])) => {
-                Some((lo - chain.offset).abs().max((hi - chain.offset).abs()))
-            }
-            _ => None,
+        let travel = |k: usize| {
+            let actuator = chain.actuator_at(k)?;
+            let [lo, hi] = actuator.limits?;
+            Some(
+                (lo - actuator.offset)
+                    .abs()
+                    .max((hi - actuator.offset).abs()),
+            )
         };
         let mut radius = 0.0;
         for pair in layout.windows(2) {
@@ -379,15 +383,15 @@ fn angle_between(a: &Vector3<f64>, b: &Vector3<f64>) -> Option<f64> {
         .then(|| a.cross(b).norm().atan2(a.dot(b)))
 }
 
-/// The segments between consecutive stations of a layout whose actuated joint is `actuator`.
-fn segments(layout: &[Station], actuator: Option<usize>) -> Vec<LegSegment> {
+/// The segments between consecutive stations of a layout of leg `chain`.
+fn segments(layout: &[Station], chain: &LegChain) -> Vec<LegSegment> {
     (1..layout.len())
         .map(|b| LegSegment {
             from: b - 1,
             to: b,
             prismatic: layout[b].prismatic.clone(),
             actuated: layout[b - 1].actuator
-                || actuator.is_some_and(|a| layout[b].prismatic.contains(&a)),
+                || layout[b].prismatic.iter().any(|&k| chain.is_actuated(k)),
             home_length: (layout[b].home - layout[b - 1].home).norm(),
         })
         .collect()

@@ -93,7 +93,7 @@ impl RobotModel {
             return Err(InvalidInput::new(
                 "q.len()",
                 q.len() as f64,
-                "must equal the number of legs",
+                "must equal the number of actuators",
             )
             .into());
         }
@@ -105,9 +105,14 @@ impl RobotModel {
                 c.pose = self.full_pose(x)?;
                 Ok::<_, KinematicsError>(c)
             })?;
-        for (i, &q_i) in q.iter().enumerate() {
-            let actuator = self.nearest_actuator(i, &config, q_i)?;
-            let motion = actuator - self.legs[i].offset;
+        for (a, &q_a) in q.iter().enumerate() {
+            let (i, actuator) = self.actuator(a);
+            if self.legs[i].actuators.len() > 1 {
+                // Several actuators: the leg is numerical, solved whole from home.
+                config.joints[i] = self.numeric_leg(i, &config)?;
+                continue;
+            }
+            let motion = self.nearest_actuator(a, &config, q_a)? - actuator.offset;
             config.joints[i] = self.passive_joints(i, motion, &config)?;
         }
         Ok(config)

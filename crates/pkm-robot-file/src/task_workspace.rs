@@ -270,9 +270,10 @@ impl RobotModel {
         }
         let l = self.characteristic_length;
         for (i, mut row) in j.row_iter_mut().enumerate() {
+            let (leg, actuator) = self.actuator(i);
             if matches!(
-                self.legs[i].actuator.map(|a| self.legs[i].joints[a]),
-                Some(Joint::Revolute { .. })
+                self.legs[leg].joints[actuator.joint],
+                Joint::Revolute { .. }
             ) {
                 row *= l;
             }

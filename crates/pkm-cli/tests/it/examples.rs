@@ -45,6 +45,7 @@ fn the_example_studies_are_valid() {
         "three_prs_reachable.toml",
         "exechon_reachable.toml",
         "four_rrr_reachable.toml",
+        "three_ppsr_constant_orientation.toml",
         "five_bar_reachable.toml",
         "stewart_gough_constant_orientation.toml",
         "stewart_gough_dexterous.toml",
@@ -88,7 +89,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        24,
+        25,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -76,6 +76,11 @@ class Mechanism:
     def joints(self) -> int:
         """The number of actuated joints (3, or 6 for the Stewart–Gough platform)."""
     @property
+    def actuators(self) -> Optional[List[str]]:
+        """The name of each actuator of a robot file, the columns of every joint array: the key
+        path of its joint (``"legs[0].joints[1]"``; a leg may carry several); ``None`` for a
+        built-in mechanism."""
+    @property
     def variables(self) -> List[str]:
         """The design variables a sweep may vary."""
     @property

@@ -428,3 +428,84 @@ fn redundant_four_rrr_kinematics_and_force_distribution() {
         .unwrap();
     assert!(!refused.held && refused.imbalance > 1.0, "{refused:?}");
 }
+
+/// The 3-PPSR's stage points $S_i = (s_x, s_y, 0)$ at pose `x` = (p, rotation vector), by
+/// hand: the platform joint $C_i = p + R c_i$ with axis $u = R u_i$; $S_i$ lies on the base
+/// plane, in the plane through $C_i$ normal to $u$ (the link is normal to its revolute axis)
+/// and at the link length from $C_i$, on the outward branch.
+fn three_ppsr_ik(x: &nalgebra::Vector6<f64>) -> nalgebra::Vector6<f64> {
+    let (rb, rp, h) = (0.35, 0.15, 0.4);
+    let length = (0.2_f64.powi(2) + h * h).sqrt();
+    let p = Vector3::new(x[0], x[1], x[2]);
+    let r = Rotation3::new(Vector3::new(x[3], x[4], x[5]));
+    let mut q = nalgebra::Vector6::zeros();
+    for k in 0..3 {
+        let a = (90.0 + 120.0 * k as f64).to_radians();
+        let (c, s) = (a.cos(), a.sin());
+        let joint = p + r * Vector3::new(rp * c, rp * s, 0.0);
+        let u = r * Vector3::new(-s, c, 0.0);
+        // The line {S : S_z = 0, (S − C)·u = 0}: its point nearest C, and its direction.
+        let horizontal = u.x * u.x + u.y * u.y;
+        let foot = Vector3::new(joint.x, joint.y, 0.0)
+            + Vector3::new(u.x, u.y, 0.0) * (u.z * joint.z / horizontal);
+        let along = Vector3::new(-u.y, u.x, 0.0) / horizontal.sqrt();
+        let t = -(length * length - (foot - joint).norm_squared()).sqrt();
+        let stage = foot + along * t;
+        assert!((stage.norm() - rb).abs() < 0.2, "far from home: {stage}");
+        q[2 * k] = stage.x;
+        q[2 * k + 1] = stage.y;
+    }
+    q
+}
+
+/// Issue 33: several actuators in one leg, a 3-PPSR on planar XY stages (`three_ppsr.toml`,
+/// six actuators in three legs): the actuators named by their joints, the IK against the
+/// closed form, the 6 × 6 J against central differences of it, the forward kinematics from
+/// the actuator values back to the pose, and the singularity margins finite and positive.
+#[test]
+fn three_ppsr_two_actuators_per_leg() {
+    use nalgebra::{DMatrix, Matrix6, Vector6};
+    let model = common::robot("three_ppsr.toml");
+    assert_eq!((model.dof(), model.actuator_count()), (6, 6));
+    assert_eq!(
+        model.actuator_names(),
+        [
+            "legs[0].joints[0]",
+            "legs[0].joints[1]",
+            "legs[1].joints[0]",
+            "legs[1].joints[1]",
+            "legs[2].joints[0]",
+            "legs[2].joints[1]"
+        ]
+    );
+    let mode = model.home_mode();
+    let home = model.inverse_kinematics(&model.home_task(), mode).unwrap();
+    let home_q = Vector6::from_column_slice(&model.home_actuators());
+    assert!((&home - home_q).amax() < 1e-12, "{home} vs {home_q}");
+    let x = Vector6::new(0.02, -0.03, 0.43, 0.05, -0.04, 0.1);
+    let q = model.inverse_kinematics(x.as_slice(), mode).unwrap();
+    let closed = three_ppsr_ik(&x);
+    assert!((&q - closed).amax() < 1e-10, "IK {q} vs {closed}");
+    let config = model
+        .inverse_kinematics_configuration(x.as_slice(), mode)
+        .unwrap();
+    let j = model.screw_jacobians(&config).unwrap().j;
+    let h = 1e-6;
+    let j_fd = Matrix6::from_fn(|i, k| {
+        let mut e = Vector6::zeros();
+        e[k] = h;
+        (three_ppsr_ik(&(x + e))[i] - three_ppsr_ik(&(x - e))[i]) / (2.0 * h)
+    });
+    assert!(
+        (&j - DMatrix::from_column_slice(6, 6, j_fd.as_slice())).amax() < 1e-7,
+        "J {j} vs {j_fd}"
+    );
+    let mut seed = model
+        .inverse_kinematics_configuration(&model.home_task(), mode)
+        .unwrap();
+    seed = model.forward_kinematics_from(q.as_slice(), &seed).unwrap();
+    let back = Vector6::from_column_slice(&seed.pose());
+    assert!((back - x).amax() < 1e-10, "FK {back} vs {x}");
+    let margins = model.singularity_margins(&config).unwrap();
+    assert!(margins.inverse > 0.0 && margins.direct > 0.0, "{margins:?}");
+}

@@ -51,10 +51,6 @@ fn malformed_files_are_typed_errors() {
         ),
         ("actuated = true }", "actuated = false }"),
         (
-            "point = [-0.2, 0.16, 0.0] }",
-            "point = [-0.2, 0.16, 0.0], actuated = true }",
-        ),
-        (
             "type = \"R\", axis = [0.0, 0.0, 1.0], point = [-0.2",
             "type = \"S\", axis = [0.0, 0.0, 1.0], point = [-0.2",
         ),
@@ -394,13 +390,25 @@ fn passive_leg_mistakes_are_refused_with_their_key() {
         "legs[3]",
         "must constrain",
     );
-    // Two actuators in one leg.
-    let two = text.replacen(
+    // An actuated S joint.
+    let ball = text.replacen(
         "{ type = \"S\", point",
         "{ type = \"S\", actuated = true, point",
         1,
     );
-    refused(&two, "legs[0]", "at most one joint");
+    refused(&ball, "legs[0].joints[2].type", "only an R or a P");
+    // A second actuator in series with the first along its line (the Tricept's slider on the
+    // passive leg's line, made an actuated leg of its own with two coaxial P joints).
+    let coaxial = text.replace(
+        "  { type = \"P\", axis = [0.0, 0.0, 1.0] },\n]",
+        "  { type = \"P\", axis = [0.0, 0.0, 1.0], actuated = true, offset = 0.6 },\n  \
+         { type = \"P\", axis = [0.0, 0.0, 1.0], actuated = true, offset = 0.0 },\n]",
+    );
+    refused(
+        &coaxial.replace("3-UPS+UP", "3-UPS+UPP"),
+        "legs[3].joints[1]",
+        "cannot be driven independently",
+    );
     // Four actuators for three task coordinates: a redundantly actuated robot, accepted.
     let four = text.replace(
         "{ type = \"P\", axis = [0.0, 0.0, 1.0] }",
@@ -413,7 +421,7 @@ fn passive_leg_mistakes_are_refused_with_their_key() {
         "axis = [0.0, -0.3, 0.8], actuated = true, offset = 0.8544003745317531, limits = [0.5, 1.2] }",
         "axis = [0.0, -0.3, 0.8] }",
     );
-    refused(&short, "task", "2 actuated legs");
+    refused(&short, "task", "2 actuators");
 }
 
 /// A configuration of another robot, and non-finite or absurd inputs to the functions added
