@@ -102,13 +102,24 @@ impl RobotModel {
         result
     }
 
-    /// [`RobotModel::solve_dependent`] without the memo.
+    /// [`RobotModel::solve_dependent`] without the memo: in closed form by the pointing leg
+    /// when there is one (see [`crate::pointing`]), else by damped Newton.
     fn solve_dependent_from(
         &self,
-        config: Configuration,
+        mut config: Configuration,
         pose: PoseCoordinates,
         dependent: Vec<usize>,
     ) -> Result<Configuration, KinematicsError> {
+        let position = Vector3::new(pose[0], pose[1], pose[2]);
+        let pointed = self
+            .pointing
+            .and_then(|p| Some((p.leg, p.solve(&position, &self.home_pose.rotation.into())?)));
+        if let Some((leg, pointing)) = pointed {
+            let o = self.orientation.coordinates_of(&pointing.rotation);
+            config.pose[3..].copy_from_slice(o.as_slice());
+            config.joints[leg] = pointing.joints.map(JointValue::Scalar).to_vec();
+            return Ok(config);
+        }
         // Only the legs with constraint wrenches determine the dependent coordinates: a leg of
         // six freedoms (a UPS) closes at any pose within its reach, which its own solve checks.
         let problem = ClosureProblem {
@@ -151,6 +162,10 @@ impl RobotModel {
         let target = platform_pose(self.orientation, &config.pose);
         for i in 0..self.legs.len() {
             config.joints[i] = match self.classes[i] {
+                // The pointing leg was solved with the pose.
+                LegClass::Numeric if self.pointing.is_some_and(|p| p.leg == i) => {
+                    config.joints[i].clone()
+                }
                 LegClass::Numeric => self.numeric_leg(i, &config)?,
                 class => {
                     let motion = class.solve(&target, mode.branch(i)).map_err(|e| {

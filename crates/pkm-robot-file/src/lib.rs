@@ -51,6 +51,7 @@ mod mobility;
 mod model;
 mod name;
 mod parameters;
+mod pointing;
 mod points;
 mod pose;
 mod redundancy;

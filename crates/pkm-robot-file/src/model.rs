@@ -5,6 +5,7 @@ use crate::chain::{Joint, LegActuator, LegChain};
 use crate::error::RobotFileError;
 use crate::file::{JointSpec, JointType, LegSpec, MAX_LEGS, RobotFile};
 use crate::leg_ik::LegClass;
+use crate::pointing::PointingLeg;
 use crate::pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3};
 
@@ -65,6 +66,9 @@ pub struct RobotModel {
     /// The legs with constraint wrenches at home (fewer than six freedoms): the ones whose
     /// closure determines the dependent coordinates.
     pub(crate) constraining: Vec<usize>,
+    /// The passive pointing leg that gives the dependent orientation from the position in
+    /// closed form, when it is the one constraining leg (the Tricept's).
+    pub(crate) pointing: Option<PointingLeg>,
     pub(crate) classes: Vec<LegClass>,
     pub(crate) characteristic_length: f64,
     /// Size of the robot (m): the largest distance of a joint point from the home platform
@@ -84,7 +88,7 @@ pub struct RobotModel {
 pub(crate) struct Identity(pub(crate) u64);
 
 impl Identity {
-    fn fresh() -> Self {
+    pub(crate) fn fresh() -> Self {
         static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         Self(NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
     }
@@ -157,9 +161,17 @@ impl RobotModel {
             .iter()
             .map(|leg| LegClass::classify(leg, &home_pose, size))
             .collect::<Vec<_>>();
-        let constraining = (0..legs.len())
+        let constraining: Vec<usize> = (0..legs.len())
             .filter(|&i| crate::mobility::constrains(&legs[i]))
             .collect();
+        let orientation_follows_position = roles[..3].iter().all(|r| *r == CoordinateRole::Task)
+            && roles[3..].iter().all(|r| *r == CoordinateRole::Dependent);
+        let pointing = match constraining.as_slice() {
+            [i] if orientation_follows_position => {
+                PointingLeg::detect(*i, &legs[*i], &home_pose.translation.vector, size)
+            }
+            _ => None,
+        };
         let mut model = Self {
             name: file.name.clone(),
             orientation: file.orientation,
@@ -171,6 +183,7 @@ impl RobotModel {
             actuated,
             actuators,
             constraining,
+            pointing,
             classes,
             characteristic_length,
             size,
@@ -356,12 +369,15 @@ impl RobotModel {
 
     /// Name of each leg's inverse-kinematic solution (`distance`, `revolute arm`,
     /// `prismatic arm`, `numerical`; `passive (numerical)` for a leg without an actuator, whose
-    /// joints are solved by damped Newton).
+    /// joints are solved by damped Newton; `passive (pointing)` for a passive U + P leg that
+    /// gives the dependent orientation from the position in closed form, as the Tricept's).
     pub fn leg_solvers(&self) -> Vec<&'static str> {
         self.classes
             .iter()
             .zip(&self.legs)
-            .map(|(class, leg)| match leg.actuators.len() {
+            .enumerate()
+            .map(|(i, (class, leg))| match leg.actuators.len() {
+                0 if self.pointing.is_some_and(|p| p.leg == i) => "passive (pointing)",
                 0 => "passive (numerical)",
                 _ => class.label(),
             })
