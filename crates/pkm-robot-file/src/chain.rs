@@ -6,6 +6,7 @@
 //! A spherical joint is one joint with a rotation as its value (no three-angle gimbal), so its
 //! twists always span the rotations about its centre.
 
+use crate::mass::Body;
 use nalgebra::{Isometry3, Rotation3, Translation3, Unit, Vector3, Vector6};
 
 /// An elementary joint of a leg, at the home pose (base frame).
@@ -110,6 +111,9 @@ pub struct LegActuator {
     pub limits: Option<[f64; 2]>,
     /// The key path of the joint in the file (`legs[1].joints[2]`), the actuator's name.
     pub name: String,
+    /// The motor rotor's inertia reflected to the joint, `rotor_inertia * gear_ratio²`
+    /// (kg m² for R, kg for P); 0 without a rotor.
+    pub reflected_inertia: f64,
 }
 
 /// One leg: its elementary joints and its actuators.
@@ -123,6 +127,9 @@ pub struct LegChain {
     pub actuators: Vec<LegActuator>,
     /// The joint letters as written (`UPS`), for the name check.
     pub letters: String,
+    /// The leg's massive bodies (links and point masses), each with the number of joints
+    /// that move it; one moved by every joint rides on the platform.
+    pub bodies: Vec<Body>,
 }
 
 /// Twists of a leg's joint coordinates at a configuration, and its displacement.
@@ -131,6 +138,9 @@ pub(crate) struct LegTwists {
     pub displacement: Isometry3<f64>,
     /// One entry per coordinate: the joint index and the unit twist `[ω; v_O]` (space frame).
     pub twists: Vec<(usize, Vector6<f64>)>,
+    /// The displacement of the first `j + 1` joints, for each joint `j` (the last is
+    /// `displacement`).
+    pub prefixes: Vec<Isometry3<f64>>,
 }
 
 impl LegChain {
@@ -162,15 +172,18 @@ impl LegChain {
     pub(crate) fn twists(&self, values: &[JointValue]) -> LegTwists {
         let mut prefix = Isometry3::identity();
         let mut twists = Vec::with_capacity(self.joints.len() + 2);
+        let mut prefixes = Vec::with_capacity(self.joints.len());
         for (j, (joint, value)) in self.joints.iter().zip(values).enumerate() {
             for twist in joint.home_twists().into_iter().flatten() {
                 twists.push((j, adjoint(&prefix, &twist)));
             }
             prefix *= joint.displacement(value);
+            prefixes.push(prefix);
         }
         LegTwists {
             displacement: prefix,
             twists,
+            prefixes,
         }
     }
 
@@ -216,7 +229,9 @@ mod tests {
                 offset: 0.0,
                 limits: None,
                 name: "legs[0].joints[1]".into(),
+                reflected_inertia: 0.0,
             }],
+            bodies: vec![],
             letters: "RPS".into(),
         };
         let values = [

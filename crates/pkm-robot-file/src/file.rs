@@ -46,6 +46,13 @@ pub struct RobotFile {
     pub home: HomeSpec,
     /// Repeat the listed legs `count` times about an axis.
     pub symmetry: Option<SymmetrySpec>,
+    /// Gravitational acceleration in the base frame (m/s²), for the dynamics: `[0, 0, -9.81]`
+    /// with z up, `[0, 0, 0]` to switch it off. No default: the dynamics refuses a file
+    /// without it.
+    #[serde(default, deserialize_with = "fields::optional_vector")]
+    pub gravity: Option<[f64; 3]>,
+    /// The platform's mass properties, for the dynamics.
+    pub platform: Option<BodySpec>,
     /// The legs (the template when `symmetry` is given).
     pub legs: Vec<LegSpec>,
 }
@@ -87,6 +94,28 @@ fn z_axis() -> [f64; 3] {
 pub struct LegSpec {
     /// Joints from the base to the platform.
     pub joints: Vec<JointSpec>,
+    /// Mass properties of the links for the dynamics: link `m` is the body between joints
+    /// `m` and `m + 1` (one fewer than the joints, or none for a massless leg).
+    #[serde(default)]
+    pub links: Vec<BodySpec>,
+}
+
+/// Mass properties of one rigid body at the home pose, in the base frame.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Mass (kg), at least 0.
+    #[serde(deserialize_with = "fields::scalar")]
+    pub mass: f64,
+    /// Centre of mass at home (m, base frame); default the platform origin for the platform
+    /// and the midpoint of the link's two joint points for a link.
+    #[serde(default, deserialize_with = "fields::optional_vector")]
+    pub center_of_mass: Option<[f64; 3]>,
+    /// Inertia tensor about the centre of mass, base axes at home (kg m²), symmetric positive
+    /// semidefinite with principal moments obeying the triangle inequality; default zero (a
+    /// point mass).
+    #[serde(default, deserialize_with = "fields::optional_matrix")]
+    pub inertia: Option<[[f64; 3]; 3]>,
 }
 
 /// The joint letters of an architecture name.
@@ -129,6 +158,17 @@ pub struct JointSpec {
     /// Actuator range `[min, max]` (rad or m), checked by the inverse kinematics.
     #[serde(default, deserialize_with = "fields::optional_pair")]
     pub limits: Option<[f64; 2]>,
+    /// A point mass (kg) at the joint's point (R, U, S, C), carried by the body after the joint
+    /// (Miller lumps the Delta's elbows so).
+    #[serde(default, deserialize_with = "fields::optional_scalar")]
+    pub mass: Option<f64>,
+    /// Rotor inertia of the actuator's motor (kg m²), actuated joints only.
+    #[serde(default, deserialize_with = "fields::optional_scalar")]
+    pub rotor_inertia: Option<f64>,
+    /// Transmission ratio: motor rad per joint rad (R) or per joint m (P); default 1. The
+    /// rotor adds `rotor_inertia * gear_ratio²` to the joint's inertia.
+    #[serde(default, deserialize_with = "fields::optional_scalar")]
+    pub gear_ratio: Option<f64>,
 }
 
 /// The `[parameters]` table alone (every other key ignored): read before the rest of the file,

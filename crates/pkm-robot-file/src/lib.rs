@@ -40,6 +40,7 @@ mod readme {}
 mod chain;
 mod closed_form;
 mod closure;
+mod dynamics;
 mod error;
 mod file;
 mod fk;
@@ -47,6 +48,7 @@ mod ik;
 mod jacobian;
 mod leg_ik;
 mod lm;
+mod mass;
 mod mobility;
 mod model;
 mod name;
@@ -63,6 +65,7 @@ mod workspace;
 
 pub use chain::{Joint, LegActuator, LegChain};
 pub use closure::Configuration;
+pub use dynamics::{DynamicsError, InverseDynamics};
 pub use error::RobotFileError;
 pub use file::{
     HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, MAX_LEGS, RobotFile, SymmetrySpec,
@@ -71,6 +74,7 @@ pub use file::{
 pub use fk::{AssemblyMode, EnumerationSettings};
 pub use jacobian::{ScrewJacobians, SingularityMargins};
 pub use lm::SolverSettings;
+pub use mass::{Body, MassProperties};
 pub use model::{MAX_JOINTS_PER_LEG, MIN_CHARACTERISTIC_LENGTH, RobotModel, WorkingMode};
 pub use points::{LegPoint, LegPointKind, LegPoints, LegSegment};
 pub use pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};

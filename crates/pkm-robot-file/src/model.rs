@@ -5,6 +5,7 @@ use crate::chain::{Joint, LegActuator, LegChain};
 use crate::error::RobotFileError;
 use crate::file::{JointSpec, JointType, LegSpec, MAX_LEGS, RobotFile};
 use crate::leg_ik::LegClass;
+use crate::mass::MassProperties;
 use crate::pointing::PointingLeg;
 use crate::pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3};
@@ -76,6 +77,8 @@ pub struct RobotModel {
     pub(crate) size: f64,
     pub(crate) home_mode: WorkingMode,
     pub(crate) twist_system: Vec<[f64; 6]>,
+    /// Gravity and the platform's mass properties (the legs carry their bodies).
+    pub(crate) mass: MassProperties,
     /// Which load this model comes from, for the memo of its dependent coordinates.
     pub(crate) identity: Identity,
 }
@@ -172,6 +175,7 @@ impl RobotModel {
             }
             _ => None,
         };
+        let mass = mass_properties(file, &home_pose)?;
         let mut model = Self {
             name: file.name.clone(),
             orientation: file.orientation,
@@ -189,6 +193,7 @@ impl RobotModel {
             size,
             home_mode: WorkingMode::default(),
             twist_system,
+            mass,
             identity: Identity::fresh(),
         };
         model.home_mode = model.mode_of_home();
@@ -362,6 +367,12 @@ impl RobotModel {
         Ok(mode)
     }
 
+    /// Gravity and the platform's mass properties, as the file gives them (the legs' bodies
+    /// are in [`RobotModel::legs`]).
+    pub fn mass_properties(&self) -> &MassProperties {
+        &self.mass
+    }
+
     /// An orthonormal basis `[ω; v_O]` of the platform twist system at home.
     pub fn home_twist_system(&self) -> &[[f64; 6]] {
         &self.twist_system
@@ -459,6 +470,27 @@ fn unit_vector(key: &str, v: &[f64; 3]) -> Result<Vector3<f64>, RobotFileError> 
     }
 }
 
+/// Gravity and the platform body of the file, validated.
+fn mass_properties(
+    file: &RobotFile,
+    home: &Isometry3<f64>,
+) -> Result<MassProperties, RobotFileError> {
+    let gravity = match file.gravity {
+        Some(g) => Some(finite_vector("gravity", &g, 1e3)?),
+        None => None,
+    };
+    let platform = match &file.platform {
+        Some(spec) => Some(crate::mass::body(
+            "platform",
+            spec,
+            0,
+            home.translation.vector,
+        )?),
+        None => None,
+    };
+    Ok(MassProperties { gravity, platform })
+}
+
 /// The legs of the file, with the symmetry applied.
 fn expand_legs(file: &RobotFile) -> Result<Vec<LegChain>, RobotFileError> {
     if file.legs.is_empty() {
@@ -520,6 +552,7 @@ fn rotated_leg(leg: &LegChain, r: &Rotation3<f64>, c: &Vector3<f64>) -> LegChain
         .collect();
     LegChain {
         joints,
+        bodies: leg.bodies.iter().map(|b| b.rotated(r, c)).collect(),
         ..leg.clone()
     }
 }
@@ -537,6 +570,7 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
     let mut joints = Vec::new();
     let mut letters = String::new();
     let mut actuated = Vec::new();
+    let mut ends = Vec::with_capacity(leg.joints.len());
     for (k, spec) in leg.joints.iter().enumerate() {
         let key = format!("{key}[{k}]");
         if spec.actuated {
@@ -544,7 +578,9 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
         }
         letters.push(letter(spec.kind));
         joints.extend(elementary_joints(&key, spec)?);
+        ends.push(joints.len());
     }
+    let bodies = crate::mass::leg_bodies(i, leg, &ends)?;
     let actuators = actuated
         .into_iter()
         .map(|(joint, spec, key)| {
@@ -559,6 +595,7 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
                 joint,
                 offset: spec.offset,
                 limits: spec.limits,
+                reflected_inertia: crate::mass::reflected_inertia(&key, spec)?,
                 name: key,
             })
         })
@@ -567,6 +604,7 @@ fn leg_chain(i: usize, leg: &LegSpec) -> Result<LegChain, RobotFileError> {
         joints,
         actuators,
         letters,
+        bodies,
     })
 }
 
@@ -669,6 +707,20 @@ fn check_scalars(key: &str, spec: &JointSpec) -> Result<(), RobotFileError> {
                 [lo, hi],
                 "limits are read for the actuated joint only",
             ));
+        }
+    }
+    if !spec.actuated {
+        for (field, given) in [
+            ("rotor_inertia", spec.rotor_inertia),
+            ("gear_ratio", spec.gear_ratio),
+        ] {
+            if let Some(v) = given {
+                return Err(RobotFileError::invalid(
+                    format!("{key}.{field}"),
+                    v,
+                    "a rotor belongs to an actuated joint",
+                ));
+            }
         }
     }
     Ok(())

@@ -200,6 +200,14 @@ pub(crate) mod fields {
         Ok(axes.map(|a| a.0.map(|v| v.0.map(|n| n.0))))
     }
 
+    /// An optional 3 × 3 matrix (an inertia tensor), rows of three, exactly.
+    pub(crate) fn optional_matrix<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[[f64; 3]; 3]>, D::Error> {
+        let rows = Option::<Exactly<Numbers<3>, 3>>::deserialize(d)?;
+        Ok(rows.map(|m| m.0.map(|v| v.0.map(|n| n.0))))
+    }
+
     /// An optional pair (actuator limits), exactly.
     pub(crate) fn optional_pair<'de, D: Deserializer<'de>>(
         d: D,

@@ -170,6 +170,7 @@ mod tests {
             ],
             actuators: vec![],
             letters: "UP".into(),
+            bodies: vec![],
         };
         let p0 = base + slide * 0.6;
         let pointing = PointingLeg::detect(0, &leg, &p0, 1.0).unwrap();

@@ -7,6 +7,7 @@ mod acceptance_modes;
 mod agreement;
 mod common;
 mod conformance;
+mod dynamics;
 mod files;
 mod hostile;
 mod mode_labels;

@@ -1,0 +1,629 @@
+//! Inverse dynamics of any robot file with mass properties (issue 31), in two formulations
+//! that must agree:
+//!
+//! - **Extended space with Lagrange multipliers** (Miller 2004 §3, generalised to any leg
+//!   chain): every leg is a serial chain cut from the platform, every joint coordinate a
+//!   coordinate of its own, and the closure of leg $i$ holds by a multiplier wrench
+//!   $\lambda_i$ (what the leg exerts on the platform). Joint coordinate $j$ of leg $i$ with
+//!   twist $\xi_{ij}$ balances (eq. D1)
+//!   $$\tau_{ij} = Q_{ij} + \xi_{ij}\cdot\lambda_i,\qquad Q_{ij} = \sum_{b \succ j} \xi_{ij}\cdot W_b + I_{r}\ddot\theta_{ij},$$
+//!   with $\tau_{ij} = 0$ for a passive coordinate, $W_b$ the wrench body $b$ needs (its
+//!   inertia and weight) summed over the leg's bodies beyond the joint, and $I_r$ a reflected
+//!   rotor inertia; the platform balances $\sum_i \lambda_i = W_P$ (eq. D2). The linear
+//!   system in $(\lambda, \tau)$ is solved by least squares (the multipliers of an
+//!   overconstrained robot are not unique; its efforts are).
+//! - **Virtual work**: the power of the efforts equals the power the bodies need for every
+//!   admissible velocity, so with $V_b^k$ the twist of body $b$ per unit rate of task
+//!   coordinate $k$, (eq. D3)
+//!   $$J^\top\tau = Q,\qquad Q_k = \sum_b W_b\cdot V_b^k + \sum_a I_{r,a}\ddot\theta_a\,\dot\theta_a^k,$$
+//!   with $J_{ak} = \dot\theta_a^k$; for more actuators than task coordinates the efforts of
+//!   least norm.
+//!
+//! Both take the same motion of every coordinate, solved from the task motion
+//! $(x, \dot x, \ddot x)$: the configuration by the inverse kinematics; the rates of the
+//! dependent pose coordinates and of every joint from the differentiated closure of each leg,
+//! $\sum_j c_{ij}\dot\theta_{ij} = H(c)\,\dot c$ (columns $c_{ij} = [\omega_{ij};\ v_{ij} +
+//! \omega_{ij}\times p]$, $H$ the pose-coordinate rates of [`crate::pose`]); the accelerations
+//! from its derivative $\sum_j (c_{ij}\ddot\theta_{ij} + \dot c_{ij}\dot\theta_{ij}) = H\ddot
+//! c + \dot H\dot c$, where $\dot\xi_{ij} = \sum_{l \prec j}\dot\theta_{il}[\xi_{il},
+//! \xi_{ij}]$ with the Lie bracket $[\xi_1, \xi_2] = [\omega_1\times\omega_2;\ \omega_1\times
+//! v_2 - \omega_2\times v_1]$, and $\dot H\dot c$, the derivative of the orientation rates
+//! along $\dot c$, is a fourth-order central difference (step 1e-3 rad, error below 1e-11 of
+//! $\lvert\dot c\rvert^2$).
+//!
+//! A body with centre $c$, inertia $I$ (both moved with it), twist $[\omega; v_O]$ and its
+//! derivative needs $F = m(a_c - g)$ with $a_c = \dot v_O + \dot\omega\times c +
+//! \omega\times(v_O + \omega\times c)$, and $M_O = I\dot\omega + \omega\times I\omega +
+//! c\times F$ (Newton–Euler about its centre, moved to O).
+
+use crate::chain::stack;
+use crate::closure::Configuration;
+use crate::mass::Body;
+use crate::model::{RobotModel, WorkingMode};
+use crate::pose::{CoordinateRole, hybrid_rates, platform_pose};
+use nalgebra::{DMatrix, DVector, Isometry3, Point3, Vector3, Vector6};
+use pkm_traits::KinematicsError;
+use thiserror::Error;
+
+/// Why the dynamics of a robot file cannot be computed.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum DynamicsError {
+    /// The file lacks what the dynamics needs.
+    #[error(
+        "the robot file has no `{0}`: the dynamics needs it (`gravity = [0.0, 0.0, -9.81]` \
+         with z up, `[0.0, 0.0, 0.0]` to switch it off; masses in `[platform]`, `links` and \
+         joint `mass`, see docs/robots.md)"
+    )]
+    Missing(&'static str),
+    /// The task motion is not one of this robot (wrong length, not finite).
+    #[error("{what}: {reason}")]
+    Motion {
+        /// Which input.
+        what: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The configuration is singular (within 1e-9 of an inverse or direct singularity):
+    /// efforts there would be huge or undefined.
+    #[error(
+        "singular configuration (inverse margin {inverse:.3e}, direct margin {direct:.3e}): \
+         the efforts are unbounded there"
+    )]
+    Singular {
+        /// The inverse-kinematic margin.
+        inverse: f64,
+        /// The direct-kinematic margin.
+        direct: f64,
+    },
+    /// A kinematic failure (out of reach, not converged).
+    #[error(transparent)]
+    Kinematics(#[from] KinematicsError),
+}
+
+/// The actuator efforts at one sample, by both formulations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InverseDynamics {
+    /// Actuator efforts by virtual work (N for a prismatic actuator, N·m for a revolute one),
+    /// in the order of [`RobotModel::actuator_names`].
+    pub efforts: DVector<f64>,
+    /// The same by the extended space with multipliers.
+    pub efforts_multipliers: DVector<f64>,
+    /// The multiplier wrench $\lambda_i = [f; m_O]$ each leg exerts on the platform.
+    pub multipliers: Vec<Vector6<f64>>,
+    /// The actuator rates $\dot q$ (rad/s or m/s).
+    pub actuator_rates: DVector<f64>,
+    /// Kinetic energy (J).
+    pub kinetic_energy: f64,
+    /// Potential energy of gravity (J), zero at the base origin.
+    pub potential_energy: f64,
+}
+
+/// The rates and accelerations of every coordinate at one sample.
+struct Motion {
+    config: Configuration,
+    /// $\dot c$, $\ddot c$ of the six pose coordinates.
+    pose_rate: Vector6<f64>,
+    pose_acceleration: Vector6<f64>,
+    /// Per leg, per coordinate.
+    joint_rates: Vec<Vec<f64>>,
+    joint_accelerations: Vec<Vec<f64>>,
+}
+
+/// A body's state: where it is and how it moves.
+struct BodyState {
+    mass: f64,
+    center: Vector3<f64>,
+    inertia: nalgebra::Matrix3<f64>,
+    twist: Vector6<f64>,
+    acceleration: Vector6<f64>,
+}
+
+/// $[\xi_1, \xi_2]$ of twists `[ω; v]`.
+fn bracket(a: &Vector6<f64>, b: &Vector6<f64>) -> Vector6<f64> {
+    let (wa, va) = split(a);
+    let (wb, vb) = split(b);
+    stack(&wa.cross(&wb), &(wa.cross(&vb) - wb.cross(&va)))
+}
+
+fn split(s: &Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    (s.fixed_rows::<3>(0).into(), s.fixed_rows::<3>(3).into())
+}
+
+/// The power of wrench `w = [f; m_O]` on twist `t = [ω; v_O]`.
+fn power(w: &Vector6<f64>, t: &Vector6<f64>) -> f64 {
+    let (f, m) = split(w);
+    let (omega, v) = split(t);
+    f.dot(&v) + m.dot(&omega)
+}
+
+impl BodyState {
+    fn place(
+        body: &Body,
+        g: &Isometry3<f64>,
+        twist: Vector6<f64>,
+        acceleration: Vector6<f64>,
+    ) -> Self {
+        let r = g.rotation.to_rotation_matrix();
+        Self {
+            mass: body.mass,
+            center: (g * Point3::from(body.center)).coords,
+            inertia: r.matrix() * body.inertia * r.matrix().transpose(),
+            twist,
+            acceleration,
+        }
+    }
+
+    /// The wrench `[F; M_O]` the body needs for its motion under `gravity`.
+    fn wrench(&self, gravity: &Vector3<f64>) -> Vector6<f64> {
+        let (omega, v_o) = split(&self.twist);
+        let (alpha, a_o) = split(&self.acceleration);
+        let c = self.center;
+        let v_c = v_o + omega.cross(&c);
+        let a_c = a_o + alpha.cross(&c) + omega.cross(&v_c);
+        let force = (a_c - gravity) * self.mass;
+        let moment_c = self.inertia * alpha + omega.cross(&(self.inertia * omega));
+        stack(&force, &(moment_c + c.cross(&force)))
+    }
+
+    fn kinetic_energy(&self) -> f64 {
+        let (omega, v_o) = split(&self.twist);
+        let v_c = v_o + omega.cross(&self.center);
+        0.5 * (self.mass * v_c.norm_squared() + omega.dot(&(self.inertia * omega)))
+    }
+}
+
+impl RobotModel {
+    /// The actuator efforts that drive the task motion $(x, \dot x, \ddot x)$ in working mode
+    /// `mode`, by both formulations of the module documentation, with the energies.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Missing`] without `gravity`; [`DynamicsError::Motion`] for inputs of
+    /// the wrong length or not finite; [`DynamicsError::Singular`] within 1e-9 of a
+    /// singularity; [`DynamicsError::Kinematics`] out of reach.
+    pub fn inverse_dynamics(
+        &self,
+        x: &[f64],
+        velocity: &[f64],
+        acceleration: &[f64],
+        mode: WorkingMode,
+    ) -> Result<InverseDynamics, DynamicsError> {
+        let gravity = self.mass.gravity.ok_or(DynamicsError::Missing("gravity"))?;
+        for (what, v) in [("velocity", velocity), ("acceleration", acceleration)] {
+            if v.len() != self.task.len() || !v.iter().all(|e| e.is_finite() && e.abs() <= 1e9) {
+                return Err(DynamicsError::Motion {
+                    what,
+                    reason: format!(
+                        "must have {} finite entries within ±1e9, one per task coordinate",
+                        self.task.len()
+                    ),
+                });
+            }
+        }
+        let config = self.inverse_kinematics_configuration(x, mode)?;
+        let margins = self.singularity_margins(&config)?;
+        if !(margins.inverse > 1e-9 && margins.direct > 1e-9) {
+            return Err(DynamicsError::Singular {
+                inverse: margins.inverse,
+                direct: margins.direct,
+            });
+        }
+        let closure = ClosureRates::new(self, &config)?;
+        let motion = closure.motion(self, config, velocity, acceleration)?;
+        let bodies = self.body_states(&motion);
+        let wrenches: Vec<Vec<Vector6<f64>>> = bodies
+            .iter()
+            .map(|leg| leg.iter().map(|(_, b)| b.wrench(&gravity)).collect())
+            .collect();
+        let unit_rates: Vec<Motion> = (0..self.task.len())
+            .map(|k| {
+                let mut e = vec![0.0; self.task.len()];
+                e[k] = 1.0;
+                closure.rates(self, motion.config.clone(), &e)
+            })
+            .collect::<Result<_, _>>()?;
+        let efforts = self.virtual_work_efforts(&motion, &wrenches, &unit_rates)?;
+        let (efforts_multipliers, multipliers) =
+            self.multiplier_efforts(&motion, &bodies, &wrenches)?;
+        let actuator_rates = DVector::from_fn(self.actuator_count(), |a, _| {
+            let (leg, actuator) = self.actuator(a);
+            motion.joint_rates[leg][self.coordinate_of(leg, actuator.joint)]
+        });
+        let (kinetic_energy, potential_energy) = self.energies(&motion, &bodies, &gravity);
+        Ok(InverseDynamics {
+            efforts,
+            efforts_multipliers,
+            multipliers,
+            actuator_rates,
+            kinetic_energy,
+            potential_energy,
+        })
+    }
+
+    /// The coordinate index within leg `leg` of its (scalar) joint `joint`.
+    fn coordinate_of(&self, leg: usize, joint: usize) -> usize {
+        self.legs[leg].joints[..joint].iter().map(|j| j.dof()).sum()
+    }
+
+    /// Every massive body with its state, per leg (the bodies riding on the platform and the
+    /// platform itself in a last group), each with the number of its leg's coordinates that
+    /// move it (`usize::MAX` for the platform group).
+    fn body_states(&self, motion: &Motion) -> Vec<Vec<(usize, BodyState)>> {
+        let mut out = Vec::with_capacity(self.legs.len() + 1);
+        let mut riding = Vec::new();
+        let (platform_twist, platform_acceleration) = self.platform_motion(motion);
+        let pose = platform_pose(self.orientation, &motion.config.pose);
+        let platform_move = pose * self.home_pose.inverse();
+        for (i, leg) in self.legs.iter().enumerate() {
+            let lt = leg.twists(&motion.config.joints[i]);
+            let (rates, accelerations) = (&motion.joint_rates[i], &motion.joint_accelerations[i]);
+            let twist_derivatives = twist_derivatives(&lt.twists, rates);
+            let mut group = Vec::new();
+            for body in &leg.bodies {
+                if body.after >= leg.joints.len() {
+                    riding.push((
+                        usize::MAX,
+                        BodyState::place(
+                            body,
+                            &platform_move,
+                            platform_twist,
+                            platform_acceleration,
+                        ),
+                    ));
+                    continue;
+                }
+                let moving = lt
+                    .twists
+                    .iter()
+                    .take_while(|(j, _)| *j < body.after)
+                    .count();
+                let mut twist = Vector6::zeros();
+                let mut acceleration = Vector6::zeros();
+                for l in 0..moving {
+                    twist += lt.twists[l].1 * rates[l];
+                    acceleration +=
+                        lt.twists[l].1 * accelerations[l] + twist_derivatives[l] * rates[l];
+                }
+                let g = if body.after == 0 {
+                    Isometry3::identity()
+                } else {
+                    lt.prefixes[body.after - 1]
+                };
+                group.push((moving, BodyState::place(body, &g, twist, acceleration)));
+            }
+            out.push(group);
+        }
+        if let Some(platform) = &self.mass.platform {
+            riding.push((
+                usize::MAX,
+                BodyState::place(
+                    platform,
+                    &platform_move,
+                    platform_twist,
+                    platform_acceleration,
+                ),
+            ));
+        }
+        out.push(riding);
+        out
+    }
+
+    /// The platform's space twist $[\omega;\ \dot p - \omega\times p]$ and its derivative.
+    fn platform_motion(&self, motion: &Motion) -> (Vector6<f64>, Vector6<f64>) {
+        let c = &motion.config.pose;
+        let h = hybrid_rates(self.orientation, c);
+        let rate = h * motion.pose_rate;
+        let acc = h * motion.pose_acceleration + self.rates_derivative(c, &motion.pose_rate);
+        let p = Vector3::new(c[0], c[1], c[2]);
+        let (omega, p_dot) = split(&rate);
+        let (alpha, p_ddot) = split(&acc);
+        (
+            stack(&omega, &(p_dot - omega.cross(&p))),
+            stack(&alpha, &(p_ddot - alpha.cross(&p) - omega.cross(&p_dot))),
+        )
+    }
+
+    /// $\dot H\dot c$: the derivative of $H(c)\,\dot c$ along $\dot c$ at fixed $\dot c$ (the
+    /// orientation rows only; the position rows of $H$ are constant), by the fourth-order
+    /// central difference with step $h = 10^{-3}$ along the unit direction of $\dot c$.
+    fn rates_derivative(&self, c: &[f64; 6], rate: &Vector6<f64>) -> Vector6<f64> {
+        let direction = Vector3::new(rate[3], rate[4], rate[5]);
+        let speed = direction.norm();
+        if !(speed > 0.0) {
+            return Vector6::zeros();
+        }
+        let u = direction / speed;
+        let h = 1e-3;
+        let at = |s: f64| {
+            let mut moved = *c;
+            for k in 0..3 {
+                moved[3 + k] += s * u[k];
+            }
+            hybrid_rates(self.orientation, &moved) * rate
+        };
+        (8.0 * (at(h) - at(-h)) - (at(2.0 * h) - at(-2.0 * h))) * (speed / (12.0 * h))
+    }
+
+    /// Eq. D3: $J^\top\tau = Q$ by least squares (least-norm efforts when redundant).
+    fn virtual_work_efforts(
+        &self,
+        motion: &Motion,
+        wrenches: &[Vec<Vector6<f64>>],
+        unit_rates: &[Motion],
+    ) -> Result<DVector<f64>, DynamicsError> {
+        let n = self.task.len();
+        let m = self.actuator_count();
+        let mut q = DVector::zeros(n);
+        let mut jt = DMatrix::zeros(n, m);
+        for (k, unit) in unit_rates.iter().enumerate() {
+            let states = self.body_states(unit);
+            for (states, wrenches) in states.iter().zip(wrenches) {
+                for ((_, unit_state), w) in states.iter().zip(wrenches) {
+                    q[k] += power(w, &unit_state.twist);
+                }
+            }
+            for a in 0..m {
+                let (leg, actuator) = self.actuator(a);
+                let coordinate = self.coordinate_of(leg, actuator.joint);
+                let rate = unit.joint_rates[leg][coordinate];
+                jt[(k, a)] = rate;
+                q[k] +=
+                    actuator.reflected_inertia * motion.joint_accelerations[leg][coordinate] * rate;
+            }
+        }
+        least_squares(jt, &q, "J^T")
+    }
+
+    /// Eqs. D1–D2 in $(\lambda, \tau)$ by least squares.
+    fn multiplier_efforts(
+        &self,
+        motion: &Motion,
+        bodies: &[Vec<(usize, BodyState)>],
+        wrenches: &[Vec<Vector6<f64>>],
+    ) -> Result<(DVector<f64>, Vec<Vector6<f64>>), DynamicsError> {
+        let legs = self.legs.len();
+        let m = self.actuator_count();
+        let rows: usize = self.legs.iter().map(|l| l.dof()).sum::<usize>() + 6;
+        let mut a = DMatrix::zeros(rows, 6 * legs + m);
+        let mut b = DVector::zeros(rows);
+        let mut row = 0;
+        for (i, leg) in self.legs.iter().enumerate() {
+            let lt = leg.twists(&motion.config.joints[i]);
+            for (coordinate, (joint, xi)) in lt.twists.iter().enumerate() {
+                // ξ·λ_i − τ = −Q_ij.
+                for r in 0..6 {
+                    // power(λ, ξ) = f·v + m·ω: λ = [f; m], ξ = [ω; v].
+                    a[(row, 6 * i + r)] = if r < 3 { xi[3 + r] } else { xi[r - 3] };
+                }
+                let mut need: f64 = bodies[i]
+                    .iter()
+                    .zip(&wrenches[i])
+                    .filter(|((moving, _), _)| coordinate < *moving)
+                    .map(|(_, w)| power(w, xi))
+                    .sum();
+                if let Some(actuator) = leg.actuator_at(*joint) {
+                    let index = self
+                        .actuators
+                        .iter()
+                        .position(|&(l, k)| l == i && leg.actuators[k].joint == *joint)
+                        .unwrap_or(0);
+                    a[(row, 6 * legs + index)] = -1.0;
+                    need += actuator.reflected_inertia * motion.joint_accelerations[i][coordinate];
+                }
+                b[row] = -need;
+                row += 1;
+            }
+        }
+        // Σ λ_i = W_P.
+        let platform: Vector6<f64> = wrenches[legs].iter().sum();
+        for r in 0..6 {
+            for i in 0..legs {
+                a[(row + r, 6 * i + r)] = 1.0;
+            }
+            b[row + r] = platform[r];
+        }
+        let solution = least_squares(a, &b, "extended-space balance")?;
+        let efforts = solution.rows(6 * legs, m).into_owned();
+        let multipliers = (0..legs)
+            .map(|i| solution.fixed_rows::<6>(6 * i).into_owned())
+            .collect();
+        Ok((efforts, multipliers))
+    }
+
+    /// Kinetic energy (bodies and rotors) and the potential energy of gravity.
+    fn energies(
+        &self,
+        motion: &Motion,
+        bodies: &[Vec<(usize, BodyState)>],
+        gravity: &Vector3<f64>,
+    ) -> (f64, f64) {
+        let states = bodies.iter().flatten().map(|(_, s)| s);
+        let kinetic: f64 = states.clone().map(BodyState::kinetic_energy).sum();
+        let potential: f64 = states.map(|s| -s.mass * gravity.dot(&s.center)).sum();
+        let rotors: f64 = (0..self.actuator_count())
+            .map(|a| {
+                let (leg, actuator) = self.actuator(a);
+                let rate = motion.joint_rates[leg][self.coordinate_of(leg, actuator.joint)];
+                0.5 * actuator.reflected_inertia * rate * rate
+            })
+            .sum();
+        (kinetic + rotors, potential)
+    }
+}
+
+/// $\dot\xi_l = \sum_{m \prec l}\dot\theta_m[\xi_m, \xi_l]$ for each coordinate: the
+/// coordinates of earlier joints only (a ball's three twists move with the joints before it,
+/// not with each other).
+fn twist_derivatives(twists: &[(usize, Vector6<f64>)], rates: &[f64]) -> Vec<Vector6<f64>> {
+    twists
+        .iter()
+        .map(|(joint, xi)| {
+            twists
+                .iter()
+                .zip(rates)
+                .take_while(|((j, _), _)| j < joint)
+                .map(|((_, earlier), rate)| bracket(earlier, xi) * *rate)
+                .sum()
+        })
+        .collect()
+}
+
+/// The least-squares solution of `a x = b` of least norm, checked: a residual above 1e-8 of
+/// the right-hand side (an inconsistent system) or a non-finite entry is
+/// [`DynamicsError::Kinematics`] (`Singular`, naming `matrix`).
+fn least_squares(
+    a: DMatrix<f64>,
+    b: &DVector<f64>,
+    matrix: &'static str,
+) -> Result<DVector<f64>, DynamicsError> {
+    let singular =
+        |sigma_min: f64| DynamicsError::Kinematics(KinematicsError::Singular { matrix, sigma_min });
+    let svd = crate::svd::bounded_svd(a.clone(), true, true).ok_or_else(|| singular(f64::NAN))?;
+    let largest = svd.singular_values.max();
+    let x = svd
+        .solve(b, 1e-12 * largest)
+        .map_err(|_| singular(svd.singular_values.min()))?;
+    let residual = (&a * &x - b).amax();
+    if !(x.iter().all(|v| v.is_finite()) && residual <= 1e-8 * b.amax().max(1e-300) + 1e-12) {
+        return Err(singular(svd.singular_values.min()));
+    }
+    Ok(x)
+}
+
+/// The closure's rate matrix at one configuration: rows of 6 per leg, columns the dependent
+/// pose coordinates and every joint coordinate, factored once for the velocities, the
+/// accelerations and the unit task rates.
+struct ClosureRates {
+    matrix: DMatrix<f64>,
+    dependent: Vec<usize>,
+    offsets: Vec<usize>,
+}
+
+impl ClosureRates {
+    fn new(model: &RobotModel, config: &Configuration) -> Result<Self, DynamicsError> {
+        let dependent: Vec<usize> = (0..6)
+            .filter(|&k| model.roles[k] == CoordinateRole::Dependent)
+            .collect();
+        let mut offsets = Vec::with_capacity(model.legs.len());
+        let mut columns = dependent.len();
+        for leg in &model.legs {
+            offsets.push(columns);
+            columns += leg.dof();
+        }
+        let h = hybrid_rates(model.orientation, &config.pose);
+        let p = Vector3::new(config.pose[0], config.pose[1], config.pose[2]);
+        let mut matrix = DMatrix::zeros(6 * model.legs.len(), columns);
+        for (i, leg) in model.legs.iter().enumerate() {
+            for (c, &k) in dependent.iter().enumerate() {
+                matrix
+                    .fixed_view_mut::<6, 1>(6 * i, c)
+                    .copy_from(&(-h.column(k)));
+            }
+            let lt = leg.twists(&config.joints[i]);
+            for (c, (_, xi)) in lt.twists.iter().enumerate() {
+                let (w, v) = split(xi);
+                matrix
+                    .fixed_view_mut::<6, 1>(6 * i, offsets[i] + c)
+                    .copy_from(&stack(&w, &(v + w.cross(&p))));
+            }
+        }
+        Ok(Self {
+            matrix,
+            dependent,
+            offsets,
+        })
+    }
+
+    /// The pose-coordinate vector with the task entries `task` and the dependent ones from
+    /// `unknowns`.
+    fn pose_vector(
+        &self,
+        model: &RobotModel,
+        task: &[f64],
+        unknowns: &DVector<f64>,
+    ) -> Vector6<f64> {
+        let mut c = Vector6::zeros();
+        for (&k, &v) in model.task.iter().zip(task) {
+            c[k] = v;
+        }
+        for (i, &k) in self.dependent.iter().enumerate() {
+            c[k] = unknowns[i];
+        }
+        c
+    }
+
+    /// Solves the closure for `rhs` (stacked per leg) into per-leg joint values.
+    fn solve(&self, rhs: &DVector<f64>) -> Result<DVector<f64>, DynamicsError> {
+        least_squares(self.matrix.clone(), rhs, "closure rates")
+    }
+
+    fn per_leg(&self, model: &RobotModel, u: &DVector<f64>) -> Vec<Vec<f64>> {
+        model
+            .legs
+            .iter()
+            .zip(&self.offsets)
+            .map(|(leg, &o)| u.rows(o, leg.dof()).iter().copied().collect())
+            .collect()
+    }
+
+    /// The rates at `config` for task rates `velocity` (accelerations zero).
+    fn rates(
+        &self,
+        model: &RobotModel,
+        config: Configuration,
+        velocity: &[f64],
+    ) -> Result<Motion, DynamicsError> {
+        let h = hybrid_rates(model.orientation, &config.pose);
+        let task_rate = self.pose_vector(model, velocity, &DVector::zeros(self.dependent.len()));
+        let per_leg = h * task_rate;
+        let rhs = DVector::from_fn(6 * model.legs.len(), |r, _| per_leg[r % 6]);
+        let u = self.solve(&rhs)?;
+        let pose_rate = self.pose_vector(model, velocity, &u);
+        let joint_rates = self.per_leg(model, &u);
+        let joint_accelerations = joint_rates.iter().map(|r| vec![0.0; r.len()]).collect();
+        Ok(Motion {
+            config,
+            pose_rate,
+            pose_acceleration: Vector6::zeros(),
+            joint_rates,
+            joint_accelerations,
+        })
+    }
+
+    /// The rates and accelerations at `config` for the task motion.
+    fn motion(
+        &self,
+        model: &RobotModel,
+        config: Configuration,
+        velocity: &[f64],
+        acceleration: &[f64],
+    ) -> Result<Motion, DynamicsError> {
+        let mut motion = self.rates(model, config, velocity)?;
+        let c = motion.config.pose;
+        let h = hybrid_rates(model.orientation, &c);
+        let p = Vector3::new(c[0], c[1], c[2]);
+        let platform_rate = h * motion.pose_rate;
+        let (_, p_dot) = split(&platform_rate);
+        let common =
+            h * self.pose_vector(model, acceleration, &DVector::zeros(self.dependent.len()))
+                + model.rates_derivative(&c, &motion.pose_rate);
+        let mut rhs = DVector::zeros(6 * model.legs.len());
+        for (i, leg) in model.legs.iter().enumerate() {
+            let lt = leg.twists(&motion.config.joints[i]);
+            let rates = &motion.joint_rates[i];
+            let derivatives = twist_derivatives(&lt.twists, rates);
+            let mut column_rates = Vector6::zeros();
+            for (((_, xi), d), rate) in lt.twists.iter().zip(&derivatives).zip(rates) {
+                let (w, _) = split(xi);
+                let (dw, dv) = split(d);
+                column_rates += stack(&dw, &(dv + dw.cross(&p) + w.cross(&p_dot))) * *rate;
+            }
+            rhs.fixed_rows_mut::<6>(6 * i)
+                .copy_from(&(common - column_rates));
+        }
+        let u = self.solve(&rhs)?;
+        motion.pose_acceleration = self.pose_vector(model, acceleration, &u);
+        motion.joint_accelerations = self.per_leg(model, &u);
+        Ok(motion)
+    }
+}
