@@ -471,6 +471,11 @@ fn twist_derivatives(twists: &[(usize, Vector6<f64>)], rates: &[f64]) -> Vec<Vec
 /// The least-squares solution of `a x = b` of least norm, checked: a residual above 1e-8 of
 /// the right-hand side (an inconsistent system) or a non-finite entry is
 /// [`DynamicsError::Kinematics`] (`Singular`, naming `matrix`).
+///
+/// The SVD solve is refined by up to three steps $x \leftarrow x + A^{+}(b - Ax)$ (each in
+/// the row space, so the least-norm property holds): nalgebra's SVD can leave a relative
+/// error of 1e-6 in the solve of a well-conditioned 42 × 42 system (measured on the
+/// Stewart–Gough's balance at home, condition 760), which the refinement removes.
 fn least_squares(
     a: DMatrix<f64>,
     b: &DVector<f64>,
@@ -479,12 +484,22 @@ fn least_squares(
     let singular =
         |sigma_min: f64| DynamicsError::Kinematics(KinematicsError::Singular { matrix, sigma_min });
     let svd = crate::svd::bounded_svd(a.clone(), true, true).ok_or_else(|| singular(f64::NAN))?;
-    let largest = svd.singular_values.max();
-    let x = svd
-        .solve(b, 1e-12 * largest)
-        .map_err(|_| singular(svd.singular_values.min()))?;
+    let tolerance = 1e-12 * svd.singular_values.max();
+    let solve = |rhs: &DVector<f64>| {
+        svd.solve(rhs, tolerance)
+            .map_err(|_| singular(svd.singular_values.min()))
+    };
+    let mut x = solve(b)?;
+    let bound = 1e-8 * b.amax().max(1e-300) + 1e-12;
+    for _ in 0..3 {
+        let r = b - &a * &x;
+        if r.amax() <= 1e-14 * b.amax() {
+            break;
+        }
+        x += solve(&r)?;
+    }
     let residual = (&a * &x - b).amax();
-    if !(x.iter().all(|v| v.is_finite()) && residual <= 1e-8 * b.amax().max(1e-300) + 1e-12) {
+    if !(x.iter().all(|v| v.is_finite()) && residual <= bound) {
         return Err(singular(svd.singular_values.min()));
     }
     Ok(x)

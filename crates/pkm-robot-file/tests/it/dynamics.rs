@@ -139,3 +139,136 @@ fn energy_balance_and_both_formulations_on_every_file() {
     }
     assert_eq!(checked, common::all_files().len());
 }
+
+/// Issue 31's bad input: masses and tensors a body cannot have, mass fields where they mean
+/// nothing, and task motions the dynamics cannot take are typed errors with their key or
+/// reason, never a panic or a NaN effort.
+#[test]
+fn bad_masses_and_motions_are_typed_errors() {
+    use pkm_robot_file::{DynamicsError, RobotFileError, RobotModel};
+    let text = common::robot_text("stewart_gough.toml");
+    let refused_at = |edited: String, key: &str, words: &str| match RobotModel::from_toml(&edited) {
+        Err(RobotFileError::Invalid {
+            key: at,
+            requirement,
+            ..
+        }) => assert!(
+            at == key && requirement.contains(words),
+            "{at}: {requirement}"
+        ),
+        other => panic!("{key}: {other:?}"),
+    };
+    let platform =
+        "mass = 1.0\ninertia = [[0.0016, 0.0, 0.0], [0.0, 0.0016, 0.0], [0.0, 0.0, 0.0032]]";
+    assert!(text.contains(platform));
+    let with_platform = |edited: &str| text.replacen(platform, edited, 1);
+    for (mass, words) in [("-1.0", "at least 0"), ("nan", "finite"), ("1e300", "1e9")] {
+        refused_at(
+            with_platform(&platform.replace("mass = 1.0", &format!("mass = {mass}"))),
+            "platform.mass",
+            words,
+        );
+    }
+    for (inertia, words) in [
+        (
+            "[[0.0016, 0.001, 0.0], [0.0, 0.0016, 0.0], [0.0, 0.0, 0.0032]]",
+            "symmetric",
+        ),
+        (
+            "[[0.0016, 0.0, 0.0], [0.0, -0.0016, 0.0], [0.0, 0.0, 0.0032]]",
+            "semidefinite",
+        ),
+        (
+            "[[0.0016, 0.0, 0.0], [0.0, 0.0016, 0.0], [0.0, 0.0, 0.004]]",
+            "triangle",
+        ),
+        (
+            "[[inf, 0.0, 0.0], [0.0, 0.0016, 0.0], [0.0, 0.0, 0.0032]]",
+            "finite",
+        ),
+    ] {
+        refused_at(
+            with_platform(&format!("mass = 1.0\ninertia = {inertia}")),
+            "platform.inertia",
+            words,
+        );
+    }
+    refused_at(
+        with_platform("mass = 1.0\ncenter_of_mass = [1e300, 0.0, 0.0]"),
+        "platform.center_of_mass",
+        "±1e6",
+    );
+    let first_link = text.find("  { mass = 0.2274").unwrap();
+    let end = first_link + text[first_link..].find('\n').unwrap() + 1;
+    refused_at(
+        format!("{}{}", &text[..first_link], &text[end..]),
+        "legs[0].links",
+        "one link between each two joints",
+    );
+    let p_joint = "actuated = true, offset = 0.30323713175962613 }";
+    refused_at(
+        text.replacen(
+            p_joint,
+            "actuated = true, offset = 0.30323713175962613, mass = 0.1 }",
+            1,
+        ),
+        "legs[0].joints[1].mass",
+        "P joint has none",
+    );
+    refused_at(
+        text.replacen(
+            p_joint,
+            "actuated = true, offset = 0.30323713175962613, gear_ratio = 0.0 }",
+            1,
+        ),
+        "legs[0].joints[1].gear_ratio",
+        "positive",
+    );
+    refused_at(
+        text.replacen(
+            "{ type = \"S\", point = [0.07980512402078593, -0.005580517899530024, 0.3] }",
+            "{ type = \"S\", point = [0.07980512402078593, -0.005580517899530024, 0.3], rotor_inertia = 1e-4 }",
+            1,
+        ),
+        "legs[0].joints[2].rotor_inertia",
+        "actuated joint",
+    );
+    // Motions: wrong lengths, NaN, absurd, out of reach, and no gravity.
+    let model = common::robot("stewart_gough.toml");
+    let (x, zero) = (model.home_task(), vec![0.0; 6]);
+    let mode = model.home_mode();
+    for (v, a) in [
+        (vec![0.0; 5], zero.clone()),
+        (vec![f64::NAN; 6], zero.clone()),
+        (zero.clone(), vec![1e300; 6]),
+    ] {
+        let r = model.inverse_dynamics(&x, &v, &a, mode);
+        assert!(matches!(r, Err(DynamicsError::Motion { .. })), "{r:?}");
+    }
+    let far = [5.0, 0.0, 0.3, 0.0, 0.0, 0.0];
+    let r = model.inverse_dynamics(&far, &zero, &zero, mode);
+    assert!(matches!(r, Err(DynamicsError::Kinematics(_))), "{r:?}");
+    let weightless =
+        RobotModel::from_toml(&text.replacen("gravity = [0.0, 0.0, -9.81]\n", "", 1)).unwrap();
+    let r = weightless.inverse_dynamics(&x, &zero, &zero, mode);
+    assert!(matches!(r, Err(DynamicsError::Missing("gravity"))), "{r:?}");
+    // At rest at home the efforts hold the weight: finite, and equal in both formulations.
+    let rest = model.inverse_dynamics(&x, &zero, &zero, mode).unwrap();
+    assert!(rest.efforts.iter().all(|e| e.is_finite()) && rest.kinetic_energy == 0.0);
+}
+
+/// A five-bar whose end point sits on motor 0's axis (the motor's angle is free there, a
+/// type I singularity): the dynamics says so with the margins instead of unbounded efforts.
+#[test]
+fn a_singular_configuration_is_reported_with_its_margins() {
+    let text = common::robot_text("five_bar.toml")
+        .replace("[-0.2, 0.16, 0.0]", "[-0.18, 0.17320508075688773, 0.0]")
+        .replace("[0.2, 0.16, 0.0]", "[0.18, 0.17320508075688773, 0.0]")
+        .replace("[0.0, 0.37, 0.0]", "[0.0, 0.2603830596277012, 0.0]");
+    let model = pkm_robot_file::RobotModel::from_toml(&text).unwrap();
+    let r = model.inverse_dynamics(&[-0.08, 0.0], &[0.1, 0.0], &[0.0, 0.0], model.home_mode());
+    assert!(
+        matches!(r, Err(pkm_robot_file::DynamicsError::Singular { inverse, .. }) if inverse < 1e-9),
+        "{r:?}"
+    );
+}
