@@ -28,7 +28,13 @@ impl Differencing {
     /// # Errors
     /// [`InvalidInput`] for fewer than 3 samples (the one-sided second-order ends need three)
     /// or a step that is not finite and positive.
-    pub fn apply(self, f: &[Vector6<f64>], dt: f64) -> Result<Vec<Vector6<f64>>, InvalidInput> {
+    pub fn apply<V>(self, f: &[V], dt: f64) -> Result<Vec<V>, InvalidInput>
+    where
+        V: Clone
+            + std::ops::Add<Output = V>
+            + std::ops::Sub<Output = V>
+            + std::ops::Mul<f64, Output = V>,
+    {
         let n = f.len();
         if n < 3 {
             return Err(InvalidInput::new("samples", n as f64, "at least 3"));
@@ -38,12 +44,17 @@ impl Differencing {
         }
         let (inv, half_inv) = (1.0 / dt, 0.5 / dt);
         Ok((0..n)
-            .map(|k| match self {
-                Self::Backward if k == 0 => (f[1] - f[0]) * inv,
-                Self::Backward => (f[k] - f[k - 1]) * inv,
-                Self::Central if k == 0 => (f[1] * 4.0 - f[0] * 3.0 - f[2]) * half_inv,
-                Self::Central if k + 1 == n => (f[k] * 3.0 - f[k - 1] * 4.0 + f[k - 2]) * half_inv,
-                Self::Central => (f[k + 1] - f[k - 1]) * half_inv,
+            .map(|k| {
+                let at = |i: usize| f[i].clone();
+                match self {
+                    Self::Backward if k == 0 => (at(1) - at(0)) * inv,
+                    Self::Backward => (at(k) - at(k - 1)) * inv,
+                    Self::Central if k == 0 => (at(1) * 4.0 - at(0) * 3.0 - at(2)) * half_inv,
+                    Self::Central if k + 1 == n => {
+                        (at(k) * 3.0 - at(k - 1) * 4.0 + at(k - 2)) * half_inv
+                    }
+                    Self::Central => (at(k + 1) - at(k - 1)) * half_inv,
+                }
             })
             .collect())
     }

@@ -39,6 +39,22 @@ pub(crate) fn rows<'py>(
         .map_err(|e| errors::invalid(py, format!("{name}: {e}")))
 }
 
+/// The number of columns of `value` read as a 2-D array (`None` for another shape), so that
+/// a caller that takes several widths can pass it to [`rows`].
+///
+/// # Errors
+/// `pkm.InvalidInput` naming `name` for a value that is not an array of numbers.
+pub(crate) fn columns_of(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Option<usize>> {
+    let array = match value.cast::<PyUntypedArray>() {
+        Ok(array) => array.clone(),
+        Err(_) => as_array(value, name)?,
+    };
+    Ok(match array.shape() {
+        [_, columns] => Some(*columns),
+        _ => None,
+    })
+}
+
 /// `numpy.asarray(value)` for a value that is not an array yet (a list of rows).
 fn as_array<'py>(value: &Bound<'py, PyAny>, name: &str) -> PyResult<Bound<'py, PyUntypedArray>> {
     let py = value.py();

@@ -51,7 +51,20 @@ impl<'py> Source<'py> {
     /// # Errors
     /// `pkm.InvalidInput` (or the study error's class) with the key path where it does not fit.
     pub(crate) fn parse<S: DeserializeOwned>(&self, py: Python<'py>) -> PyResult<S> {
-        let reader = Directory(self.base());
+        self.parse_at(py, self.base())
+    }
+
+    /// [`Source::parse`] with the files it names read relative to `base` (a dict made from a
+    /// study file keeps that file's directory).
+    ///
+    /// # Errors
+    /// As [`Source::parse`].
+    pub(crate) fn parse_at<S: DeserializeOwned>(
+        &self,
+        py: Python<'py>,
+        base: PathBuf,
+    ) -> PyResult<S> {
+        let reader = Directory(base);
         let loaded = match self {
             Self::Mapping(m) => match convert::from_python::<toml::Table>(m) {
                 Ok(document) => load::load_document(document, &reader),

@@ -268,7 +268,8 @@ fn dynamics(
             if !dict.contains("trajectory")? {
                 dict.set_item("trajectory", PyDict::new(py))?;
             }
-            convert::from_python(&dict)?
+            // Read as the study itself is (its robot file relative to the study file).
+            Source::Mapping(dict.into_any()).parse_at(py, source.base())?
         }
         None => source.parse(py)?,
     };

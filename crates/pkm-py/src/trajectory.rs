@@ -1,5 +1,6 @@
-//! The trajectory of a dynamics study from Python: an N × 4 array of `t, x, y, z` rows (s, m)
-//! or a CSV file of such rows after a header line, handed to the study layer as
+//! The trajectory of a dynamics study from Python: an N × 4 array of `t, x, y, z` rows (s, m;
+//! N × (1 + n) rows of `t` and a robot file's n task coordinates) or a CSV file of such rows
+//! after a header line, handed to the study layer as
 //! `trajectory.positions` (it reads no files). A CSV file is read as the `pkm` command reads
 //! it (through the study layer's `TrajectoryCsv`: the same parse, the same checks, errors at the
 //! `csv` key naming the file and line), so both give the same bits.
@@ -15,14 +16,15 @@ use std::path::Path;
 
 /// Sampled positions: from an array, or from a CSV file (which knows the line of each row).
 pub(crate) enum Rows {
-    /// An N × 4 array's rows.
-    Array(Vec<[Real; 4]>),
+    /// An N × k array's rows.
+    Array(Vec<Vec<Real>>),
     /// A CSV file's rows.
     Csv(TrajectoryCsv),
 }
 
 /// The `trajectory` argument of `pkm.dynamics`: a path (`str` or `os.PathLike`) of a CSV file
-/// relative to the working directory, or an N × 4 array.
+/// relative to the working directory, or an N × k array (k = 4 for the rotary Delta, 1 + n for
+/// a robot file with n task coordinates: the study checks it).
 ///
 /// # Errors
 /// `pkm.InvalidInput` at `trajectory` for a value that is neither, more than [`MAX_SAMPLES`]
@@ -39,7 +41,10 @@ pub(crate) fn from_argument(value: &Bound<'_, PyAny>) -> PyResult<Rows> {
             .map(Rows::Csv)
             .map_err(|e| errors::study_error(py, &e));
     }
-    let array = points::rows(value, "trajectory", 4)?;
+    let width = points::columns_of(value, "trajectory")?
+        .filter(|&k| k >= 2)
+        .unwrap_or(4);
+    let array = points::rows(value, "trajectory", width)?;
     let view = array.as_array();
     if view.nrows() > MAX_SAMPLES {
         let m = format!("{} rows, at most {MAX_SAMPLES}", view.nrows());
@@ -51,7 +56,7 @@ pub(crate) fn from_argument(value: &Bound<'_, PyAny>) -> PyResult<Rows> {
     let rows = view
         .rows()
         .into_iter()
-        .map(|r| [r[0], r[1], r[2], r[3]].map(Real))
+        .map(|r| r.iter().copied().map(Real).collect())
         .collect();
     Ok(Rows::Array(rows))
 }

@@ -103,7 +103,7 @@ def test_dynamics_trajectory_as_csv_path_or_array_is_the_commands(dynamics_comma
 def test_bad_trajectories_are_refused_with_their_key(tmp_path):
     rows = csv_rows()
     cases = [
-        (rows[:, :3], None, "N × 4"),
+        (rows[:, :3], "trajectory.positions[0]", "3 values; expected 4"),
         (rows[:2], "trajectory.positions", "at least 3"),
         (np.zeros((0, 4)), "trajectory.positions", "at least 3"),
         (rows.astype(str), None, "real numbers"),

@@ -92,3 +92,31 @@ def test_two_actuators_per_leg_are_named_columns_and_round_trip():
     assert q.shape == (20, 6) and inside.all()
     back, ok = m.forward_kinematics(q, x + 0.005)
     assert ok.all() and np.abs(back - x).max() < 1e-9
+
+
+def test_the_dynamics_of_a_robot_file_from_python_equals_the_command(tmp_path):
+    """Issue 31: ``pkm.dynamics`` on a robot-file study (the Stewart–Gough's example) gives the
+    command's result; an N × 7 array of sampled task coordinates is taken as the trajectory,
+    and a row of the wrong width is refused at its key."""
+    import json
+    import os
+    import subprocess
+
+    study = ROOT / "examples" / "studies" / "stewart_gough_dynamics.toml"
+    outcome = pkm.dynamics(study, progress=False)
+    efforts = outcome["result"]["efforts"]
+    assert [a["name"] for a in efforts["actuators"]] == [f"legs[{i}].joints[1]" for i in range(6)]
+    assert efforts["formulation_difference"] < 1e-9
+    out = tmp_path / "out"
+    subprocess.run([os.environ.get("PKM_COMMAND", "pkm"), "-q", "dynamics", str(study), "--out", str(out)], check=True)
+    command = json.loads((out / "results.json").read_text())["result"]
+    assert command == outcome["result"]
+    table = outcome["tables"]["efforts.csv"]
+    rows = np.column_stack([table[k] for k in ["t", "x", "y", "z", "rx", "ry", "rz"]])
+    bare = {"mechanism": {"robot_file": {"file": str(ROBOTS / "stewart_gough.toml")}}}
+    sampled = pkm.dynamics(bare, rows, progress=False)["result"]["efforts"]
+    peak = efforts["actuators"][5]["peak"]
+    assert abs(sampled["actuators"][5]["peak"] - peak) < 0.02 * peak
+    with pytest.raises(pkm.InvalidInput) as e:
+        pkm.dynamics(bare, rows[:, :4], progress=False)
+    assert e.value.key_path == "trajectory.positions[0]"

@@ -520,6 +520,14 @@ fn expand_legs(file: &RobotFile) -> Result<Vec<LegChain>, RobotFileError> {
         let r = Rotation3::from_axis_angle(&Unit::new_unchecked(axis), angle);
         legs.extend(template.iter().map(|leg| rotated_leg(leg, &r, &point)));
     }
+    // A copy's actuators are named by the expanded leg they drive.
+    for (n, leg) in legs.iter_mut().enumerate() {
+        for actuator in &mut leg.actuators {
+            if let Some((_, joint)) = actuator.name.split_once('.') {
+                actuator.name = format!("legs[{n}].{joint}");
+            }
+        }
+    }
     check_count(legs)
 }
 

@@ -206,6 +206,16 @@ pub enum StudyError {
     /// The dynamics refused a sample (out of reach, singular, non-finite) with its time.
     #[error("{0}")]
     Dynamics(DynamicsError),
+    /// A robot file's dynamics refused a sample (out of reach, singular, no gravity).
+    #[error("sample {sample} (t = {time} s): {source}")]
+    RobotDynamics {
+        /// The sample's index, from 0.
+        sample: usize,
+        /// Its time (s).
+        time: f64,
+        /// Why.
+        source: pkm_robot_file::DynamicsError,
+    },
     /// The forward integration failed (tolerance not met, step budget spent, ...).
     #[error("forward integration: {0}")]
     Integration(IntegrationError),

@@ -60,7 +60,7 @@ fn the_csv_example_is_the_study_layers_run_on_its_rows() {
     let csv = std::fs::read_to_string(example("nuwar_pick_and_place.csv")).unwrap();
     let rows = csv.lines().skip(1).map(|line| {
         let v: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
-        [v[0], v[1], v[2], v[3]].map(Real)
+        v.into_iter().map(Real).collect::<Vec<_>>()
     });
     direct.trajectory.csv = None;
     direct.trajectory.positions = Some(rows.collect());

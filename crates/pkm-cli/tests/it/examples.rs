@@ -75,6 +75,16 @@ fn the_example_studies_are_valid() {
         let run = pkm_study::task(&task, &Stop);
         assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
     }
+    for name in [
+        "stewart_gough_dynamics.toml",
+        "rotary_delta_file_dynamics.toml",
+        "three_prs_dynamics.toml",
+        "hexa_dynamics.toml",
+    ] {
+        let (_, study): (String, DynamicsStudy) = study::load_study(&example(name)).unwrap();
+        let run = pkm_study::dynamics(&study, &Stop);
+        assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
+    }
     let (_, dynamics): (String, DynamicsStudy) =
         study::load_study(&example("nuwar_dynamics_csv.toml")).unwrap();
     let csv = dynamics
@@ -89,7 +99,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        25,
+        29,
         "a new example study needs a check here: {listed:?}"
     );
 }

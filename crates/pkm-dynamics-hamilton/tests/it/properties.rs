@@ -202,7 +202,7 @@ fn differencing_refuses_too_few_samples_and_bad_steps() {
     let two = [line(0), line(1)];
     for d in [Differencing::Backward, Differencing::Central] {
         assert!(d.apply(&two, 0.1).is_err());
-        assert!(d.apply(&[], 0.1).is_err());
+        assert!(d.apply::<Vector6<f64>>(&[], 0.1).is_err());
         let three = [line(0), line(1), line(2)];
         for dt in [0.0, -0.1, f64::NAN, f64::INFINITY] {
             assert!(d.apply(&three, dt).is_err(), "{dt}");

@@ -165,16 +165,20 @@ def dynamics(
 ) -> Outcome:
     """The dynamics study (``pkm dynamics``) of ``study``, a dict or a TOML path: the motor
     torques of a rotary Delta by Hamilton and by Lagrange along a trajectory, and the forward
-    retrace when ``[dynamics.forward]`` asks for it.
+    retrace when ``[dynamics.forward]`` asks for it; or, for a ``[mechanism.robot_file]`` whose
+    file has masses and gravity, the actuator efforts of any robot along a trajectory in its
+    task coordinates (``result["efforts"]``: peaks, RMS and power per actuator).
 
-    ``trajectory``, when given, is the plate's motion: an N × 4 array of ``t, x, y, z`` rows
-    (s, m; equally spaced times) or the path of a CSV file of such rows after a header line
-    (relative to the working directory); it replaces the study's ``trajectory.csv`` or
+    ``trajectory``, when given, is the motion: an N × 4 array of ``t, x, y, z`` rows (s, m;
+    equally spaced times; for a robot file N × (1 + n) rows of ``t`` and its n task
+    coordinates) or the path of a CSV file of such rows after a header line (relative to the
+    working directory); it replaces the study's ``trajectory.csv`` or
     ``trajectory.positions``, and the study may then leave out its ``trajectory`` table. A
     study's own ``trajectory.csv`` is read relative to the study file (for a dict: the working
     directory), as the ``pkm`` command reads it.
 
     Returns the outcome dict of :func:`workspace`; the table ``"torques.csv"`` holds the torque
-    histories (``t``, ``tau_hamilton_1`` … ``tau_lagrange_3``) as arrays.
+    histories (``t``, ``tau_hamilton_1`` … ``tau_lagrange_3``) as arrays, and for a robot file
+    ``"efforts.csv"`` the efforts (``effort legs[0].joints[1]`` …), powers and energies.
     """
     return _study(lambda report: _native.dynamics(study, trajectory, report), progress)

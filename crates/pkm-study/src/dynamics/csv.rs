@@ -1,5 +1,5 @@
-//! A trajectory as CSV text (`t, x, y, z` rows in s and m after a header line), as the front
-//! ends read it from the file a study names: the study layer reads no files, so a front end reads
+//! A trajectory as CSV text (`t, x, y, z` rows in s and m after a header line; for a robot
+//! file `t` and its task coordinates), as the front ends read it from the file a study names: the study layer reads no files, so a front end reads
 //! the text ([`TrajectoryCsv::MAX_BYTES`] at most) and hands it here; an error about a row is
 //! placed at the `trajectory.csv` key and names the file and its line.
 
@@ -16,8 +16,9 @@ use std::path::{Path, PathBuf};
 pub struct TrajectoryCsv {
     /// The file, as errors name it.
     pub file: PathBuf,
-    /// `t, x, y, z` (s, m), finite.
-    pub rows: Vec<[Real; 4]>,
+    /// `t, x, y, z` (s, m), or `t` and a robot file's task coordinates: finite, every row as
+    /// long as the first (the study checks the width).
+    pub rows: Vec<Vec<Real>>,
     /// The 1-based file line of each row.
     pub lines: Vec<usize>,
 }
@@ -27,12 +28,12 @@ impl TrajectoryCsv {
     /// the `pkm` command writes them fit well within it; a larger file is refused unread.
     pub const MAX_BYTES: u64 = (MAX_SAMPLES as u64) * 128;
 
-    /// Parses `text`, the contents of `file`: a header line, then rows of four finite numbers
-    /// (blank lines skipped).
+    /// Parses `text`, the contents of `file`: a header line, then rows of finite numbers, at
+    /// least two, each row as long as the first (blank lines skipped).
     ///
     /// # Errors
     /// [`StudyError::Invalid`] at `trajectory.csv`, naming the file and the line, for a row that
-    /// is not four finite numbers, or for text longer than [`Self::MAX_BYTES`].
+    /// is not such numbers, or for text longer than [`Self::MAX_BYTES`].
     pub fn parse(file: &Path, text: &str) -> Result<Self, StudyError> {
         Self::check_size(file, text.len() as u64)?;
         let at = |line: usize, message: String| csv_error(file, &format!("line {line}: {message}"));
@@ -46,17 +47,22 @@ impl TrajectoryCsv {
                 .map(|v| v.trim().parse::<f64>())
                 .collect::<Result<_, _>>()
                 .map_err(|e| at(k + 1, format!("{e}: expected t (s), x, y, z (m)")))?;
-            let &[t, x, y, z] = values.as_slice() else {
+            let width = rows.first().map_or(values.len(), Vec::len);
+            if values.len() != width || width < 2 {
                 let count = values.len();
                 return Err(at(
                     k + 1,
-                    format!("{count} values; expected 4: t (s), x, y, z (m)"),
+                    format!(
+                        "{count} values; expected {}: t (s), x, y, z (m) or t and the task \
+                         coordinates, as many on every row",
+                        width.max(2)
+                    ),
                 ));
-            };
+            }
             if !values.iter().all(|v| v.is_finite()) {
                 return Err(at(k + 1, "expected finite numbers".into()));
             }
-            rows.push([t, x, y, z].map(Real));
+            rows.push(values.into_iter().map(Real).collect());
             lines.push(k + 1);
         }
         Ok(Self {
@@ -162,11 +168,15 @@ mod tests {
         let csv = TrajectoryCsv::parse(file, "t,x,y,z\n0,1,2,3\n\n0.5, 1, 2, 3.5\n").unwrap();
         assert_eq!(csv.lines, vec![2, 4]);
         assert_eq!(
-            csv.rows[1].map(|r| r.0.to_bits()),
+            csv.rows[1]
+                .iter()
+                .map(|r| r.0.to_bits())
+                .collect::<Vec<_>>(),
             [0.5f64, 1.0, 2.0, 3.5].map(f64::to_bits)
         );
         for (text, wanted) in [
-            ("h\n0,1,2\n", "t.csv: line 2: 3 values"),
+            ("h\n0,1,2,3\n0,1,2\n", "t.csv: line 3: 3 values"),
+            ("h\n0\n", "t.csv: line 2: 1 values"),
             ("h\n0,1,2,x\n", "t.csv: line 2: invalid float"),
             ("h\n0,1,2,3\n0,1,2,inf\n", "t.csv: line 3: expected finite"),
         ] {

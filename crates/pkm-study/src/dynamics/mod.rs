@@ -21,13 +21,16 @@
 mod artifacts;
 mod csv;
 mod plan;
+mod robot_file;
 pub mod schema;
 
 pub use csv::{TrajectoryCsv, dynamics_reading};
 pub use plan::{MAX_SAMPLES, mass_parameters, path_of};
+pub use robot_file::{ActuatorEfforts, EffortSummary};
 pub use schema::{
     DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec, LawSpec,
-    MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec, TrajectorySpec,
+    MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec, TaskSegmentSpec,
+    TrajectorySpec,
 };
 
 use crate::outcome::Outcome;
@@ -49,10 +52,12 @@ use serde::{Deserialize, Serialize};
 pub struct DynamicsStudy {
     /// Free text.
     pub title: Option<String>,
-    /// The robot: a `[mechanism.rotary_delta]` table (elbows out).
+    /// The robot: a `[mechanism.rotary_delta]` table (elbows out), or a
+    /// `[mechanism.robot_file]` whose file carries its masses and gravity.
     pub mechanism: MechanismSpec,
-    /// Its masses.
-    pub masses: MassesSpec,
+    /// The rotary Delta's masses (a robot file has its own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub masses: Option<MassesSpec>,
     /// The plate's motion.
     pub trajectory: TrajectorySpec,
     /// How the dynamics are computed.
@@ -117,14 +122,20 @@ pub struct DynamicsResult {
     pub dt: f64,
     /// Duration (s).
     pub duration: f64,
-    /// Hamilton's torques.
-    pub hamilton: TorquePeaks,
-    /// Lagrange's torques.
-    pub lagrange: TorquePeaks,
-    /// Largest |τ_Hamilton − τ_Lagrange| over samples and motors (N m).
-    pub max_difference: f64,
+    /// Hamilton's torques (the rotary Delta).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hamilton: Option<TorquePeaks>,
+    /// Lagrange's torques (the rotary Delta).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lagrange: Option<TorquePeaks>,
+    /// Largest |τ_Hamilton − τ_Lagrange| over samples and motors (N m; the rotary Delta).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_difference: Option<f64>,
     /// The forward retrace, when asked for.
     pub forward: Option<RetraceSummary>,
+    /// A robot file's actuator efforts.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub efforts: Option<EffortSummary>,
 }
 
 /// What the inverse dynamics computed.
@@ -156,6 +167,9 @@ pub fn dynamics(
     study: &DynamicsStudy,
     progress: &dyn Progress,
 ) -> Result<Outcome<DynamicsResult>, StudyError> {
+    if let MechanismSpec::RobotFile(robot) = &study.mechanism {
+        return robot_file::dynamics(study, robot, progress);
+    }
     let plan = Plan::of(study)?;
     progress.phase("inverse dynamics");
     let torques = inverse_dynamics(&plan)?;
@@ -174,10 +188,11 @@ pub fn dynamics(
         samples: samples.len(),
         dt: t1 - t0,
         duration: t_end - t0,
-        hamilton: TorquePeaks::of(&torques.hamilton),
-        lagrange: TorquePeaks::of(&torques.lagrange),
-        max_difference,
+        hamilton: Some(TorquePeaks::of(&torques.hamilton)),
+        lagrange: Some(TorquePeaks::of(&torques.lagrange)),
+        max_difference: Some(max_difference),
         forward: forward.as_ref().map(|(r, _)| r.clone()),
+        efforts: None,
     });
     artifacts::torques(&mut outcome.artifacts, &torques);
     if let Some((_, per_sample)) = &forward {
@@ -261,14 +276,19 @@ fn four_decimals(v: f64) -> String {
 
 fn summarise(outcome: &mut Outcome<DynamicsResult>) {
     let r = &outcome.result;
+    let (Some(hamilton), Some(lagrange), Some(max_difference)) =
+        (&r.hamilton, &r.lagrange, r.max_difference)
+    else {
+        return;
+    };
     let mut lines = vec![format!(
         "{} samples every {} s: max |tau| Hamilton {} N m, Lagrange {} N m, largest \
          difference {:.3e} N m",
         r.samples,
         four_decimals(r.dt),
-        four_decimals(r.hamilton.max),
-        four_decimals(r.lagrange.max),
-        r.max_difference
+        four_decimals(hamilton.max),
+        four_decimals(lagrange.max),
+        max_difference
     )];
     if let Some(f) = &r.forward {
         lines.push(format!(

@@ -64,7 +64,14 @@ impl Plan {
     /// # Errors
     /// [`StudyError::Invalid`] at the first setting that cannot be used.
     pub(super) fn of(study: &DynamicsStudy) -> Result<Self, StudyError> {
-        let model = model_of(&study.mechanism, &study.masses)?;
+        let masses = study.masses.as_ref().ok_or_else(|| {
+            StudyError::invalid(
+                "masses",
+                "the rotary Delta's dynamics needs its [masses] (plate, arm_inertia, arm_mass, \
+                 arm_centre_of_mass, elbow, forearm)",
+            )
+        })?;
+        let model = model_of(&study.mechanism, masses)?;
         let source = source_of(&study.trajectory)?;
         let d = &study.dynamics;
         let differencing = match d.differencing {
@@ -142,6 +149,13 @@ fn mass_error(e: DesignError) -> StudyError {
 
 /// The samples' source: exactly one form, each checked.
 fn source_of(spec: &TrajectorySpec) -> Result<Source, StudyError> {
+    if !spec.task_segments.is_empty() {
+        return Err(StudyError::invalid(
+            "trajectory.task_segments",
+            "task segments move a robot file's task coordinates; the rotary Delta takes \
+             [[trajectory.segments]] (or pick_and_place, csv, positions)",
+        ));
+    }
     let forms = usize::from(spec.pick_and_place.is_some())
         + usize::from(!spec.segments.is_empty())
         + usize::from(spec.csv.is_some() || spec.positions.is_some());
@@ -186,7 +200,25 @@ fn source_of(spec: &TrajectorySpec) -> Result<Source, StudyError> {
 /// Checks sampled positions: at least 3 and at most [`MAX_SAMPLES`], finite, times increasing
 /// in equal steps (every interval equals the first to the library's relative
 /// [`SPACING_TOLERANCE`], beyond the rounding of the times themselves).
-fn positions_of(rows: &[[Real; 4]]) -> Result<Vec<(f64, Vector3<f64>)>, StudyError> {
+fn positions_of(rows: &[Vec<Real>]) -> Result<Vec<(f64, Vector3<f64>)>, StudyError> {
+    Ok(timed_rows(rows, 3, "t, x, y, z (s, m)")?
+        .into_iter()
+        .map(|(t, p)| (t, Vector3::new(p[0], p[1], p[2])))
+        .collect())
+}
+
+/// Checks sampled rows `[t, x_1, …, x_width]`: at least 3 and at most [`MAX_SAMPLES`], each of
+/// `1 + width` finite numbers (`names` says which), times increasing in equal steps (every
+/// interval equals the first to the library's relative [`SPACING_TOLERANCE`], beyond the
+/// rounding of the times themselves).
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `trajectory.positions` or the offending row.
+pub(super) fn timed_rows(
+    rows: &[Vec<Real>],
+    width: usize,
+    names: &str,
+) -> Result<Vec<(f64, Vec<f64>)>, StudyError> {
     let n = rows.len();
     if !(3..=MAX_SAMPLES).contains(&n) {
         return Err(StudyError::invalid(
@@ -195,15 +227,20 @@ fn positions_of(rows: &[[Real; 4]]) -> Result<Vec<(f64, Vector3<f64>)>, StudyErr
         ));
     }
     let at = |k: usize| format!("trajectory.positions[{k}]");
-    let mut positions = Vec::with_capacity(n);
-    for (k, [t, x, y, z]) in rows.iter().map(|r| r.map(|v| v.0)).enumerate() {
-        if ![t, x, y, z].iter().all(|v| v.is_finite()) {
+    let mut out: Vec<(f64, Vec<f64>)> = Vec::with_capacity(n);
+    for (k, row) in rows.iter().enumerate() {
+        if row.len() != width + 1 {
+            let message = format!("{} values; expected {}: {names}", row.len(), width + 1);
+            return Err(StudyError::invalid(at(k).as_str(), message));
+        }
+        if !row.iter().all(|v| v.0.is_finite()) {
             return Err(StudyError::invalid(
                 at(k).as_str(),
                 "expected finite numbers",
             ));
         }
-        if let Some(&(previous, _)) = positions.last() {
+        let t = row[0].0;
+        if let Some(&(previous, _)) = out.last() {
             let step = if k >= 2 {
                 rows[1][0].0 - rows[0][0].0
             } else {
@@ -217,9 +254,9 @@ fn positions_of(rows: &[[Real; 4]]) -> Result<Vec<(f64, Vector3<f64>)>, StudyErr
                 return Err(StudyError::invalid(at(k).as_str(), message));
             }
         }
-        positions.push((t, Vector3::new(x, y, z)));
+        out.push((t, row[1..].iter().map(|v| v.0).collect()));
     }
-    Ok(positions)
+    Ok(out)
 }
 
 fn vector(v: [Metres; 3]) -> Vector3<f64> {
@@ -306,7 +343,7 @@ fn segment_of(k: usize, s: &SegmentSpec) -> Result<Segment, StudyError> {
 }
 
 /// The library trajectory of the built-in forms.
-fn builtin_trajectory(spec: &TrajectorySpec) -> Result<Trajectory, StudyError> {
+pub(super) fn builtin_trajectory(spec: &TrajectorySpec) -> Result<Trajectory, StudyError> {
     if let Some(p) = &spec.pick_and_place {
         let period = match p.reading {
             ReadingSpec::RoundTrip => p.cycle_time.0,

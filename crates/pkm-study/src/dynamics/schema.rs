@@ -1,5 +1,6 @@
 //! The sections of a dynamics study: `[masses]`, `[trajectory]` and `[dynamics]`, plain serde
-//! types (the `[mechanism.rotary_delta]` table is the shared [`MechanismSpec`]).
+//! types (the `[mechanism.rotary_delta]` or `[mechanism.robot_file]` table is the shared
+//! [`MechanismSpec`]).
 //!
 //! [`MechanismSpec`]: crate::schema::mechanism::MechanismSpec
 
@@ -45,8 +46,8 @@ pub enum ForearmSpec {
     Lumped,
 }
 
-/// `[trajectory]`: exactly one of `pick_and_place`, `segments`, `positions` (or `csv`, which a
-/// front end turns into `positions`).
+/// `[trajectory]`: exactly one of `pick_and_place`, `segments`, `task_segments`, `positions`
+/// (or `csv`, which a front end turns into `positions`).
 #[derive(Debug, Clone, PartialEq, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrajectorySpec {
@@ -55,13 +56,19 @@ pub struct TrajectorySpec {
     /// Rest-to-rest segments run one after the other.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub segments: Vec<SegmentSpec>,
-    /// The name of a CSV file of `t, x, y, z` rows (s, m) after a header line, equally spaced
-    /// in time. The study layer reads no files: a front end reads it and hands its rows in as
-    /// [`positions`](Self::positions) (the `pkm` command reads it relative to the study file).
+    /// Rest-to-rest straight lines in a robot file's task coordinates (m and rad), run one
+    /// after the other.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub task_segments: Vec<TaskSegmentSpec>,
+    /// The name of a CSV file of `t, x, y, z` rows (s, m; for a robot file `t` and its task
+    /// coordinates) after a header line, equally spaced in time. The study layer reads no
+    /// files: a front end reads it and hands its rows in as [`positions`](Self::positions) (the
+    /// `pkm` command reads it relative to the study file).
     pub csv: Option<String>,
-    /// Sampled plate positions `[t, x, y, z]` (s, m), equally spaced in time (at least 3):
-    /// velocities and accelerations are their second-order central differences.
-    pub positions: Option<Vec<[Real; 4]>>,
+    /// Sampled positions `[t, x, y, z]` (s, m; for a robot file `[t, x_1, …, x_n]` in its
+    /// task coordinates), equally spaced in time (at least 3): velocities and accelerations are
+    /// their differences.
+    pub positions: Option<Vec<Vec<Real>>>,
     /// Sampling step of the built-in trajectories (s; default [`DEFAULT_DT`]).
     pub dt: Option<f64>,
 }
@@ -104,6 +111,21 @@ pub struct SegmentSpec {
     /// Run the path from its end back to its start.
     #[serde(default)]
     pub reverse: bool,
+}
+
+/// One `[[trajectory.task_segments]]` entry: $x(t) = x_0 + s(t/T)\,(x_1 - x_0)$ in the
+/// robot's task coordinates.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaskSegmentSpec {
+    /// Start $x_0$ (m and rad, one entry per task coordinate).
+    pub start: Vec<Real>,
+    /// End $x_1$.
+    pub end: Vec<Real>,
+    /// `"parabolic"`, `"cycloidal"` or `"polynomial345"`.
+    pub law: LawSpec,
+    /// Duration $T$ (s).
+    pub duration: Real,
 }
 
 /// [`MotionLaw`](pkm_dynamics_hamilton::trajectory::MotionLaw) in a study.

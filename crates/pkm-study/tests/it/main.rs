@@ -10,6 +10,7 @@ mod optimize;
 mod papers;
 mod presets;
 mod robot_file;
+mod robot_file_dynamics;
 mod task;
 mod task_space;
 mod variables;

@@ -1,0 +1,484 @@
+//! The dynamics study of a robot file (issue 31): the actuator efforts along a trajectory in
+//! the robot's task coordinates, by [`RobotModel::inverse_dynamics`] (virtual work, checked
+//! against the extended space with multipliers at every sample), their peaks, RMS and power,
+//! and the energy balance along the trajectory.
+//!
+//! The trajectory is a built-in one (`pick_and_place`, `segments`) when the task is the
+//! position `["x", "y", "z"]`, rest-to-rest straight lines in the task coordinates
+//! (`task_segments`) for any task, or sampled rows `[t, x_1, …, x_n]` (`positions`, `csv`),
+//! whose velocities and accelerations are their differences (`dynamics.differencing`,
+//! applied once and twice). The built-in forms give exact velocities and accelerations.
+
+use super::plan::{MAX_SAMPLES, builtin_trajectory, timed_rows};
+use super::schema::{DifferencingSpec, LagrangeSpec, LawSpec, TaskSegmentSpec};
+use super::{DEFAULT_DT, DynamicsResult, DynamicsStudy};
+use crate::outcome::{Artifact, Cell, Outcome, Table};
+use crate::schema::robot_file::RobotFileSpec;
+use crate::{StudyError, short};
+use nalgebra::DVector;
+use pkm_draw::chart::{Chart, Colour, Series, SeriesStyle};
+use pkm_dynamics_hamilton::inverse::Differencing;
+use pkm_dynamics_hamilton::trajectory::MotionLaw;
+use pkm_robot_file::{InverseDynamics, RobotModel, WorkingMode};
+use pkm_traits::Progress;
+use serde::{Deserialize, Serialize};
+
+/// One actuator's efforts along the trajectory.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ActuatorEfforts {
+    /// The actuator's name, the key path of its joint (`legs[0].joints[1]`).
+    pub name: String,
+    /// `"N"` (prismatic) or `"N m"` (revolute).
+    pub unit: String,
+    /// Largest |effort|.
+    pub peak: f64,
+    /// Root mean square over the samples.
+    pub rms: f64,
+    /// Largest |power| τ q̇ (W).
+    pub peak_power: f64,
+}
+
+/// The efforts of a robot file along its trajectory.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EffortSummary {
+    /// Per actuator, in the order of the robot's actuators.
+    pub actuators: Vec<ActuatorEfforts>,
+    /// Largest total power Σ τ q̇ (W, positive when the actuators drive the robot).
+    pub peak_power: f64,
+    /// Largest |τ_virtual work − τ_multipliers| over samples and actuators, relative to the
+    /// largest effort (0 to rounding; redundantly actuated robots: not compared, 0).
+    pub formulation_difference: f64,
+    /// Largest |E(t) − E(0) − W(t)| (J), with W the actuators' work by the trapezoidal rule:
+    /// the energy balance, exact up to the quadrature and the trajectory's differencing.
+    pub energy_balance: f64,
+}
+
+/// A task motion sample: time, position, velocity and acceleration in task coordinates.
+struct Sample {
+    t: f64,
+    x: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+}
+
+/// Runs the dynamics study of a robot file.
+///
+/// # Errors
+/// [`StudyError::Invalid`] for a setting that cannot be used (checked before computing);
+/// [`StudyError::RobotDynamics`] naming the sample and its time where the dynamics fails
+/// (out of reach, singular); [`StudyError::Cancelled`].
+pub(super) fn dynamics(
+    study: &DynamicsStudy,
+    robot: &RobotFileSpec,
+    progress: &dyn Progress,
+) -> Result<Outcome<DynamicsResult>, StudyError> {
+    refuse_delta_settings(study)?;
+    let model = robot.model()?;
+    let mode = single_mode(robot, &model)?;
+    let samples = samples_of(study, &model)?;
+    progress.start("inverse dynamics", samples.len() as u64);
+    let mut computed = Vec::with_capacity(samples.len());
+    for (k, s) in samples.iter().enumerate() {
+        progress.check()?;
+        let d = model
+            .inverse_dynamics(&s.x, &s.v, &s.a, mode)
+            .map_err(|source| StudyError::RobotDynamics {
+                sample: k,
+                time: s.t,
+                source,
+            })?;
+        computed.push(d);
+        progress.advance(1);
+    }
+    progress.finish();
+    let summary = summarise_efforts(&model, &samples, &computed);
+    let (t0, t1) = (samples[0].t, samples[1].t);
+    let mut outcome = Outcome::new(DynamicsResult {
+        title: study.title.clone(),
+        samples: samples.len(),
+        dt: t1 - t0,
+        duration: samples[samples.len() - 1].t - t0,
+        hamilton: None,
+        lagrange: None,
+        max_difference: None,
+        forward: None,
+        efforts: Some(summary),
+    });
+    artifacts(&mut outcome.artifacts, &model, &samples, &computed);
+    let r = &outcome.result;
+    if let Some(e) = &r.efforts {
+        let peaks: Vec<String> = e
+            .actuators
+            .iter()
+            .map(|a| format!("{} {} {}", a.name, short(a.peak), a.unit))
+            .collect();
+        outcome.summary.push(format!(
+            "{} samples every {} s: peak efforts {}; peak power {} W; formulations agree to \
+             {:.1e}; energy balance {:.3e} J",
+            r.samples,
+            short(r.dt),
+            peaks.join(", "),
+            short(e.peak_power),
+            e.formulation_difference,
+            e.energy_balance
+        ));
+    }
+    Ok(outcome)
+}
+
+/// The rotary Delta's settings have no meaning for a robot file: refused, not ignored.
+fn refuse_delta_settings(study: &DynamicsStudy) -> Result<(), StudyError> {
+    if study.masses.is_some() {
+        return Err(StudyError::invalid(
+            "masses",
+            "a robot file carries its own masses (docs/robots.md, \"Body table\"): remove \
+             [masses]",
+        ));
+    }
+    if study.dynamics.forward.is_some() {
+        return Err(StudyError::invalid(
+            "dynamics.forward",
+            "the forward retrace is computed for the rotary Delta only so far: remove \
+             [dynamics.forward]",
+        ));
+    }
+    if study.dynamics.lagrange_accelerations != LagrangeSpec::Trajectory {
+        return Err(StudyError::invalid(
+            "dynamics.lagrange_accelerations",
+            "a robot file's accelerations are the trajectory's (sampled positions differenced \
+             twice with `differencing`): remove the key",
+        ));
+    }
+    Ok(())
+}
+
+/// The one working mode the dynamics follows.
+fn single_mode(robot: &RobotFileSpec, model: &RobotModel) -> Result<WorkingMode, StudyError> {
+    match robot.working_modes(model)?.as_slice() {
+        [one] => Ok(*one),
+        modes => Err(StudyError::invalid(
+            "mechanism.robot_file.modes",
+            format!(
+                "{} working modes: the dynamics follows one (\"home\" or one label)",
+                modes.len()
+            ),
+        )),
+    }
+}
+
+/// The samples of the study's trajectory in the robot's task coordinates.
+fn samples_of(study: &DynamicsStudy, model: &RobotModel) -> Result<Vec<Sample>, StudyError> {
+    let spec = &study.trajectory;
+    let forms = usize::from(spec.pick_and_place.is_some())
+        + usize::from(!spec.segments.is_empty())
+        + usize::from(!spec.task_segments.is_empty())
+        + usize::from(spec.csv.is_some() || spec.positions.is_some());
+    if forms != 1 {
+        return Err(StudyError::invalid(
+            "trajectory",
+            "expected exactly one of pick_and_place, [[trajectory.segments]], \
+             [[trajectory.task_segments]], csv (or positions)",
+        ));
+    }
+    let names = model.task_names();
+    let n = names.len();
+    if let Some(rows) = &spec.positions {
+        if spec.dt.is_some() {
+            return Err(StudyError::invalid(
+                "trajectory.dt",
+                "sampled positions have the step of their own times; remove dt",
+            ));
+        }
+        let header = format!("t, {}", names.join(", "));
+        let rows = timed_rows(rows, n, &header)?;
+        return differenced(&rows, study.dynamics.differencing);
+    }
+    if spec.csv.is_some() {
+        return Err(StudyError::invalid(
+            "trajectory.csv",
+            "the study layer reads no files: read the CSV and give its rows as \
+             trajectory.positions (the pkm command does this relative to the study file)",
+        ));
+    }
+    let dt = spec.dt.unwrap_or(DEFAULT_DT);
+    if !spec.task_segments.is_empty() {
+        let segments = task_segments(&spec.task_segments, n)?;
+        let duration: f64 = segments.iter().map(|s| s.duration).sum();
+        return sampled(duration, dt, |t| sample_segments(&segments, t));
+    }
+    if names != ["x", "y", "z"] {
+        return Err(StudyError::invalid(
+            "trajectory",
+            format!(
+                "pick_and_place and segments move the position (x, y, z); this robot's task is \
+                 {names:?}: use [[trajectory.task_segments]] or positions"
+            ),
+        ));
+    }
+    let trajectory = builtin_trajectory(spec)?;
+    sampled(trajectory.duration(), dt, |t| {
+        let m = trajectory.sample(t);
+        (
+            m.p.as_slice().to_vec(),
+            m.v.as_slice().to_vec(),
+            m.a.as_slice().to_vec(),
+        )
+    })
+}
+
+/// A task segment checked.
+struct TaskSegment {
+    start: DVector<f64>,
+    end: DVector<f64>,
+    law: MotionLaw,
+    duration: f64,
+}
+
+fn task_segments(specs: &[TaskSegmentSpec], n: usize) -> Result<Vec<TaskSegment>, StudyError> {
+    specs
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let at = |key: &str| format!("trajectory.task_segments[{k}].{key}");
+            let point = |key: &str, v: &[crate::schema::units::Real]| {
+                if v.len() == n && v.iter().all(|e| e.0.is_finite() && e.0.abs() <= 1e6) {
+                    Ok(DVector::from_iterator(n, v.iter().map(|e| e.0)))
+                } else {
+                    Err(StudyError::invalid(
+                        at(key).as_str(),
+                        format!("expected {n} finite numbers within ±1e6, one per task coordinate"),
+                    ))
+                }
+            };
+            let duration = s.duration.0;
+            if !(duration.is_finite() && duration > 0.0 && duration <= 1e6) {
+                return Err(StudyError::invalid(
+                    at("duration").as_str(),
+                    "expected a duration > 0 and at most 1e6 s",
+                ));
+            }
+            Ok(TaskSegment {
+                start: point("start", &s.start)?,
+                end: point("end", &s.end)?,
+                law: match s.law {
+                    LawSpec::Parabolic => MotionLaw::Parabolic,
+                    LawSpec::Cycloidal => MotionLaw::Cycloidal,
+                    LawSpec::Polynomial345 => MotionLaw::Polynomial345,
+                },
+                duration,
+            })
+        })
+        .collect()
+}
+
+/// $x = x_0 + s(\tau)(x_1 - x_0)$, $\dot x = s'(\tau)(x_1 - x_0)/T$, $\ddot x =
+/// s''(\tau)(x_1 - x_0)/T^2$ on the segment that holds `t` (the last one after the end).
+fn sample_segments(segments: &[TaskSegment], t: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut start = 0.0;
+    for (k, s) in segments.iter().enumerate() {
+        if t <= start + s.duration || k + 1 == segments.len() {
+            let (p, dp, ddp) = s.law.eval((t - start) / s.duration);
+            let delta = &s.end - &s.start;
+            let x = &s.start + &delta * p;
+            let v = &delta * (dp / s.duration);
+            let a = &delta * (ddp / (s.duration * s.duration));
+            return (
+                x.as_slice().to_vec(),
+                v.as_slice().to_vec(),
+                a.as_slice().to_vec(),
+            );
+        }
+        start += s.duration;
+    }
+    (Vec::new(), Vec::new(), Vec::new())
+}
+
+/// `motion` sampled every `dt` over `duration`, after checking the count.
+fn sampled(
+    duration: f64,
+    dt: f64,
+    motion: impl Fn(f64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
+) -> Result<Vec<Sample>, StudyError> {
+    let steps = (duration / dt).round();
+    if !(dt.is_finite() && dt > 0.0 && (2.0..MAX_SAMPLES as f64).contains(&steps)) {
+        return Err(StudyError::invalid(
+            "trajectory.dt",
+            format!(
+                "{dt} s: expected a step > 0 that leaves 3 to {MAX_SAMPLES} samples over the \
+                 {duration} s trajectory"
+            ),
+        ));
+    }
+    // `steps` is an integer in [2, MAX_SAMPLES), so the cast is exact.
+    let count = steps as usize + 1;
+    Ok((0..count)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let (x, v, a) = motion(t);
+            Sample { t, x, v, a }
+        })
+        .collect())
+}
+
+/// Velocities and accelerations of sampled rows by `differencing`, applied once and twice.
+fn differenced(
+    rows: &[(f64, Vec<f64>)],
+    differencing: DifferencingSpec,
+) -> Result<Vec<Sample>, StudyError> {
+    let scheme = match differencing {
+        DifferencingSpec::Central => Differencing::Central,
+        DifferencingSpec::Backward => Differencing::Backward,
+    };
+    let dt = rows[1].0 - rows[0].0;
+    let x: Vec<DVector<f64>> = rows
+        .iter()
+        .map(|(_, p)| DVector::from_vec(p.clone()))
+        .collect();
+    let invalid =
+        |e: pkm_traits::InvalidInput| StudyError::invalid("trajectory.positions", e.to_string());
+    let v = scheme.apply(&x, dt).map_err(invalid)?;
+    let a = scheme.apply(&v, dt).map_err(invalid)?;
+    Ok(rows
+        .iter()
+        .zip(v.iter().zip(&a))
+        .map(|((t, p), (v, a))| Sample {
+            t: *t,
+            x: p.clone(),
+            v: v.as_slice().to_vec(),
+            a: a.as_slice().to_vec(),
+        })
+        .collect())
+}
+
+/// The peaks, RMS, power, formulation difference and energy balance of the efforts.
+fn summarise_efforts(
+    model: &RobotModel,
+    samples: &[Sample],
+    computed: &[InverseDynamics],
+) -> EffortSummary {
+    let units = effort_units(model);
+    let names = model.actuator_names();
+    let count = computed.len().max(1) as f64;
+    let actuators = (0..model.actuator_count())
+        .map(|i| {
+            let efforts = computed.iter().map(|d| d.efforts[i]);
+            let powers = computed.iter().map(|d| d.efforts[i] * d.actuator_rates[i]);
+            ActuatorEfforts {
+                name: names[i].to_string(),
+                unit: units[i].to_string(),
+                peak: efforts.clone().map(f64::abs).fold(0.0, f64::max),
+                rms: (efforts.map(|e| e * e).sum::<f64>() / count).sqrt(),
+                peak_power: powers.map(f64::abs).fold(0.0, f64::max),
+            }
+        })
+        .collect();
+    let power = |d: &InverseDynamics| d.efforts.dot(&d.actuator_rates);
+    let peak_power = computed.iter().map(power).fold(f64::NEG_INFINITY, f64::max);
+    let largest = computed
+        .iter()
+        .map(|d| d.efforts.amax())
+        .fold(0.0, f64::max);
+    let formulation_difference = if model.actuator_count() == model.dof() {
+        computed
+            .iter()
+            .map(|d| (&d.efforts - &d.efforts_multipliers).amax())
+            .fold(0.0, f64::max)
+            / largest.max(1e-300)
+    } else {
+        0.0
+    };
+    let energy = |d: &InverseDynamics| d.kinetic_energy + d.potential_energy;
+    let mut work = 0.0;
+    let mut energy_balance = 0.0_f64;
+    for k in 1..computed.len() {
+        let dt = samples[k].t - samples[k - 1].t;
+        work += 0.5 * dt * (power(&computed[k]) + power(&computed[k - 1]));
+        let gained = energy(&computed[k]) - energy(&computed[0]);
+        energy_balance = energy_balance.max((gained - work).abs());
+    }
+    EffortSummary {
+        actuators,
+        peak_power,
+        formulation_difference,
+        energy_balance,
+    }
+}
+
+/// `"N m"` for a revolute actuator, `"N"` for a prismatic one.
+fn effort_units(model: &RobotModel) -> Vec<&'static str> {
+    model
+        .legs()
+        .iter()
+        .flat_map(|leg| {
+            leg.actuators.iter().map(|a| match leg.joints[a.joint] {
+                pkm_robot_file::Joint::Revolute { .. } => "N m",
+                _ => "N",
+            })
+        })
+        .collect()
+}
+
+/// `efforts.csv` (time, task coordinates, efforts and powers per actuator, total power,
+/// energies) and `efforts.svg`.
+fn artifacts(
+    artifacts: &mut Vec<Artifact>,
+    model: &RobotModel,
+    samples: &[Sample],
+    computed: &[InverseDynamics],
+) {
+    let names = model.actuator_names();
+    let mut columns: Vec<String> = vec!["t".into()];
+    columns.extend(model.task_names().iter().map(|s| (*s).to_string()));
+    columns.extend(names.iter().map(|n| format!("effort {n}")));
+    columns.extend(names.iter().map(|n| format!("power {n}")));
+    columns.extend([
+        "power".into(),
+        "kinetic_energy".into(),
+        "potential_energy".into(),
+    ]);
+    let mut table = Table::new(columns);
+    table.rows = samples
+        .iter()
+        .zip(computed)
+        .map(|(s, d)| {
+            let mut row: Vec<Cell> = vec![s.t.into()];
+            row.extend(s.x.iter().map(|v| Cell::from(*v)));
+            row.extend(d.efforts.iter().map(|v| Cell::from(*v)));
+            row.extend(
+                d.efforts
+                    .iter()
+                    .zip(&d.actuator_rates)
+                    .map(|(e, r)| Cell::from(e * r)),
+            );
+            row.push(d.efforts.dot(&d.actuator_rates).into());
+            row.push(d.kinetic_energy.into());
+            row.push(d.potential_energy.into());
+            row
+        })
+        .collect();
+    artifacts.push(Artifact::Table {
+        name: "efforts.csv".into(),
+        table,
+    });
+    let units = effort_units(model);
+    let series = (0..model.actuator_count())
+        .map(|i| {
+            let points = samples
+                .iter()
+                .zip(computed)
+                .map(|(s, d)| (s.t, d.efforts[i]))
+                .collect();
+            Series::styled(
+                format!("{} ({})", names[i], units[i]),
+                SeriesStyle::Line,
+                points,
+            )
+            .with_colour(Colour::Palette(i))
+        })
+        .collect();
+    let chart = Chart::series("actuator efforts", "t (s)", "effort (N or N m)", series);
+    artifacts.push(Artifact::Chart {
+        name: "efforts.svg".into(),
+        chart: Box::new(chart),
+    });
+}
