@@ -84,6 +84,8 @@ pub enum DynamicsError {
 /// The actuator efforts at one sample, by both formulations.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InverseDynamics {
+    /// The six pose coordinates (the dependent ones solved).
+    pub pose: [f64; 6],
     /// Actuator efforts by virtual work (N for a prismatic actuator, N·m for a revolute one),
     /// in the order of [`RobotModel::actuator_names`].
     pub efforts: DVector<f64>,
@@ -231,6 +233,7 @@ impl RobotModel {
         });
         let (kinetic_energy, potential_energy) = self.energies(&motion, &bodies, &gravity);
         Ok(InverseDynamics {
+            pose: motion.config.pose,
             efforts,
             efforts_multipliers,
             multipliers,

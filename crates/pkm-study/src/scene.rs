@@ -188,15 +188,24 @@ pub fn trajectory_scene<M: StudyMechanism>(
     built: &Built<M>,
     commanded: &[Vector3<f64>],
 ) -> Result<Scene, String> {
-    let (Some(start), Some(last)) = (commanded.first(), commanded.last()) else {
-        return Err("the trajectory has no samples".to_owned());
+    let start = commanded
+        .first()
+        .ok_or_else(|| "the trajectory has no samples".to_owned())?;
+    Ok(with_trajectory(Scene::new(built.skeleton_at(start)?), commanded))
+}
+
+/// `scene` with the path `commanded` (at most [`MAX_PATH_POINTS`] of its points, evenly
+/// thinned, the last one kept).
+pub fn with_trajectory(scene: Scene, commanded: &[Vector3<f64>]) -> Scene {
+    let Some(last) = commanded.last() else {
+        return scene;
     };
     let step = commanded.len().div_ceil(MAX_PATH_POINTS).max(1);
     let mut path: Vec<Vector3<f64>> = commanded.iter().step_by(step).copied().collect();
     if !(commanded.len() - 1).is_multiple_of(step) {
         path.push(*last);
     }
-    Ok(Scene::new(built.skeleton_at(start)?).with_path("trajectory", PathKind::Trajectory, path))
+    scene.with_path("trajectory", PathKind::Trajectory, path)
 }
 
 /// [`design_scene`] of `base` with the design variables `values` set, without constraints (the

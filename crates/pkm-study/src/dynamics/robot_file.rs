@@ -105,6 +105,7 @@ pub(super) fn dynamics(
         efforts: Some(summary),
     });
     artifacts(&mut outcome.artifacts, &model, &samples, &computed);
+    outcome.robot("the robot at t = 0 on its trajectory", drawing(&model, mode, &samples, &computed));
     let r = &outcome.result;
     if let Some(e) = &r.efforts {
         let peaks: Vec<String> = e
@@ -481,4 +482,24 @@ fn artifacts(
         name: "efforts.svg".into(),
         chart: Box::new(chart),
     });
+}
+
+/// The robot at the first sample with the path of its platform origin.
+fn drawing(
+    model: &RobotModel,
+    mode: WorkingMode,
+    samples: &[Sample],
+    computed: &[InverseDynamics],
+) -> Result<pkm_draw::Scene, String> {
+    let config = model
+        .inverse_kinematics_configuration(&samples[0].x, mode)
+        .map_err(|e| format!("the robot at t = 0: {e}"))?;
+    let path: Vec<nalgebra::Vector3<f64>> = computed
+        .iter()
+        .map(|d| nalgebra::Vector3::new(d.pose[0], d.pose[1], d.pose[2]))
+        .collect();
+    Ok(crate::scene::with_trajectory(
+        pkm_draw::Scene::new(crate::schema::robot_file::robot_skeleton(model, &config)),
+        &path,
+    ))
 }
