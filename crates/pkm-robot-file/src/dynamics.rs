@@ -42,7 +42,7 @@ use crate::mass::Body;
 use crate::model::{RobotModel, WorkingMode};
 use crate::pose::{CoordinateRole, hybrid_rates, platform_pose};
 use nalgebra::{DMatrix, DVector, Isometry3, Point3, Vector3, Vector6};
-use pkm_traits::KinematicsError;
+use pkm_traits::{KinematicsError, RhsError, VectorField};
 use thiserror::Error;
 
 /// Why the dynamics of a robot file cannot be computed.
@@ -76,6 +76,13 @@ pub enum DynamicsError {
         /// The direct-kinematic margin.
         direct: f64,
     },
+    /// The task-space mass matrix is not positive definite: some task direction moves no
+    /// mass (a massless robot), so efforts do not determine the accelerations.
+    #[error(
+        "the task-space mass matrix is not positive definite: give the bodies that the task \
+         coordinates move a mass"
+    )]
+    Massless,
     /// A kinematic failure (out of reach, not converged).
     #[error(transparent)]
     Kinematics(#[from] KinematicsError),
@@ -99,6 +106,50 @@ pub struct InverseDynamics {
     pub kinetic_energy: f64,
     /// Potential energy of gravity (J), zero at the base origin.
     pub potential_energy: f64,
+}
+
+/// The task accelerations under given efforts, with the task-space mass matrix and the
+/// energies at the state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForwardDynamics {
+    /// $\ddot x$ (m/s², rad/s²).
+    pub acceleration: DVector<f64>,
+    /// $M_x$, the kinetic energy $\tfrac12\dot x^\top M_x\dot x$'s matrix (rotors included).
+    pub mass_matrix: DMatrix<f64>,
+    /// The actuator rates $\dot q$.
+    pub actuator_rates: DVector<f64>,
+    /// Kinetic energy (J).
+    pub kinetic_energy: f64,
+    /// Potential energy of gravity (J).
+    pub potential_energy: f64,
+}
+
+/// A configuration ready for the dynamics.
+struct Prepared {
+    gravity: Vector3<f64>,
+    config: Configuration,
+    closure: ClosureRates,
+}
+
+/// Eq. D3 at one motion, with what the multipliers need.
+struct Balance {
+    motion: Motion,
+    bodies: Vec<Vec<(usize, BodyState)>>,
+    wrenches: Vec<Vec<Vector6<f64>>>,
+    forces: DVector<f64>,
+    jt: DMatrix<f64>,
+}
+
+/// `Err(Motion)` unless `v` has `len` finite entries within ±1e9.
+fn check_motion(len: usize, what: &'static str, v: &[f64]) -> Result<(), DynamicsError> {
+    if v.len() == len && v.iter().all(|e| e.is_finite() && e.abs() <= 1e9) {
+        Ok(())
+    } else {
+        Err(DynamicsError::Motion {
+            what,
+            reason: format!("must have {len} finite entries within ±1e9"),
+        })
+    }
 }
 
 /// The rates and accelerations of every coordinate at one sample.
@@ -190,18 +241,83 @@ impl RobotModel {
         acceleration: &[f64],
         mode: WorkingMode,
     ) -> Result<InverseDynamics, DynamicsError> {
-        let gravity = self.mass.gravity.ok_or(DynamicsError::Missing("gravity"))?;
-        for (what, v) in [("velocity", velocity), ("acceleration", acceleration)] {
-            if v.len() != self.task.len() || !v.iter().all(|e| e.is_finite() && e.abs() <= 1e9) {
-                return Err(DynamicsError::Motion {
-                    what,
-                    reason: format!(
-                        "must have {} finite entries within ±1e9, one per task coordinate",
-                        self.task.len()
-                    ),
-                });
-            }
+        check_motion(self.task.len(), "acceleration", acceleration)?;
+        let prepared = self.prepare(x, velocity, mode)?;
+        let balance = self.balance(&prepared, velocity, acceleration)?;
+        let efforts = least_squares(balance.jt.clone(), &balance.forces, "J^T")?;
+        let (efforts_multipliers, multipliers) =
+            self.multiplier_efforts(&balance.motion, &balance.bodies, &balance.wrenches)?;
+        let actuator_rates = self.actuator_rates(&balance.motion);
+        let (kinetic_energy, potential_energy) =
+            self.energies(&balance.motion, &balance.bodies, &prepared.gravity);
+        Ok(InverseDynamics {
+            pose: balance.motion.config.pose,
+            efforts,
+            efforts_multipliers,
+            multipliers,
+            actuator_rates,
+            kinetic_energy,
+            potential_energy,
+        })
+    }
+
+    /// The task accelerations $\ddot x$ that the actuator efforts `efforts` give at $(x,
+    /// \dot x)$ in working mode `mode`: with the generalised task forces $Q(\ddot x) = M_x\ddot
+    /// x + b$ of eq. D3 (affine in $\ddot x$), $M_x e_k = Q(e_k) - Q(0)$, $b = Q(0)$, and (eq. D4)
+    /// $$M_x\ddot x = J^\top\tau - b,$$
+    /// solved by Cholesky ($M_x$ is the kinetic energy's matrix in the task rates, symmetric
+    /// positive definite when every task direction moves some mass).
+    ///
+    /// # Errors
+    /// As [`RobotModel::inverse_dynamics`]; [`DynamicsError::Motion`] for efforts of the wrong
+    /// length or not finite; [`DynamicsError::Massless`] when $M_x$ is not positive definite.
+    pub fn forward_dynamics(
+        &self,
+        x: &[f64],
+        velocity: &[f64],
+        efforts: &[f64],
+        mode: WorkingMode,
+    ) -> Result<ForwardDynamics, DynamicsError> {
+        check_motion(self.actuator_count(), "efforts", efforts)?;
+        let prepared = self.prepare(x, velocity, mode)?;
+        let n = self.task.len();
+        let zero = vec![0.0; n];
+        let bias = self.balance(&prepared, velocity, &zero)?;
+        let mut mass_matrix = DMatrix::zeros(n, n);
+        for k in 0..n {
+            let mut e = zero.clone();
+            e[k] = 1.0;
+            let column = self.balance(&prepared, velocity, &e)?.forces - &bias.forces;
+            mass_matrix.set_column(k, &column);
         }
+        let symmetric = (&mass_matrix + mass_matrix.transpose()) * 0.5;
+        let forces = &bias.jt * DVector::from_column_slice(efforts) - &bias.forces;
+        let acceleration = symmetric
+            .clone()
+            .cholesky()
+            .map(|c| c.solve(&forces))
+            .filter(|a| a.iter().all(|v| v.is_finite()))
+            .ok_or(DynamicsError::Massless)?;
+        let (kinetic_energy, potential_energy) =
+            self.energies(&bias.motion, &bias.bodies, &prepared.gravity);
+        Ok(ForwardDynamics {
+            acceleration,
+            mass_matrix: symmetric,
+            actuator_rates: self.actuator_rates(&bias.motion),
+            kinetic_energy,
+            potential_energy,
+        })
+    }
+
+    /// Gravity, the configuration at `x` checked away from singularities, and its closure.
+    fn prepare(
+        &self,
+        x: &[f64],
+        velocity: &[f64],
+        mode: WorkingMode,
+    ) -> Result<Prepared, DynamicsError> {
+        let gravity = self.mass.gravity.ok_or(DynamicsError::Missing("gravity"))?;
+        check_motion(self.task.len(), "velocity", velocity)?;
         let config = self.inverse_kinematics_configuration(x, mode)?;
         let margins = self.singularity_margins(&config)?;
         if !(margins.inverse > 1e-9 && margins.direct > 1e-9) {
@@ -211,11 +327,31 @@ impl RobotModel {
             });
         }
         let closure = ClosureRates::new(self, &config)?;
-        let motion = closure.motion(self, config, velocity, acceleration)?;
+        Ok(Prepared {
+            gravity,
+            config,
+            closure,
+        })
+    }
+
+    /// The motion of every body for the task motion, the wrenches they need, and eq. D3's
+    /// generalised task forces $Q$ with $J^\top$.
+    fn balance(
+        &self,
+        prepared: &Prepared,
+        velocity: &[f64],
+        acceleration: &[f64],
+    ) -> Result<Balance, DynamicsError> {
+        let closure = &prepared.closure;
+        let motion = closure.motion(self, prepared.config.clone(), velocity, acceleration)?;
         let bodies = self.body_states(&motion);
         let wrenches: Vec<Vec<Vector6<f64>>> = bodies
             .iter()
-            .map(|leg| leg.iter().map(|(_, b)| b.wrench(&gravity)).collect())
+            .map(|leg| {
+                leg.iter()
+                    .map(|(_, b)| b.wrench(&prepared.gravity))
+                    .collect()
+            })
             .collect();
         let unit_rates: Vec<Motion> = (0..self.task.len())
             .map(|k| {
@@ -224,22 +360,21 @@ impl RobotModel {
                 closure.rates(self, motion.config.clone(), &e)
             })
             .collect::<Result<_, _>>()?;
-        let efforts = self.virtual_work_efforts(&motion, &wrenches, &unit_rates)?;
-        let (efforts_multipliers, multipliers) =
-            self.multiplier_efforts(&motion, &bodies, &wrenches)?;
-        let actuator_rates = DVector::from_fn(self.actuator_count(), |a, _| {
+        let (forces, jt) = self.task_forces(&motion, &wrenches, &unit_rates);
+        Ok(Balance {
+            motion,
+            bodies,
+            wrenches,
+            forces,
+            jt,
+        })
+    }
+
+    /// $\dot q$ of every actuator.
+    fn actuator_rates(&self, motion: &Motion) -> DVector<f64> {
+        DVector::from_fn(self.actuator_count(), |a, _| {
             let (leg, actuator) = self.actuator(a);
             motion.joint_rates[leg][self.coordinate_of(leg, actuator.joint)]
-        });
-        let (kinetic_energy, potential_energy) = self.energies(&motion, &bodies, &gravity);
-        Ok(InverseDynamics {
-            pose: motion.config.pose,
-            efforts,
-            efforts_multipliers,
-            multipliers,
-            actuator_rates,
-            kinetic_energy,
-            potential_energy,
         })
     }
 
@@ -347,13 +482,13 @@ impl RobotModel {
         (8.0 * (at(h) - at(-h)) - (at(2.0 * h) - at(-2.0 * h))) * (speed / (12.0 * h))
     }
 
-    /// Eq. D3: $J^\top\tau = Q$ by least squares (least-norm efforts when redundant).
-    fn virtual_work_efforts(
+    /// Eq. D3's $Q$ and $J^\top$ ($J_{ak} = \dot\theta_a^k$).
+    fn task_forces(
         &self,
         motion: &Motion,
         wrenches: &[Vec<Vector6<f64>>],
         unit_rates: &[Motion],
-    ) -> Result<DVector<f64>, DynamicsError> {
+    ) -> (DVector<f64>, DMatrix<f64>) {
         let n = self.task.len();
         let m = self.actuator_count();
         let mut q = DVector::zeros(n);
@@ -374,7 +509,7 @@ impl RobotModel {
                     actuator.reflected_inertia * motion.joint_accelerations[leg][coordinate] * rate;
             }
         }
-        least_squares(jt, &q, "J^T")
+        (q, jt)
     }
 
     /// Eqs. D1–D2 in $(\lambda, \tau)$ by least squares.
@@ -643,5 +778,67 @@ impl ClosureRates {
         motion.pose_acceleration = self.pose_vector(model, acceleration, &u);
         motion.joint_accelerations = self.per_leg(model, &u);
         Ok(motion)
+    }
+}
+
+/// The robot's motion $\dot z = [\dot x;\ \ddot x]$ in its task coordinates under the
+/// actuator efforts `efforts(t)` (eq. D4): a vector field of the project's integrators on the
+/// state $z = [x; \dot x]$ of $M = 2n$ entries. The configuration is solved from $x$ at every
+/// evaluation (minimal coordinates), so the loop closure holds to the inverse kinematics'
+/// 1e-12 at every state and does not drift.
+pub struct TaskDynamics<'a, E> {
+    model: &'a RobotModel,
+    mode: WorkingMode,
+    efforts: E,
+}
+
+impl<E> std::fmt::Debug for TaskDynamics<'_, E> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TaskDynamics")
+            .field("robot", &self.model.name())
+            .field("mode", &self.mode)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a, E: Fn(f64) -> DVector<f64>> TaskDynamics<'a, E> {
+    /// The field of `model` in working mode `mode` under `efforts(t)`.
+    pub fn new(model: &'a RobotModel, mode: WorkingMode, efforts: E) -> Self {
+        Self {
+            model,
+            mode,
+            efforts,
+        }
+    }
+}
+
+impl<E: Fn(f64) -> DVector<f64>, const M: usize> VectorField<M> for TaskDynamics<'_, E> {
+    fn rhs(
+        &self,
+        t: f64,
+        z: &nalgebra::SVector<f64, M>,
+        dz: &mut nalgebra::SVector<f64, M>,
+    ) -> Result<(), RhsError> {
+        let n = self.model.dof();
+        if M != 2 * n {
+            return Err(RhsError {
+                t,
+                reason: format!(
+                    "a state of {M} entries for {n} task coordinates (expected {})",
+                    2 * n
+                ),
+            });
+        }
+        let (x, v) = (&z.as_slice()[..n], &z.as_slice()[n..]);
+        let forward = self
+            .model
+            .forward_dynamics(x, v, (self.efforts)(t).as_slice(), self.mode)
+            .map_err(|e| RhsError {
+                t,
+                reason: e.to_string(),
+            })?;
+        dz.as_mut_slice()[..n].copy_from_slice(v);
+        dz.as_mut_slice()[n..].copy_from_slice(forward.acceleration.as_slice());
+        Ok(())
     }
 }

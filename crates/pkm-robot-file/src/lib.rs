@@ -65,7 +65,7 @@ mod workspace;
 
 pub use chain::{Joint, LegActuator, LegChain};
 pub use closure::Configuration;
-pub use dynamics::{DynamicsError, InverseDynamics};
+pub use dynamics::{DynamicsError, ForwardDynamics, InverseDynamics, TaskDynamics};
 pub use error::RobotFileError;
 pub use file::{
     HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, MAX_LEGS, RobotFile, SymmetrySpec,

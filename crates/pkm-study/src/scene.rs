@@ -191,7 +191,10 @@ pub fn trajectory_scene<M: StudyMechanism>(
     let start = commanded
         .first()
         .ok_or_else(|| "the trajectory has no samples".to_owned())?;
-    Ok(with_trajectory(Scene::new(built.skeleton_at(start)?), commanded))
+    Ok(with_trajectory(
+        Scene::new(built.skeleton_at(start)?),
+        commanded,
+    ))
 }
 
 /// `scene` with the path `commanded` (at most [`MAX_PATH_POINTS`] of its points, evenly

@@ -15,17 +15,23 @@ use pkm_traits::InvalidInput;
 /// assert!((s.at(0.75).x - 1.5).abs() < 1e-12);
 /// ```
 #[derive(Debug, Clone, PartialEq)]
-pub struct SampledTorques {
+pub struct SampledTorques<V = Vector3<f64>> {
     dt: f64,
-    values: Vec<Vector3<f64>>,
+    values: Vec<V>,
 }
 
-impl SampledTorques {
+impl<V> SampledTorques<V>
+where
+    V: Clone
+        + std::ops::Add<Output = V>
+        + std::ops::Sub<Output = V>
+        + std::ops::Mul<f64, Output = V>,
+{
     /// Wraps samples taken every `dt`.
     ///
     /// # Errors
     /// [`DynamicsError::Invalid`] for a non-positive step or fewer than 2 samples.
-    pub fn new(dt: f64, values: Vec<Vector3<f64>>) -> Result<Self, DynamicsError> {
+    pub fn new(dt: f64, values: Vec<V>) -> Result<Self, DynamicsError> {
         if !(dt > 0.0 && dt.is_finite() && values.len() >= 2) {
             return Err(InvalidInput::new(
                 "dt",
@@ -38,18 +44,18 @@ impl SampledTorques {
     }
 
     /// $\tau(t)$, constant beyond the ends.
-    pub fn at(&self, t: f64) -> Vector3<f64> {
+    pub fn at(&self, t: f64) -> V {
         let last = self.values.len() - 1;
         let x = (t / self.dt).clamp(0.0, last as f64);
         let k = (x.floor() as usize).min(last - 1);
         let s = x - k as f64;
-        let v = |i: isize| self.values[i.clamp(0, last as isize) as usize];
+        let v = |i: isize| self.values[i.clamp(0, last as isize) as usize].clone();
         let k = k as isize;
         let (p0, p1, p2, p3) = (v(k - 1), v(k), v(k + 1), v(k + 2));
         let (s2, s3) = (s * s, s * s * s);
-        (p1 * 2.0
-            + (p2 - p0) * s
-            + (p0 * 2.0 - p1 * 5.0 + p2 * 4.0 - p3) * s2
+        (p1.clone() * 2.0
+            + (p2.clone() - p0.clone()) * s
+            + (p0.clone() * 2.0 - p1.clone() * 5.0 + p2.clone() * 4.0 - p3.clone()) * s2
             + (p1 * 3.0 - p0 - p2 * 3.0 + p3) * s3)
             * 0.5
     }

@@ -26,7 +26,7 @@ pub mod schema;
 
 pub use csv::{TrajectoryCsv, dynamics_reading};
 pub use plan::{MAX_SAMPLES, mass_parameters, path_of};
-pub use robot_file::{ActuatorEfforts, EffortSummary};
+pub use robot_file::{ActuatorEfforts, EffortSummary, TaskRetraceSummary};
 pub use schema::{
     DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec, LawSpec,
     MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec, TaskSegmentSpec,
@@ -136,6 +136,9 @@ pub struct DynamicsResult {
     /// A robot file's actuator efforts.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub efforts: Option<EffortSummary>,
+    /// A robot file's forward retrace, when asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub retrace: Option<TaskRetraceSummary>,
 }
 
 /// What the inverse dynamics computed.
@@ -193,6 +196,7 @@ pub fn dynamics(
         max_difference: Some(max_difference),
         forward: forward.as_ref().map(|(r, _)| r.clone()),
         efforts: None,
+        retrace: None,
     });
     artifacts::torques(&mut outcome.artifacts, &torques);
     if let Some((_, per_sample)) = &forward {

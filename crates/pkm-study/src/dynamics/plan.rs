@@ -366,18 +366,25 @@ fn forward_of(model: &ExtendedModel, spec: &ForwardSpec) -> Result<Forward, Stud
         StudyError::invalid(format!("dynamics.forward.{key}").as_str(), e.to_string())
     };
     HamiltonForm::new(model, |_| Vector3::zeros(), spec.kappa.0).map_err(|e| at("kappa", &e))?;
-    let settings = AdaptiveSettings::default();
-    let settings = settings
-        .with_rtol(spec.rtol.0)
-        .map_err(|e| at("rtol", &e))?;
-    let settings = settings
-        .with_atol(spec.atol.0)
-        .map_err(|e| at("atol", &e))?;
-    let settings = settings
-        .with_max_steps(spec.max_steps)
-        .map_err(|e| at("max_steps", &e))?;
     Ok(Forward {
         kappa: spec.kappa.0,
-        settings,
+        settings: adaptive_settings(spec)?,
     })
+}
+
+/// The integrator settings of `[dynamics.forward]`, each at its key.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `dynamics.forward.rtol`, `atol` or `max_steps`.
+pub(super) fn adaptive_settings(spec: &ForwardSpec) -> Result<AdaptiveSettings, StudyError> {
+    let at = |key: &str, e: &dyn std::fmt::Display| {
+        StudyError::invalid(format!("dynamics.forward.{key}").as_str(), e.to_string())
+    };
+    AdaptiveSettings::default()
+        .with_rtol(spec.rtol.0)
+        .map_err(|e| at("rtol", &e))?
+        .with_atol(spec.atol.0)
+        .map_err(|e| at("atol", &e))?
+        .with_max_steps(spec.max_steps)
+        .map_err(|e| at("max_steps", &e))
 }

@@ -53,6 +53,22 @@ pub struct EffortSummary {
     pub energy_balance: f64,
 }
 
+/// The forward retrace of a robot file: its forward dynamics (eq. D4, minimal coordinates)
+/// integrated by Dormand–Prince 5(4) from the first sample's state, fed with the inverse
+/// dynamics' efforts (Catmull–Rom between samples).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskRetraceSummary {
+    /// Largest |x(t) − x_commanded(t)| over the samples and task coordinates (m or rad).
+    pub max_task_error: f64,
+    /// Largest |E(t) − E(0) − W(t)| (J), W the efforts' work along the integrated motion by
+    /// the trapezoidal rule at the samples.
+    pub max_energy_balance: f64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Right-hand-side evaluations.
+    pub evaluations: usize,
+}
+
 /// A task motion sample: time, position, velocity and acceleration in task coordinates.
 struct Sample {
     t: f64,
@@ -76,6 +92,12 @@ pub(super) fn dynamics(
     let model = robot.model()?;
     let mode = single_mode(robot, &model)?;
     let samples = samples_of(study, &model)?;
+    let settings = study
+        .dynamics
+        .forward
+        .as_ref()
+        .map(super::plan::adaptive_settings)
+        .transpose()?;
     progress.start("inverse dynamics", samples.len() as u64);
     let mut computed = Vec::with_capacity(samples.len());
     for (k, s) in samples.iter().enumerate() {
@@ -92,6 +114,9 @@ pub(super) fn dynamics(
     }
     progress.finish();
     let summary = summarise_efforts(&model, &samples, &computed);
+    let retrace = settings
+        .map(|s| retrace(&model, mode, &samples, &computed, s, progress))
+        .transpose()?;
     let (t0, t1) = (samples[0].t, samples[1].t);
     let mut outcome = Outcome::new(DynamicsResult {
         title: study.title.clone(),
@@ -103,9 +128,16 @@ pub(super) fn dynamics(
         max_difference: None,
         forward: None,
         efforts: Some(summary),
+        retrace: retrace.as_ref().map(|(r, _)| r.clone()),
     });
     artifacts(&mut outcome.artifacts, &model, &samples, &computed);
-    outcome.robot("the robot at t = 0 on its trajectory", drawing(&model, mode, &samples, &computed));
+    if let Some((_, errors)) = &retrace {
+        retrace_artifacts(&mut outcome.artifacts, &model, &samples, errors);
+    }
+    outcome.robot(
+        "the robot at t = 0 on its trajectory",
+        drawing(&model, mode, &samples, &computed),
+    );
     let r = &outcome.result;
     if let Some(e) = &r.efforts {
         let peaks: Vec<String> = e
@@ -124,6 +156,13 @@ pub(super) fn dynamics(
             e.energy_balance
         ));
     }
+    if let Some(f) = &r.retrace {
+        outcome.summary.push(format!(
+            "forward retrace in the task coordinates: max error {:.3e} (m, rad), energy \
+             balance {:.3e} J, {} steps",
+            f.max_task_error, f.max_energy_balance, f.steps
+        ));
+    }
     Ok(outcome)
 }
 
@@ -136,11 +175,13 @@ fn refuse_delta_settings(study: &DynamicsStudy) -> Result<(), StudyError> {
              [masses]",
         ));
     }
-    if study.dynamics.forward.is_some() {
+    if let Some(forward) = &study.dynamics.forward
+        && forward.kappa.0 != super::schema::ForwardSpec::DEFAULT_KAPPA
+    {
         return Err(StudyError::invalid(
-            "dynamics.forward",
-            "the forward retrace is computed for the rotary Delta only so far: remove \
-             [dynamics.forward]",
+            "dynamics.forward.kappa",
+            "a robot file's forward dynamics runs in its task coordinates, with the closure \
+             solved at every state: there is no constraint drift to stabilise, remove kappa",
         ));
     }
     if study.dynamics.lagrange_accelerations != LagrangeSpec::Trajectory {
@@ -502,4 +543,165 @@ fn drawing(
         pkm_draw::Scene::new(crate::schema::robot_file::robot_skeleton(model, &config)),
         &path,
     ))
+}
+
+/// Per sample of the retrace: the integrated task coordinates minus the commanded ones.
+type TaskErrors = Vec<Vec<f64>>;
+
+/// Integrates the forward dynamics fed with the efforts from the first sample's state.
+fn retrace(
+    model: &RobotModel,
+    mode: WorkingMode,
+    samples: &[Sample],
+    computed: &[InverseDynamics],
+    settings: pkm_integrators::AdaptiveSettings,
+    progress: &dyn Progress,
+) -> Result<(TaskRetraceSummary, TaskErrors), StudyError> {
+    let dt = samples[1].t - samples[0].t;
+    let efforts = pkm_dynamics_hamilton::forward::SampledTorques::new(
+        dt,
+        computed.iter().map(|d| d.efforts.clone()).collect(),
+    )?;
+    // Steps no longer than the samples' spacing: the efforts are known at its resolution,
+    // and a first step guessed from a state at rest could leave the workspace.
+    let settings = settings
+        .with_h_max(dt)
+        .map_err(|e| StudyError::invalid("dynamics.forward", e.to_string()))?;
+    progress.start("forward retrace", samples.len() as u64);
+    let run = match model.dof() {
+        1 => integrate::<2>(model, mode, samples, &efforts, settings, progress),
+        2 => integrate::<4>(model, mode, samples, &efforts, settings, progress),
+        3 => integrate::<6>(model, mode, samples, &efforts, settings, progress),
+        4 => integrate::<8>(model, mode, samples, &efforts, settings, progress),
+        5 => integrate::<10>(model, mode, samples, &efforts, settings, progress),
+        _ => integrate::<12>(model, mode, samples, &efforts, settings, progress),
+    };
+    progress.finish();
+    if progress.is_cancelled() {
+        return Err(StudyError::Cancelled);
+    }
+    let (states, steps, evaluations) = run?;
+    let n = model.dof();
+    let mut errors = Vec::with_capacity(states.len());
+    let (mut work, mut previous_power, mut start_energy) = (0.0, 0.0, 0.0);
+    let mut max_energy_balance = 0.0_f64;
+    for (k, (sample, state)) in samples.iter().zip(&states).enumerate() {
+        let (x, v) = (&state[..n], &state[n..]);
+        errors.push(
+            x.iter()
+                .zip(&sample.x)
+                .map(|(a, b)| a - b)
+                .collect::<Vec<f64>>(),
+        );
+        let tau = efforts.at(sample.t);
+        let d = model
+            .forward_dynamics(x, v, tau.as_slice(), mode)
+            .map_err(|source| StudyError::RobotDynamics {
+                sample: k,
+                time: sample.t,
+                source,
+            })?;
+        let (energy, power) = (
+            d.kinetic_energy + d.potential_energy,
+            tau.dot(&d.actuator_rates),
+        );
+        if k == 0 {
+            start_energy = energy;
+        } else {
+            work += 0.5 * dt * (power + previous_power);
+        }
+        previous_power = power;
+        max_energy_balance = max_energy_balance.max((energy - start_energy - work).abs());
+    }
+    let max_task_error = errors.iter().flatten().map(|e| e.abs()).fold(0.0, f64::max);
+    let summary = TaskRetraceSummary {
+        max_task_error,
+        max_energy_balance,
+        steps,
+        evaluations,
+    };
+    Ok((summary, errors))
+}
+
+/// Dormand–Prince 5(4) on the state $[x; \dot x]$ of `M = 2n` entries, sampled at the sample
+/// times: the states, accepted steps and evaluations.
+fn integrate<const M: usize>(
+    model: &RobotModel,
+    mode: WorkingMode,
+    samples: &[Sample],
+    efforts: &pkm_dynamics_hamilton::forward::SampledTorques<DVector<f64>>,
+    settings: pkm_integrators::AdaptiveSettings,
+    progress: &dyn Progress,
+) -> Result<(Vec<Vec<f64>>, usize, usize), StudyError> {
+    use pkm_integrators::{DormandPrince54, OutputTimes};
+    let n = M / 2;
+    let first = &samples[0];
+    let mut z0 = nalgebra::SVector::<f64, M>::zeros();
+    z0.as_mut_slice()[..n].copy_from_slice(&first.x);
+    z0.as_mut_slice()[n..].copy_from_slice(&first.v);
+    let field = pkm_robot_file::TaskDynamics::new(model, mode, |t| efforts.at(t));
+    let times: Vec<f64> = samples.iter().map(|s| s.t).collect();
+    let end = times[times.len() - 1];
+    let solution = pkm_integrators::integrate(
+        &field,
+        &mut DormandPrince54::new(settings),
+        (first.t, end),
+        &z0,
+        &OutputTimes::Times(times),
+        progress,
+    )?;
+    let states = solution
+        .states
+        .iter()
+        .map(|z| z.as_slice().to_vec())
+        .collect();
+    Ok((states, solution.stats.steps, solution.stats.evaluations))
+}
+
+/// `retrace.csv` (time and the error of each task coordinate) and `retrace.svg`.
+fn retrace_artifacts(
+    artifacts: &mut Vec<Artifact>,
+    model: &RobotModel,
+    samples: &[Sample],
+    errors: &TaskErrors,
+) {
+    let names = model.task_names();
+    let mut columns = vec!["t".to_string()];
+    columns.extend(names.iter().map(|n| format!("error {n}")));
+    let mut table = Table::new(columns);
+    table.rows = samples
+        .iter()
+        .zip(errors)
+        .map(|(s, e)| {
+            std::iter::once(Cell::from(s.t))
+                .chain(e.iter().map(|v| Cell::from(*v)))
+                .collect()
+        })
+        .collect();
+    artifacts.push(Artifact::Table {
+        name: "retrace.csv".into(),
+        table,
+    });
+    let series = names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let points = samples
+                .iter()
+                .zip(errors)
+                .map(|(s, e)| (s.t, e[k]))
+                .collect();
+            Series::line(format!("{name} - {name}_commanded"), points)
+        })
+        .collect();
+    let chart = Chart::series(
+        "forward retrace with the inverse dynamics' efforts minus the commanded motion",
+        "t (s)",
+        "difference (m or rad)",
+        series,
+    );
+    artifacts.push(Artifact::Chart {
+        name: "retrace.svg".into(),
+        chart: Box::new(chart),
+    });
 }

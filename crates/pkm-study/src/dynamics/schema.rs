@@ -252,8 +252,13 @@ pub struct ForwardSpec {
     pub max_steps: usize,
 }
 
+impl ForwardSpec {
+    /// The default Baumgarte gain κ (1/s).
+    pub const DEFAULT_KAPPA: f64 = 20.0;
+}
+
 fn default_kappa() -> Real {
-    Real(20.0)
+    Real(ForwardSpec::DEFAULT_KAPPA)
 }
 fn default_rtol() -> Real {
     Real(1e-8)
