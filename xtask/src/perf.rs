@@ -480,6 +480,11 @@ const RATIOS: [(&str, &str, Against); 11] = [
         "robot_file/forward_kinematics/tsai/hand_written",
         Against::Bench("robot_file/forward_kinematics/tsai/general"),
     ),
+    (
+        "Inverse dynamics, one sample, Delta: hand-written vs from its file (goal: the file within 2 ×)",
+        "robot_file/inverse_dynamics/rotary_delta/hand_written",
+        Against::Bench("robot_file/inverse_dynamics/rotary_delta/general"),
+    ),
 ];
 
 fn ratios(benches: &[BenchFigure], peers: &[PeerFigure]) -> Vec<Ratio> {

@@ -2,7 +2,9 @@
 //! robot: the rotary Delta of Miller 2004 (`examples/robots/rotary_delta.toml` and
 //! `pkm_mechanisms::RotaryDelta`), over 256 seeded poses; and forward kinematics from a guess
 //! (the pose plus 0.01 m per coordinate) on the Delta and Tsai files against their hand-written
-//! models. Numbers go to `docs/performance.md`.
+//! models; and one inverse-dynamics sample of the Delta file (Miller's masses) against the
+//! hand-written Lagrange torques, and of the Stewart–Gough file. Numbers go to
+//! `docs/performance.md`.
 
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used)]
 
@@ -119,5 +121,52 @@ fn forward_kinematics(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, ik_j_kappa, forward_kinematics);
+/// One inverse-dynamics sample on Miller's cycle at t = 0.136 s: the Delta file against the
+/// hand-written extended-space Lagrange torques; and the Stewart–Gough file at a pose 2 cm and
+/// 0.05 rad from home moving at 0.1 m/s and 0.5 rad/s.
+fn inverse_dynamics(c: &mut Criterion) {
+    use pkm_dynamics_hamilton::trajectory::presets::miller_pick_and_place;
+    use pkm_dynamics_hamilton::{ExtendedModel, MassParameters};
+    let file = robot("rotary_delta.toml").model().clone();
+    let hand = ExtendedModel::new(
+        RotaryDelta::new(presets::miller_delta(Placement::canonical())).unwrap(),
+        &MassParameters::miller2004(),
+    )
+    .unwrap();
+    let m = miller_pick_and_place(0.5).unwrap().sample(0.136);
+    let mut group = c.benchmark_group("robot_file/inverse_dynamics");
+    group.sample_size(20);
+    group.bench_function("rotary_delta/general", |b| {
+        b.iter(|| {
+            file.inverse_dynamics(
+                black_box(m.p.as_slice()),
+                m.v.as_slice(),
+                m.a.as_slice(),
+                file.home_mode(),
+            )
+            .unwrap()
+            .efforts
+        })
+    });
+    group.bench_function("rotary_delta/hand_written", |b| {
+        b.iter(|| {
+            let s = hand.joint_motion(black_box(&m.p), &m.v, &m.a).unwrap();
+            hand.at(&s.q).lagrange_torques(&s.qd, &s.qdd).unwrap()
+        })
+    });
+    let path = format!(
+        "{}/../../examples/robots/stewart_gough.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let sg = pkm_robot_file::RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let x = [0.02, -0.01, 0.31, 0.05, -0.03, 0.02];
+    let v = [0.1, 0.0, -0.05, 0.5, 0.0, 0.2];
+    let a = [1.0, -2.0, 0.5, 3.0, 1.0, -1.0];
+    group.bench_function("stewart_gough/general", |b| {
+        b.iter(|| sg.inverse_dynamics(black_box(&x), &v, &a, sg.home_mode()).unwrap().efforts)
+    });
+    group.finish();
+}
+
+criterion_group!(benches, ik_j_kappa, forward_kinematics, inverse_dynamics);
 criterion_main!(benches);
