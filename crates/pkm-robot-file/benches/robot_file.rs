@@ -158,12 +158,17 @@ fn inverse_dynamics(c: &mut Criterion) {
         "{}/../../examples/robots/stewart_gough.toml",
         env!("CARGO_MANIFEST_DIR")
     );
-    let sg = pkm_robot_file::RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let sg =
+        pkm_robot_file::RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
     let x = [0.02, -0.01, 0.31, 0.05, -0.03, 0.02];
     let v = [0.1, 0.0, -0.05, 0.5, 0.0, 0.2];
     let a = [1.0, -2.0, 0.5, 3.0, 1.0, -1.0];
     group.bench_function("stewart_gough/general", |b| {
-        b.iter(|| sg.inverse_dynamics(black_box(&x), &v, &a, sg.home_mode()).unwrap().efforts)
+        b.iter(|| {
+            sg.inverse_dynamics(black_box(&x), &v, &a, sg.home_mode())
+                .unwrap()
+                .efforts
+        })
     });
     group.finish();
 }

@@ -124,11 +124,16 @@ pub struct ForwardDynamics {
     pub potential_energy: f64,
 }
 
-/// A configuration ready for the dynamics.
+/// A configuration ready for the dynamics: its closure factored, and every body's twist per
+/// unit rate of each task coordinate with $J^\top$ ($J_{ak} = \dot\theta_a^k$), which depend
+/// on the configuration alone.
 struct Prepared {
     gravity: Vector3<f64>,
     config: Configuration,
     closure: ClosureRates,
+    /// Per task coordinate, per body group, per body.
+    unit_twists: Vec<Vec<Vec<Vector6<f64>>>>,
+    jt: DMatrix<f64>,
 }
 
 /// Eq. D3 at one motion, with what the multipliers need.
@@ -327,10 +332,27 @@ impl RobotModel {
             });
         }
         let closure = ClosureRates::new(self, &config)?;
+        let n = self.task.len();
+        let mut unit_twists = Vec::with_capacity(n);
+        let mut jt = DMatrix::zeros(n, self.actuator_count());
+        for k in 0..n {
+            let mut e = vec![0.0; n];
+            e[k] = 1.0;
+            let unit = closure.rates(self, config.clone(), &e)?;
+            unit_twists.push(
+                self.body_states(&unit)
+                    .iter()
+                    .map(|group| group.iter().map(|(_, b)| b.twist).collect())
+                    .collect(),
+            );
+            jt.set_row(k, &self.actuator_rates(&unit).transpose());
+        }
         Ok(Prepared {
             gravity,
             config,
             closure,
+            unit_twists,
+            jt,
         })
     }
 
@@ -353,14 +375,8 @@ impl RobotModel {
                     .collect()
             })
             .collect();
-        let unit_rates: Vec<Motion> = (0..self.task.len())
-            .map(|k| {
-                let mut e = vec![0.0; self.task.len()];
-                e[k] = 1.0;
-                closure.rates(self, motion.config.clone(), &e)
-            })
-            .collect::<Result<_, _>>()?;
-        let (forces, jt) = self.task_forces(&motion, &wrenches, &unit_rates);
+        let forces = self.task_forces(&motion, &wrenches, prepared);
+        let jt = prepared.jt.clone();
         Ok(Balance {
             motion,
             bodies,
@@ -482,34 +498,32 @@ impl RobotModel {
         (8.0 * (at(h) - at(-h)) - (at(2.0 * h) - at(-2.0 * h))) * (speed / (12.0 * h))
     }
 
-    /// Eq. D3's $Q$ and $J^\top$ ($J_{ak} = \dot\theta_a^k$).
+    /// Eq. D3's generalised task forces $Q_k = \sum_b W_b\cdot V_b^k + \sum_a
+    /// I_{r,a}\ddot\theta_a\dot\theta_a^k$.
     fn task_forces(
         &self,
         motion: &Motion,
         wrenches: &[Vec<Vector6<f64>>],
-        unit_rates: &[Motion],
-    ) -> (DVector<f64>, DMatrix<f64>) {
-        let n = self.task.len();
-        let m = self.actuator_count();
-        let mut q = DVector::zeros(n);
-        let mut jt = DMatrix::zeros(n, m);
-        for (k, unit) in unit_rates.iter().enumerate() {
-            let states = self.body_states(unit);
-            for (states, wrenches) in states.iter().zip(wrenches) {
-                for ((_, unit_state), w) in states.iter().zip(wrenches) {
-                    q[k] += power(w, &unit_state.twist);
-                }
-            }
-            for a in 0..m {
-                let (leg, actuator) = self.actuator(a);
-                let coordinate = self.coordinate_of(leg, actuator.joint);
-                let rate = unit.joint_rates[leg][coordinate];
-                jt[(k, a)] = rate;
-                q[k] +=
-                    actuator.reflected_inertia * motion.joint_accelerations[leg][coordinate] * rate;
-            }
-        }
-        (q, jt)
+        prepared: &Prepared,
+    ) -> DVector<f64> {
+        DVector::from_fn(self.task.len(), |k, _| {
+            let bodies: f64 = prepared.unit_twists[k]
+                .iter()
+                .zip(wrenches)
+                .flat_map(|(twists, wrenches)| twists.iter().zip(wrenches))
+                .map(|(twist, w)| power(w, twist))
+                .sum();
+            let rotors: f64 = (0..self.actuator_count())
+                .map(|a| {
+                    let (leg, actuator) = self.actuator(a);
+                    let coordinate = self.coordinate_of(leg, actuator.joint);
+                    actuator.reflected_inertia
+                        * motion.joint_accelerations[leg][coordinate]
+                        * prepared.jt[(k, a)]
+                })
+                .sum();
+            bodies + rotors
+        })
     }
 
     /// Eqs. D1–D2 in $(\lambda, \tau)$ by least squares.
@@ -606,48 +620,75 @@ fn twist_derivatives(twists: &[(usize, Vector6<f64>)], rates: &[f64]) -> Vec<Vec
         .collect()
 }
 
-/// The least-squares solution of `a x = b` of least norm, checked: a residual above 1e-8 of
-/// the right-hand side (an inconsistent system) or a non-finite entry is
-/// [`DynamicsError::Kinematics`] (`Singular`, naming `matrix`).
-///
-/// The SVD solve is refined by up to three steps $x \leftarrow x + A^{+}(b - Ax)$ (each in
-/// the row space, so the least-norm property holds): nalgebra's SVD can leave a relative
-/// error of 1e-6 in the solve of a well-conditioned 42 × 42 system (measured on the
-/// Stewart–Gough's balance at home, condition 760), which the refinement removes.
+/// The least-squares solution of `a x = b` of least norm, checked (see [`Factored::solve`]).
 fn least_squares(
     a: DMatrix<f64>,
     b: &DVector<f64>,
     matrix: &'static str,
 ) -> Result<DVector<f64>, DynamicsError> {
-    let singular =
-        |sigma_min: f64| DynamicsError::Kinematics(KinematicsError::Singular { matrix, sigma_min });
-    let svd = crate::svd::bounded_svd(a.clone(), true, true).ok_or_else(|| singular(f64::NAN))?;
-    let tolerance = 1e-12 * svd.singular_values.max();
-    let solve = |rhs: &DVector<f64>| {
-        svd.solve(rhs, tolerance)
-            .map_err(|_| singular(svd.singular_values.min()))
-    };
-    let mut x = solve(b)?;
-    let bound = 1e-8 * b.amax().max(1e-300) + 1e-12;
-    for _ in 0..3 {
-        let r = b - &a * &x;
-        if r.amax() <= 1e-14 * b.amax() {
-            break;
+    Factored::new(a, matrix)?.solve(b)
+}
+
+/// A matrix with its SVD, for least-squares solves of least norm against several right-hand
+/// sides.
+struct Factored {
+    a: DMatrix<f64>,
+    svd: nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    matrix: &'static str,
+}
+
+impl Factored {
+    fn new(a: DMatrix<f64>, matrix: &'static str) -> Result<Self, DynamicsError> {
+        let svd = crate::svd::bounded_svd(a.clone(), true, true).ok_or(
+            DynamicsError::Kinematics(KinematicsError::Singular {
+                matrix,
+                sigma_min: f64::NAN,
+            }),
+        )?;
+        Ok(Self { a, svd, matrix })
+    }
+
+    fn singular(&self) -> DynamicsError {
+        DynamicsError::Kinematics(KinematicsError::Singular {
+            matrix: self.matrix,
+            sigma_min: self.svd.singular_values.min(),
+        })
+    }
+
+    /// The least-norm least-squares solution of $Ax = b$, checked: a residual above 1e-8 of
+    /// the right-hand side (an inconsistent system) or a non-finite entry is
+    /// [`DynamicsError::Kinematics`] (`Singular`, naming the matrix).
+    ///
+    /// The SVD solve is refined by up to three steps $x \leftarrow x + A^{+}(b - Ax)$ (each in
+    /// the row space, so the least-norm property holds): nalgebra's SVD can leave a relative
+    /// error of 1e-6 in the solve of a well-conditioned 42 × 42 system (measured on the
+    /// Stewart–Gough's balance at home, condition 760), which the refinement removes.
+    fn solve(&self, b: &DVector<f64>) -> Result<DVector<f64>, DynamicsError> {
+        let tolerance = 1e-12 * self.svd.singular_values.max();
+        let solve =
+            |rhs: &DVector<f64>| self.svd.solve(rhs, tolerance).map_err(|_| self.singular());
+        let mut x = solve(b)?;
+        let bound = 1e-8 * b.amax().max(1e-300) + 1e-12;
+        for _ in 0..3 {
+            let r = b - &self.a * &x;
+            if r.amax() <= 1e-14 * b.amax() {
+                break;
+            }
+            x += solve(&r)?;
         }
-        x += solve(&r)?;
+        let residual = (&self.a * &x - b).amax();
+        if !(x.iter().all(|v| v.is_finite()) && residual <= bound) {
+            return Err(self.singular());
+        }
+        Ok(x)
     }
-    let residual = (&a * &x - b).amax();
-    if !(x.iter().all(|v| v.is_finite()) && residual <= bound) {
-        return Err(singular(svd.singular_values.min()));
-    }
-    Ok(x)
 }
 
 /// The closure's rate matrix at one configuration: rows of 6 per leg, columns the dependent
 /// pose coordinates and every joint coordinate, factored once for the velocities, the
 /// accelerations and the unit task rates.
 struct ClosureRates {
-    matrix: DMatrix<f64>,
+    factored: Factored,
     dependent: Vec<usize>,
     offsets: Vec<usize>,
 }
@@ -681,7 +722,7 @@ impl ClosureRates {
             }
         }
         Ok(Self {
-            matrix,
+            factored: Factored::new(matrix, "closure rates")?,
             dependent,
             offsets,
         })
@@ -707,7 +748,7 @@ impl ClosureRates {
 
     /// Solves the closure for `rhs` (stacked per leg) into per-leg joint values.
     fn solve(&self, rhs: &DVector<f64>) -> Result<DVector<f64>, DynamicsError> {
-        least_squares(self.matrix.clone(), rhs, "closure rates")
+        self.factored.solve(rhs)
     }
 
     fn per_leg(&self, model: &RobotModel, u: &DVector<f64>) -> Vec<Vec<f64>> {
