@@ -314,6 +314,46 @@ impl RobotModel {
         })
     }
 
+    /// The largest |effort| of each actuator at rest at `x` over the task accelerations
+    /// $\lvert\ddot x_k\rvert \le a_k$ (`accelerations`, m/s² or rad/s²): the efforts are
+    /// affine in $\ddot x$ at rest, $\tau = \tau_0 + \sum_k \ddot x_k\,\tau_k$ (eq. D3), so the
+    /// largest over the box is exactly (eq. D5)
+    /// $$\max\lvert\tau_a\rvert = \lvert\tau_{0a}\rvert + \sum_k a_k\lvert\tau_{ka}\rvert:$$
+    /// how hard the robot is to drive there, its weight included.
+    ///
+    /// # Errors
+    /// As [`RobotModel::inverse_dynamics`]; [`DynamicsError::Motion`] for accelerations of the
+    /// wrong length, negative or not finite.
+    pub fn peak_efforts_at_rest(
+        &self,
+        x: &[f64],
+        accelerations: &[f64],
+        mode: WorkingMode,
+    ) -> Result<DVector<f64>, DynamicsError> {
+        check_motion(self.task.len(), "accelerations", accelerations)?;
+        if accelerations.iter().any(|a| *a < 0.0) {
+            return Err(DynamicsError::Motion {
+                what: "accelerations",
+                reason: "bounds must be at least 0".into(),
+            });
+        }
+        let n = self.task.len();
+        let zero = vec![0.0; n];
+        let prepared = self.prepare(x, &zero, mode)?;
+        let jt = Factored::new(prepared.jt.clone(), "J^T")?;
+        let efforts = |acceleration: &[f64]| -> Result<DVector<f64>, DynamicsError> {
+            jt.solve(&self.balance(&prepared, &zero, acceleration)?.forces)
+        };
+        let at_rest = efforts(&zero)?;
+        let mut peak = at_rest.abs();
+        for (k, &bound) in accelerations.iter().enumerate() {
+            let mut e = zero.clone();
+            e[k] = 1.0;
+            peak += (efforts(&e)? - &at_rest).abs() * bound;
+        }
+        Ok(peak)
+    }
+
     /// Gravity, the configuration at `x` checked away from singularities, and its closure.
     fn prepare(
         &self,

@@ -369,3 +369,46 @@ fn free_motion_conserves_energy() {
         }
     }
 }
+
+/// Eq. D5 against brute force: the largest |effort| over the 2ⁿ corners of the acceleration
+/// box (an affine function's largest |value| on a box is at a corner), by the inverse
+/// dynamics at each, on the Stewart–Gough (64 corners) and the 3-PRS; to 1e-9 relative.
+#[test]
+fn peak_efforts_at_rest_are_the_largest_over_the_acceleration_box() {
+    for (file, bounds) in [
+        ("stewart_gough.toml", vec![2.0, 2.0, 5.0, 10.0, 10.0, 20.0]),
+        ("three_prs.toml", vec![3.0, 8.0, 8.0]),
+    ] {
+        let model = common::robot(file);
+        let mode = model.home_mode();
+        let mut x = model.home_task();
+        x[0] += 0.01;
+        let peak = model.peak_efforts_at_rest(&x, &bounds, mode).unwrap();
+        let n = bounds.len();
+        let zero = vec![0.0; n];
+        let mut brute = nalgebra::DVector::zeros(model.actuator_count());
+        for corner in 0..(1_u32 << n) {
+            let a: Vec<f64> = (0..n)
+                .map(|k| {
+                    if corner & (1 << k) != 0 {
+                        bounds[k]
+                    } else {
+                        -bounds[k]
+                    }
+                })
+                .collect();
+            let tau = model.inverse_dynamics(&x, &zero, &a, mode).unwrap().efforts;
+            brute = brute.zip_map(&tau, |b: f64, t: f64| b.max(t.abs()));
+        }
+        assert!(
+            (&peak - &brute).amax() < 1e-9 * brute.amax(),
+            "{file}: {peak} vs {brute}"
+        );
+        let at_rest = model
+            .inverse_dynamics(&x, &zero, &zero, mode)
+            .unwrap()
+            .efforts
+            .abs();
+        assert!(peak.iter().zip(at_rest.iter()).all(|(p, r)| p >= r));
+    }
+}

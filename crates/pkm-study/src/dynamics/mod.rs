@@ -26,11 +26,11 @@ pub mod schema;
 
 pub use csv::{TrajectoryCsv, dynamics_reading};
 pub use plan::{MAX_SAMPLES, mass_parameters, path_of};
-pub use robot_file::{ActuatorEfforts, EffortSummary, TaskRetraceSummary};
+pub use robot_file::{ActuatorEfforts, EffortMapResult, EffortSummary, TaskRetraceSummary};
 pub use schema::{
-    DEFAULT_DT, DifferencingSpec, DynamicsSection, ForearmSpec, ForwardSpec, LagrangeSpec, LawSpec,
-    MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec, TaskSegmentSpec,
-    TrajectorySpec,
+    DEFAULT_DT, DifferencingSpec, DynamicsSection, EffortMapSpec, ForearmSpec, ForwardSpec,
+    LagrangeSpec, LawSpec, MassesSpec, PathSpec, PickAndPlaceSpec, ReadingSpec, SegmentSpec,
+    TaskSegmentSpec, TrajectorySpec,
 };
 
 use crate::outcome::Outcome;
@@ -63,6 +63,9 @@ pub struct DynamicsStudy {
     /// How the dynamics are computed.
     #[serde(default)]
     pub dynamics: DynamicsSection,
+    /// Maps of the largest effort at rest over a box of accelerations (a robot file).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effort_maps: Vec<EffortMapSpec>,
 }
 
 /// Largest |τ| per motor, and over all motors, of a torque history (N m).
@@ -139,6 +142,9 @@ pub struct DynamicsResult {
     /// A robot file's forward retrace, when asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub retrace: Option<TaskRetraceSummary>,
+    /// A robot file's effort maps.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effort_maps: Vec<EffortMapResult>,
 }
 
 /// What the inverse dynamics computed.
@@ -197,6 +203,7 @@ pub fn dynamics(
         forward: forward.as_ref().map(|(r, _)| r.clone()),
         efforts: None,
         retrace: None,
+        effort_maps: Vec::new(),
     });
     artifacts::torques(&mut outcome.artifacts, &torques);
     if let Some((_, per_sample)) = &forward {

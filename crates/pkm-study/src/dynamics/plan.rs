@@ -71,6 +71,12 @@ impl Plan {
                  arm_centre_of_mass, elbow, forearm)",
             )
         })?;
+        if !study.effort_maps.is_empty() {
+            return Err(StudyError::invalid(
+                "effort_maps",
+                "effort maps are drawn for a robot file's dynamics ([mechanism.robot_file])",
+            ));
+        }
         let model = model_of(&study.mechanism, masses)?;
         let source = source_of(&study.trajectory)?;
         let d = &study.dynamics;

@@ -10,7 +10,7 @@
 //! applied once and twice). The built-in forms give exact velocities and accelerations.
 
 use super::plan::{MAX_SAMPLES, builtin_trajectory, timed_rows};
-use super::schema::{DifferencingSpec, LagrangeSpec, LawSpec, TaskSegmentSpec};
+use super::schema::{DifferencingSpec, EffortMapSpec, LagrangeSpec, LawSpec, TaskSegmentSpec};
 use super::{DEFAULT_DT, DynamicsResult, DynamicsStudy};
 use crate::outcome::{Artifact, Cell, Outcome, Table};
 use crate::schema::robot_file::RobotFileSpec;
@@ -92,6 +92,12 @@ pub(super) fn dynamics(
     let model = robot.model()?;
     let mode = single_mode(robot, &model)?;
     let samples = samples_of(study, &model)?;
+    let maps = study
+        .effort_maps
+        .iter()
+        .enumerate()
+        .map(|(k, spec)| map_plan(&model, spec, k))
+        .collect::<Result<Vec<_>, _>>()?;
     let settings = study
         .dynamics
         .forward
@@ -129,7 +135,24 @@ pub(super) fn dynamics(
         forward: None,
         efforts: Some(summary),
         retrace: retrace.as_ref().map(|(r, _)| r.clone()),
+        effort_maps: Vec::new(),
     });
+    progress.phase("effort maps");
+    for (k, plan) in maps.iter().enumerate() {
+        progress.check()?;
+        let result = effort_map(&model, mode, plan, k + 1, &mut outcome.artifacts);
+        outcome.summary.push(format!(
+            "effort map {} over ({}, {}): peak effort {} to {} (N or N m), {:.0} % of the \
+             cells reached",
+            k + 1,
+            result.axes[0],
+            result.axes[1],
+            result.min_peak.map_or("-".into(), short),
+            result.max_peak.map_or("-".into(), short),
+            100.0 * result.inside_fraction
+        ));
+        outcome.result.effort_maps.push(result);
+    }
     artifacts(&mut outcome.artifacts, &model, &samples, &computed);
     if let Some((_, errors)) = &retrace {
         retrace_artifacts(&mut outcome.artifacts, &model, &samples, errors);
@@ -704,4 +727,212 @@ fn retrace_artifacts(
         name: "retrace.svg".into(),
         chart: Box::new(chart),
     });
+}
+
+/// Most cells per side of an effort map.
+const MAX_EFFORT_CELLS: usize = 256;
+
+/// An effort map in the result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EffortMapResult {
+    /// The plane's task coordinates.
+    pub axes: [String; 2],
+    /// The other task coordinates' values (m, rad).
+    pub at: std::collections::BTreeMap<String, f64>,
+    /// The acceleration bound of each task coordinate (m/s², rad/s²).
+    pub acceleration: std::collections::BTreeMap<String, f64>,
+    /// Cells per side.
+    pub cells: usize,
+    /// Fraction of the cells the robot reaches away from singularities.
+    pub inside_fraction: f64,
+    /// The largest peak effort on the map (N or N m).
+    pub max_peak: Option<f64>,
+    /// The smallest peak effort on the map.
+    pub min_peak: Option<f64>,
+    /// The table's artifact name.
+    pub csv: String,
+    /// The heat map's artifact name.
+    pub svg: String,
+}
+
+/// A checked effort map: the axes' indices and ranges, the point the plane passes through,
+/// the acceleration bounds.
+struct EffortMapPlan {
+    axes: [usize; 2],
+    ranges: [[f64; 2]; 2],
+    through: Vec<f64>,
+    bounds: Vec<f64>,
+    cells: usize,
+}
+
+/// Checks `effort_maps[k]` against the robot's task coordinates.
+fn map_plan(
+    model: &RobotModel,
+    spec: &EffortMapSpec,
+    k: usize,
+) -> Result<EffortMapPlan, StudyError> {
+    let key = |field: &str| format!("effort_maps[{k}].{field}");
+    let names = model.task_names();
+    let index = |field: &str, name: &str| {
+        names.iter().position(|n| *n == name).ok_or_else(|| {
+            StudyError::invalid(
+                key(field).as_str(),
+                format!("{name:?} is not a task coordinate of this robot ({names:?})"),
+            )
+        })
+    };
+    let axes = [index("axes", &spec.axes[0])?, index("axes", &spec.axes[1])?];
+    if axes[0] == axes[1] {
+        return Err(StudyError::invalid(
+            key("axes").as_str(),
+            "two different task coordinates",
+        ));
+    }
+    let mut ranges = [[0.0; 2]; 2];
+    for (slot, name) in ranges.iter_mut().zip(&spec.axes) {
+        let range = spec.range.get(name).copied().ok_or_else(|| {
+            StudyError::invalid(key("range").as_str(), format!("give the range of {name:?}"))
+        })?;
+        if !(range.iter().all(|v| v.is_finite() && v.abs() <= 1e6) && range[0] < range[1]) {
+            return Err(StudyError::invalid(
+                key("range").as_str(),
+                format!("{name}: expected [min, max], finite, min < max"),
+            ));
+        }
+        *slot = range;
+    }
+    if let Some(name) = spec.range.keys().find(|n| !spec.axes.contains(n)) {
+        return Err(StudyError::invalid(
+            key("range").as_str(),
+            format!("{name:?} is not an axis of the map"),
+        ));
+    }
+    let mut through = model.home_task();
+    for (name, &value) in &spec.at {
+        let i = index("at", name)?;
+        if axes.contains(&i) || !(value.is_finite() && value.abs() <= 1e6) {
+            return Err(StudyError::invalid(
+                key("at").as_str(),
+                format!("{name}: a finite value of a task coordinate that is not an axis"),
+            ));
+        }
+        through[i] = value;
+    }
+    let mut bounds = vec![0.0; names.len()];
+    for (name, &value) in &spec.acceleration {
+        let i = index("acceleration", name)?;
+        if !(value.is_finite() && (0.0..=1e9).contains(&value)) {
+            return Err(StudyError::invalid(
+                key("acceleration").as_str(),
+                format!("{name}: expected a bound from 0 to 1e9"),
+            ));
+        }
+        bounds[i] = value;
+    }
+    if !(2..=MAX_EFFORT_CELLS).contains(&spec.cells) {
+        return Err(StudyError::invalid(
+            key("cells").as_str(),
+            format!(
+                "{}: expected 2 to {MAX_EFFORT_CELLS} cells per side",
+                spec.cells
+            ),
+        ));
+    }
+    Ok(EffortMapPlan {
+        axes,
+        ranges,
+        through,
+        bounds,
+        cells: spec.cells,
+    })
+}
+
+/// Computes effort map `number` (from 1): the largest peak effort over the actuators at each
+/// cell centre (blank where the robot does not reach or is singular), rows in parallel and
+/// kept in order (the same bits for any thread count); its table and heat map.
+fn effort_map(
+    model: &RobotModel,
+    mode: WorkingMode,
+    plan: &EffortMapPlan,
+    number: usize,
+    artifacts: &mut Vec<Artifact>,
+) -> EffortMapResult {
+    use rayon::prelude::*;
+    let n = plan.cells;
+    let centres = |[lo, hi]: [f64; 2]| -> Vec<f64> {
+        (0..n)
+            .map(|c| lo + (hi - lo) * (c as f64 + 0.5) / n as f64)
+            .collect()
+    };
+    let (u, v) = (centres(plan.ranges[0]), centres(plan.ranges[1]));
+    let [a, b] = plan.axes;
+    let values: Vec<Option<f64>> = v
+        .par_iter()
+        .flat_map_iter(|&y| {
+            let mut point = plan.through.clone();
+            point[b] = y;
+            u.iter()
+                .map(|&x| {
+                    point[a] = x;
+                    model
+                        .peak_efforts_at_rest(&point, &plan.bounds, mode)
+                        .ok()
+                        .map(|peaks| peaks.amax())
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let names = model.task_names();
+    let stem = format!("effort-map-{number}");
+    let (csv, svg) = (format!("{stem}.csv"), format!("{stem}.svg"));
+    let mut table = Table::new([names[a], names[b], "inside", "peak_effort"]);
+    table.rows = values
+        .iter()
+        .enumerate()
+        .map(|(k, value)| {
+            vec![
+                u[k % n].into(),
+                v[k / n].into(),
+                value.is_some().into(),
+                (*value).into(),
+            ]
+        })
+        .collect();
+    let unit = |i: usize| if model.task_is_angle(i) { "rad" } else { "m" };
+    let field = pkm_draw::chart::Heatmap {
+        colour_axis: "peak effort (N or N m)".into(),
+        x: u,
+        y: v,
+        values: values.clone(),
+    };
+    artifacts.push(Artifact::Table {
+        name: csv.clone(),
+        table,
+    });
+    artifacts.push(Artifact::Chart {
+        name: svg.clone(),
+        chart: Box::new(Chart::heatmap(
+            "largest actuator effort at rest over the acceleration box",
+            format!("{} ({})", names[a], unit(a)),
+            format!("{} ({})", names[b], unit(b)),
+            field,
+        )),
+    });
+    let name = |i: usize| names[i].to_string();
+    EffortMapResult {
+        axes: [name(a), name(b)],
+        at: (0..names.len())
+            .filter(|i| !plan.axes.contains(i))
+            .map(|i| (name(i), plan.through[i]))
+            .collect(),
+        acceleration: (0..names.len())
+            .map(|i| (name(i), plan.bounds[i]))
+            .collect(),
+        cells: n,
+        inside_fraction: values.iter().flatten().count() as f64 / values.len() as f64,
+        max_peak: values.iter().flatten().copied().reduce(f64::max),
+        min_peak: values.iter().flatten().copied().reduce(f64::min),
+        csv,
+        svg,
+    }
 }

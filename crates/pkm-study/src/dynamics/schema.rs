@@ -269,3 +269,29 @@ fn default_atol() -> Real {
 fn default_max_steps() -> usize {
     1_000_000
 }
+
+/// `[[effort_maps]]` (a robot file's dynamics): the largest actuator effort at rest over a box
+/// of task accelerations ([`pkm_robot_file::RobotModel::peak_efforts_at_rest`]), on a plane of
+/// two task coordinates.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EffortMapSpec {
+    /// The plane's two task coordinates, by name (`x`, `rz`).
+    pub axes: [String; 2],
+    /// The range of each axis (m or rad), by name.
+    pub range: std::collections::BTreeMap<String, [f64; 2]>,
+    /// Values of the other task coordinates (m, rad; default: home).
+    #[serde(default)]
+    pub at: std::collections::BTreeMap<String, f64>,
+    /// Cells per side (default 30, 2 to 256).
+    #[serde(default = "default_effort_cells")]
+    pub cells: usize,
+    /// The bound of each task coordinate's acceleration (m/s² or rad/s²), by name (default 0:
+    /// the robot at rest holding its weight).
+    #[serde(default)]
+    pub acceleration: std::collections::BTreeMap<String, f64>,
+}
+
+fn default_effort_cells() -> usize {
+    30
+}

@@ -226,3 +226,42 @@ fn masses_cycle() -> Option<PickAndPlaceSpec> {
         reading: ReadingSpec::RoundTrip,
     })
 }
+
+/// The Stewart–Gough example's effort map: each cell is the library's eq. D5 at its centre
+/// (largest over the actuators), and a map naming a coordinate the robot lacks is refused.
+#[test]
+fn an_effort_map_is_the_peak_effort_at_each_cell() {
+    let study = example("stewart_gough_dynamics.toml");
+    let outcome = dynamics(&study, &Silent).unwrap();
+    let map = &outcome.result.effort_maps[0];
+    assert_eq!(map.cells, 24);
+    let (x, y, peak) = (
+        column(&outcome, &map.csv, "x"),
+        column(&outcome, &map.csv, "y"),
+        column(&outcome, &map.csv, "peak_effort"),
+    );
+    let MechanismSpec::RobotFile(spec) = &study.mechanism else {
+        panic!("a robot file")
+    };
+    let model = spec.model().unwrap();
+    let bounds = [5.0, 5.0, 5.0, 20.0, 20.0, 20.0];
+    for k in [0, 100, 300, 575] {
+        let expected = model
+            .peak_efforts_at_rest(
+                &[x[k], y[k], 0.3, 0.0, 0.0, 0.0],
+                &bounds,
+                model.home_mode(),
+            )
+            .unwrap()
+            .amax();
+        assert!((peak[k] - expected).abs() < 1e-12 * expected, "cell {k}");
+    }
+    assert!(map.max_peak.unwrap() > map.min_peak.unwrap());
+    let mut bad = study.clone();
+    bad.effort_maps[0].axes[1] = "w".into();
+    let e = dynamics(&bad, &Silent).err().unwrap();
+    assert_eq!(
+        e.path().map(ToString::to_string).as_deref(),
+        Some("effort_maps[0].axes")
+    );
+}
