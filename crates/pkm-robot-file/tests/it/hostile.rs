@@ -362,17 +362,7 @@ fn passive_leg_mistakes_are_refused_with_their_key() {
     // The legs' links go with their joints: dropped, as the edits below change the joints.
     let text = common::without_links(&common::robot_text("tricept.toml"));
     let passive = text.find("[[legs]]   # the passive leg").unwrap();
-    let refused = |edited: &str, key: &str, words: &str| match RobotModel::from_toml(edited) {
-        Err(RobotFileError::Invalid {
-            key: at,
-            requirement,
-            ..
-        }) => assert!(
-            at == key && requirement.contains(words),
-            "{at}: {requirement}"
-        ),
-        other => panic!("{other:?}"),
-    };
+    let refused = common::refused_at;
     // The passive leg first: the actuators would be numbered past it.
     let first = text.find("[[legs]]").unwrap();
     let (head, actuated, rest) = (&text[..first], &text[first..passive], &text[passive..]);

@@ -189,7 +189,16 @@ fn source_of(spec: &TrajectorySpec) -> Result<Source, StudyError> {
     }
     let trajectory = builtin_trajectory(spec)?;
     let dt = spec.dt.unwrap_or(DEFAULT_DT);
-    let duration = trajectory.duration();
+    sample_count(trajectory.duration(), dt)?;
+    Ok(Source::Builtin { trajectory, dt })
+}
+
+/// The number of samples $t_k = k\,\Delta t$ over `duration`, checked: 3 to [`MAX_SAMPLES`].
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `trajectory.dt` for a step that is not finite and positive or
+/// leaves another count.
+pub(super) fn sample_count(duration: f64, dt: f64) -> Result<usize, StudyError> {
     let steps = (duration / dt).round();
     if !(dt.is_finite() && dt > 0.0 && (2.0..MAX_SAMPLES as f64).contains(&steps)) {
         return Err(StudyError::invalid(
@@ -200,7 +209,8 @@ fn source_of(spec: &TrajectorySpec) -> Result<Source, StudyError> {
             ),
         ));
     }
-    Ok(Source::Builtin { trajectory, dt })
+    // `steps` is an integer in [2, MAX_SAMPLES), so the cast is exact.
+    Ok(steps as usize + 1)
 }
 
 /// Checks sampled positions: at least 3 and at most [`MAX_SAMPLES`], finite, times increasing

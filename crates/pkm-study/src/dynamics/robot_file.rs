@@ -9,7 +9,7 @@
 //! whose velocities and accelerations are their differences (`dynamics.differencing`,
 //! applied once and twice). The built-in forms give exact velocities and accelerations.
 
-use super::plan::{MAX_SAMPLES, builtin_trajectory, timed_rows};
+use super::plan::{builtin_trajectory, timed_rows};
 use super::schema::{DifferencingSpec, EffortMapSpec, LagrangeSpec, LawSpec, TaskSegmentSpec};
 use super::{DEFAULT_DT, DynamicsResult, DynamicsStudy};
 use crate::outcome::{Artifact, Cell, Outcome, Table};
@@ -364,18 +364,7 @@ fn sampled(
     dt: f64,
     motion: impl Fn(f64) -> (Vec<f64>, Vec<f64>, Vec<f64>),
 ) -> Result<Vec<Sample>, StudyError> {
-    let steps = (duration / dt).round();
-    if !(dt.is_finite() && dt > 0.0 && (2.0..MAX_SAMPLES as f64).contains(&steps)) {
-        return Err(StudyError::invalid(
-            "trajectory.dt",
-            format!(
-                "{dt} s: expected a step > 0 that leaves 3 to {MAX_SAMPLES} samples over the \
-                 {duration} s trajectory"
-            ),
-        ));
-    }
-    // `steps` is an integer in [2, MAX_SAMPLES), so the cast is exact.
-    let count = steps as usize + 1;
+    let count = super::plan::sample_count(duration, dt)?;
     Ok((0..count)
         .map(|k| {
             let t = k as f64 * dt;
@@ -885,19 +874,12 @@ fn effort_map(
     let names = model.task_names();
     let stem = format!("effort-map-{number}");
     let (csv, svg) = (format!("{stem}.csv"), format!("{stem}.svg"));
-    let mut table = Table::new([names[a], names[b], "inside", "peak_effort"]);
-    table.rows = values
-        .iter()
-        .enumerate()
-        .map(|(k, value)| {
-            vec![
-                u[k % n].into(),
-                v[k / n].into(),
-                value.is_some().into(),
-                (*value).into(),
-            ]
-        })
-        .collect();
+    let table = crate::task_space::grid_table(
+        [names[a], names[b], "inside", "peak_effort"],
+        &u,
+        &v,
+        &values,
+    );
     let unit = |i: usize| if model.task_is_angle(i) { "rad" } else { "m" };
     let field = pkm_draw::chart::Heatmap {
         colour_axis: "peak effort (N or N m)".into(),

@@ -223,24 +223,17 @@ pub(super) fn map(
     };
     let stem = format!("task-map-{number}-{}", plan.index.key());
     let (csv, svg) = (format!("{stem}.csv"), format!("{stem}.svg"));
-    let mut table = Table::new([
-        names[setup.sampled[a]],
-        names[setup.sampled[b]],
-        "inside",
-        plan.index.key(),
-    ]);
-    table.rows = values
-        .iter()
-        .enumerate()
-        .map(|(k, value)| {
-            vec![
-                u[k % n].into(),
-                v[k / n].into(),
-                value.is_some().into(),
-                (*value).into(),
-            ]
-        })
-        .collect();
+    let table = grid_table(
+        [
+            names[setup.sampled[a]],
+            names[setup.sampled[b]],
+            "inside",
+            plan.index.key(),
+        ],
+        &u,
+        &v,
+        &values,
+    );
     let others: BTreeMap<String, f64> = (0..setup.sampled.len())
         .filter(|&i| i != a && i != b)
         .map(|i| (names[setup.sampled[i]].to_owned(), plan.through[i]))
@@ -278,4 +271,24 @@ pub(super) fn map(
         csv,
         svg,
     }
+}
+
+/// The table of a map on the grid `u` × `v` (`values[iy * u.len() + ix]`): the two
+/// coordinates, whether the cell has a value, and the value (blank where none).
+pub(crate) fn grid_table(header: [&str; 4], u: &[f64], v: &[f64], values: &[Option<f64>]) -> Table {
+    let n = u.len();
+    let mut table = Table::new(header);
+    table.rows = values
+        .iter()
+        .enumerate()
+        .map(|(k, value)| {
+            vec![
+                u[k % n].into(),
+                v[k / n].into(),
+                value.is_some().into(),
+                (*value).into(),
+            ]
+        })
+        .collect();
+    table
 }

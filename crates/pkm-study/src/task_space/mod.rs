@@ -41,6 +41,7 @@ use crate::schema::sampling::{SamplerKind, SamplingSpec};
 use crate::{Infeasible, KeyPath, StudyError};
 
 mod maps;
+pub(crate) use maps::grid_table;
 pub use maps::{MAX_MAP_CELLS, MapIndex, TaskMapResult, TaskMapSpec};
 use pkm_draw::Scene;
 use pkm_draw::chart::{self, Chart};

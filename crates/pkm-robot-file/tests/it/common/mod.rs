@@ -48,3 +48,19 @@ pub(crate) fn all_files() -> Vec<String> {
     names.sort();
     names
 }
+
+/// Asserts that `text` is refused as a robot file at `key` with a requirement that contains
+/// `words`.
+pub(crate) fn refused_at(text: &str, key: &str, words: &str) {
+    match RobotModel::from_toml(text) {
+        Err(pkm_robot_file::RobotFileError::Invalid {
+            key: at,
+            requirement,
+            ..
+        }) => assert!(
+            at == key && requirement.contains(words),
+            "{at}: {requirement}"
+        ),
+        other => panic!("{key}: {other:?}"),
+    }
+}
