@@ -19,6 +19,8 @@ COMMANDS = ["optimize", "task", "pareto", "sweep", "dynamics"]
 
 
 def command_of(study):
+    if "trajectory" in study:
+        return "dynamics"
     return next((c for c in COMMANDS if c in study), "workspace")
 
 
@@ -37,7 +39,7 @@ def quick(study, base):
         if "eta1_points" in table:
             table["eta1_points"] = min(table["eta1_points"], 4)
     task_space = study.get("task_space", {})
-    charts = task_space.get("maps", []) + study.get("sweep", {}).get("heatmaps", [])
+    charts = task_space.get("maps", []) + study.get("sweep", {}).get("heatmaps", []) + study.get("effort_maps", [])
     for chart in charts + [task_space.get("singularity_free", {})]:
         if "cells" in chart:
             chart["cells"] = min(chart["cells"], 8)
