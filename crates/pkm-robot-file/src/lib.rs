@@ -42,6 +42,7 @@ mod closed_form;
 mod closure;
 mod dynamics;
 mod error;
+mod export;
 mod file;
 mod fk;
 mod ik;
@@ -67,6 +68,7 @@ pub use chain::{Joint, LegActuator, LegChain};
 pub use closure::Configuration;
 pub use dynamics::{DynamicsError, ForwardDynamics, InverseDynamics, TaskDynamics};
 pub use error::RobotFileError;
+pub use export::UrdfExport;
 pub use file::{
     HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, MAX_LEGS, RobotFile, SymmetrySpec,
     check_size,

@@ -38,6 +38,20 @@ pub use sweep::{SweepResult, SweepStudy, sweep};
 pub use task::{TaskMechanism, TaskResult, TaskStudy, task};
 pub use workspace::{WorkspaceResult, WorkspaceStudy, workspace};
 
+pub use pkm_robot_file::UrdfExport;
+
+/// A robot file's text as URDF plus its loop closures
+/// ([`pkm_robot_file::RobotModel::to_urdf`]): what `pkm urdf` calls.
+///
+/// # Errors
+/// [`StudyError::Invalid`] at `robot_file` with the file's own error (line and column for
+/// text that does not parse, the key path for a value that is refused).
+pub fn urdf(text: &str) -> Result<UrdfExport, StudyError> {
+    pkm_robot_file::RobotModel::from_toml(text)
+        .map(|model| model.to_urdf())
+        .map_err(|e| StudyError::invalid("robot_file", e.to_string()))
+}
+
 /// What the registry macros need from this crate's dependencies, so that a crate which
 /// declares its own mechanisms needs only `pkm-study`.
 #[doc(hidden)]

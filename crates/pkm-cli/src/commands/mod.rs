@@ -35,6 +35,7 @@ pub mod optimize;
 pub mod pareto;
 pub mod sweep;
 pub mod task;
+pub mod urdf;
 pub mod workspace;
 
 /// Declares the [`Command`] enum with one variant per subcommand module (its `Args`), and the
@@ -83,8 +84,11 @@ subcommands! {
     /// the 3-UPU singularity search.
     Task => task,
     /// Inverse dynamics (Hamilton and Lagrange) of a rotary Delta along a trajectory, and the
-    /// forward retrace with its constraint drift.
+    /// forward retrace with its constraint drift; or the actuator efforts of a robot file.
     Dynamics => dynamics,
+    /// A robot file with its masses as URDF plus its loop closures (closures.yaml), for
+    /// tree-and-constraint tools such as Pinocchio.
+    Urdf => urdf,
 }
 
 /// Runs a study of the study layer: reads the file at `path` with its schema (errors at their

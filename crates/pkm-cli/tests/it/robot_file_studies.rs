@@ -315,3 +315,39 @@ fn a_json_study_file_runs_as_its_toml_and_reads_its_robot_file_relative_to_it() 
     assert!(!run.ok);
     assert!(run.stderr.contains("mechanism.tsai.a"), "{}", run.stderr);
 }
+
+/// `pkm urdf`: the Stewart–Gough file as URDF (one actuated `_mot` joint per leg, a link of
+/// its own per body) and its five 6-D closures; a file that does not parse is refused with its
+/// line and column. (The export's geometry is checked in `pkm-robot-file`: the tree closes its
+/// loops at random poses.)
+#[test]
+fn a_robot_file_exports_to_urdf_with_its_closures() {
+    let out = tempfile::tempdir().unwrap();
+    let robot =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/robots/stewart_gough.toml");
+    let dir = out.path().join("urdf");
+    let run = pkm(&[
+        "urdf",
+        robot.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(run.ok, "{}", run.stderr);
+    let urdf = std::fs::read_to_string(dir.join("robot.urdf")).unwrap();
+    assert_eq!(urdf.matches("_mot\" type=\"prismatic\"").count(), 6);
+    assert_eq!(urdf.matches("<inertial>").count(), 13);
+    let closures = std::fs::read_to_string(dir.join("closures.yaml")).unwrap();
+    assert!(
+        closures.contains("type: [6D, 6D, 6D, 6D, 6D]"),
+        "{closures}"
+    );
+    let bad = out.path().join("bad.toml");
+    std::fs::write(&bad, "name = \"6-UPS\"\ntask = [\"x\"\n").unwrap();
+    let run = pkm(&[
+        "urdf",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!run.ok && run.stderr.contains("line"), "{}", run.stderr);
+}
