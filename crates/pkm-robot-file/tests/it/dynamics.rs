@@ -403,3 +403,26 @@ fn peak_efforts_at_rest_are_the_largest_over_the_acceleration_box() {
         assert!(peak.iter().zip(at_rest.iter()).all(|(p, r)| p >= r));
     }
 }
+
+/// Every sample of a short parabolic move of the Orthoglide is computed: at one of them
+/// (t = 47 ms) the configuration closes only to its solver's tolerance and left the unit-rate
+/// system inconsistent by 6e-8 of its right-hand side, which a 1e-8 check refused as singular.
+#[test]
+fn a_configuration_closed_to_the_solvers_tolerance_is_not_singular() {
+    let model = common::robot("orthoglide.toml");
+    let d = [0.0025, -0.005, 0.00125];
+    for k in 0..=100 {
+        let tau = f64::from(k) / 100.0;
+        let (s, ds, dds) = if tau < 0.5 {
+            (2.0 * tau * tau, 4.0 * tau, 4.0)
+        } else {
+            let r = 1.0 - tau;
+            (1.0 - 2.0 * r * r, 4.0 * r, -4.0)
+        };
+        let x: Vec<f64> = d.iter().map(|v| v * s).collect();
+        let v: Vec<f64> = d.iter().map(|v| v * ds / 0.1).collect();
+        let a: Vec<f64> = d.iter().map(|v| v * dds / 0.01).collect();
+        let r = model.inverse_dynamics(&x, &v, &a, model.home_mode());
+        assert!(r.is_ok(), "sample {k}: {r:?}");
+    }
+}
