@@ -137,10 +137,11 @@ pub(super) fn dynamics(
         retrace: retrace.as_ref().map(|(r, _)| r.clone()),
         effort_maps: Vec::new(),
     });
-    progress.phase("effort maps");
     for (k, plan) in maps.iter().enumerate() {
-        progress.check()?;
-        let result = effort_map(&model, mode, plan, k + 1, &mut outcome.artifacts);
+        progress.start(&format!("effort map {}", k + 1), plan.cells as u64);
+        let result = effort_map(&model, mode, plan, k + 1, &mut outcome.artifacts, progress);
+        progress.finish();
+        let result = result?;
         outcome.summary.push(format!(
             "effort map {} over ({}, {}): peak effort {} to {} (N or N m), {:.0} % of the \
              cells reached",
@@ -838,14 +839,19 @@ fn map_plan(
 
 /// Computes effort map `number` (from 1): the largest peak effort over the actuators at each
 /// cell centre (blank where the robot does not reach or is singular), rows in parallel and
-/// kept in order (the same bits for any thread count); its table and heat map.
+/// kept in order (the same bits for any thread count); its table and heat map. `progress`
+/// advances by one per row and stops the map between cells when it is cancelled.
+///
+/// # Errors
+/// [`StudyError::Cancelled`].
 fn effort_map(
     model: &RobotModel,
     mode: WorkingMode,
     plan: &EffortMapPlan,
     number: usize,
     artifacts: &mut Vec<Artifact>,
-) -> EffortMapResult {
+    progress: &dyn Progress,
+) -> Result<EffortMapResult, StudyError> {
     use rayon::prelude::*;
     let n = plan.cells;
     let centres = |[lo, hi]: [f64; 2]| -> Vec<f64> {
@@ -860,17 +866,24 @@ fn effort_map(
         .flat_map_iter(|&y| {
             let mut point = plan.through.clone();
             point[b] = y;
-            u.iter()
+            let row = u
+                .iter()
                 .map(|&x| {
                     point[a] = x;
+                    if progress.is_cancelled() {
+                        return None;
+                    }
                     model
                         .peak_efforts_at_rest(&point, &plan.bounds, mode)
                         .ok()
                         .map(|peaks| peaks.amax())
                 })
-                .collect::<Vec<_>>()
+                .collect::<Vec<_>>();
+            progress.advance(1);
+            row
         })
         .collect();
+    progress.check()?;
     let names = model.task_names();
     let stem = format!("effort-map-{number}");
     let (csv, svg) = (format!("{stem}.csv"), format!("{stem}.svg"));
@@ -901,7 +914,7 @@ fn effort_map(
         )),
     });
     let name = |i: usize| names[i].to_string();
-    EffortMapResult {
+    Ok(EffortMapResult {
         axes: [name(a), name(b)],
         at: (0..names.len())
             .filter(|i| !plan.axes.contains(i))
@@ -916,5 +929,5 @@ fn effort_map(
         min_peak: values.iter().flatten().copied().reduce(f64::min),
         csv,
         svg,
-    }
+    })
 }

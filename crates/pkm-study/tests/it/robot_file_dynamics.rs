@@ -265,3 +265,31 @@ fn an_effort_map_is_the_peak_effort_at_each_cell() {
         Some("effort_maps[0].axes")
     );
 }
+
+/// An effort map can be cancelled while it runs: a progress that asks to stop once the map
+/// starts gets `Cancelled`, not a map computed to the end.
+#[test]
+fn an_effort_map_stops_when_cancelled() {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    #[derive(Default)]
+    struct StopAtMap {
+        stop: AtomicBool,
+        rows: AtomicU64,
+    }
+    impl pkm_traits::Progress for StopAtMap {
+        fn start(&self, label: &str, _total: u64) {
+            if label.starts_with("effort map") {
+                self.stop.store(true, Ordering::Relaxed);
+            }
+        }
+        fn advance(&self, n: u64) {
+            self.rows.fetch_add(n, Ordering::Relaxed);
+        }
+        fn is_cancelled(&self) -> bool {
+            self.stop.load(Ordering::Relaxed)
+        }
+    }
+    let progress = StopAtMap::default();
+    let run = dynamics(&example("stewart_gough_dynamics.toml"), &progress);
+    assert!(matches!(run, Err(StudyError::Cancelled)), "{:?}", run.err());
+}
