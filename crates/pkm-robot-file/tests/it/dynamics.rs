@@ -184,6 +184,18 @@ fn bad_masses_and_motions_are_typed_errors() {
             words,
         );
     }
+    // Arrays with an extra element are refused by the parser, never truncated.
+    for extra in [
+        "mass = 1.0\ncenter_of_mass = [0.0, 0.0, 0.3, 7.0]",
+        "mass = 1.0\ninertia = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]",
+        "mass = 1.0\ninertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]",
+    ] {
+        let r = RobotModel::from_toml(&with_platform(extra));
+        assert!(
+            matches!(r, Err(pkm_robot_file::RobotFileError::Parse { line, .. }) if line > 0),
+            "{r:?}"
+        );
+    }
     refused_at(
         with_platform("mass = 1.0\ncenter_of_mass = [1e300, 0.0, 0.0]"),
         "platform.center_of_mass",
@@ -425,4 +437,109 @@ fn a_configuration_closed_to_the_solvers_tolerance_is_not_singular() {
         let r = model.inverse_dynamics(&x, &v, &a, model.home_mode());
         assert!(r.is_ok(), "sample {k}: {r:?}");
     }
+}
+
+/// The whole float range into the dynamics' public functions, on every example file: NaN,
+/// ±infinity, ±1e300, subnormals and absurd lengths give a typed error or a finite result,
+/// never a panic or a NaN; and a robot of subnormal masses is `Massless` or finite.
+#[test]
+fn the_dynamics_take_the_whole_float_range() {
+    use pkm_robot_file::RobotModel;
+    let specials = [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1e300,
+        -1e300,
+        5e-324,
+        -5e-324,
+    ];
+    let finite = |v: &[f64]| v.iter().all(|e| e.is_finite());
+    for file in common::all_files() {
+        let model = common::robot(&file);
+        let mode = model.home_mode();
+        let (n, m) = (model.dof(), model.actuator_count());
+        let home = model.home_task();
+        for &s in &specials {
+            let mut x = home.clone();
+            x[0] = s;
+            let spread = vec![s; n];
+            let cases: [(&[f64], &[f64], &[f64]); 3] = [
+                (&x, &vec![0.0; n], &vec![0.0; n]),
+                (&home, &spread, &vec![0.0; n]),
+                (&home, &vec![0.0; n], &spread),
+            ];
+            for (x, v, a) in cases {
+                if let Ok(d) = model.inverse_dynamics(x, v, a, mode) {
+                    assert!(finite(d.efforts.as_slice()), "{file}: {s}");
+                }
+                if let Ok(d) = model.forward_dynamics(x, v, &vec![0.0; m], mode) {
+                    assert!(finite(d.acceleration.as_slice()), "{file}: {s}");
+                }
+                if let Ok(p) = model.peak_efforts_at_rest(x, a, mode) {
+                    assert!(finite(p.as_slice()), "{file}: {s}");
+                }
+            }
+            let r = model.forward_dynamics(&home, &vec![0.0; n], &vec![s; m], mode);
+            assert!(
+                r.as_ref()
+                    .map_or(true, |d| finite(d.acceleration.as_slice())),
+                "{file}: {s}"
+            );
+        }
+        for bad in [0, n + 1, 1000] {
+            assert!(
+                model
+                    .inverse_dynamics(&home, &vec![0.0; bad], &vec![0.0; n], mode)
+                    .is_err()
+            );
+            let efforts = if bad == n + 1 { m + 1 } else { bad };
+            assert!(
+                model
+                    .forward_dynamics(&home, &vec![0.0; n], &vec![0.0; efforts], mode)
+                    .is_err()
+            );
+            assert!(
+                model
+                    .peak_efforts_at_rest(&home, &vec![1.0; bad], mode)
+                    .is_err()
+            );
+        }
+    }
+    // Subnormal masses everywhere: the task-space mass matrix is as good as zero.
+    let text = common::robot_text("stewart_gough.toml");
+    let tiny = regex_free_scale(&text);
+    let model = RobotModel::from_toml(&tiny).unwrap();
+    let (n, m) = (model.dof(), model.actuator_count());
+    let r = model.forward_dynamics(
+        &model.home_task(),
+        &vec![0.0; n],
+        &vec![1.0; m],
+        model.home_mode(),
+    );
+    assert!(
+        r.as_ref()
+            .map_or(true, |d| d.acceleration.iter().all(|a| a.is_finite())),
+        "{r:?}"
+    );
+}
+
+/// `text` with every `mass = …` and inertia entry set to a subnormal value.
+fn regex_free_scale(text: &str) -> String {
+    text.lines()
+        .map(|line| {
+            if line.starts_with("mass = ") {
+                "mass = 5e-324".to_string()
+            } else if line.starts_with("inertia = ") {
+                "inertia = [[5e-324, 0.0, 0.0], [0.0, 5e-324, 0.0], [0.0, 0.0, 5e-324]]".to_string()
+            } else if line.trim_start().starts_with("{ mass = ") {
+                let rest = line.split_once(", center_of_mass").map_or("", |(_, r)| r);
+                let com = rest.split_once(", inertia").map_or("", |(c, _)| c);
+                format!("  {{ mass = 5e-324, center_of_mass{com} }},")
+            } else {
+                line.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
