@@ -4,7 +4,7 @@
 use crate::chain::{Joint, JointValue};
 use crate::closure::{ClosureProblem, Configuration, LegResidual};
 use crate::leg_ik::LegClass;
-use crate::lm::{SolverSettings, levenberg_marquardt};
+use crate::lm::{SolverSettings, levenberg_marquardt, polish};
 use crate::model::{RobotModel, WorkingMode};
 use crate::pose::CoordinateRole;
 use crate::pose::{PoseCoordinates, platform_pose};
@@ -18,6 +18,10 @@ use std::f64::consts::PI;
 const NUMERIC_LEG_STARTS: u64 = 8;
 /// Steps of the continuation from home when the dependent coordinates do not converge directly.
 const CONTINUATION_STEPS: usize = 8;
+
+/// Gauss–Newton steps that move solved dependent coordinates from the closure tolerance down
+/// to rounding (see [`polish`]).
+const POLISH_STEPS: usize = 3;
 
 /// The memo of [`RobotModel::solve_dependent`]: per thread, the model's identity, the bits of
 /// the task coordinates and the result.
@@ -130,19 +134,19 @@ impl RobotModel {
             residual: LegResidual::Pose,
         };
         let settings = SolverSettings::default();
-        if let Ok((c, _)) = levenberg_marquardt(&problem, config.clone(), &settings) {
-            return Ok(c);
+        if let Ok((c, r)) = levenberg_marquardt(&problem, config.clone(), &settings) {
+            return Ok(polish(&problem, c, r, POLISH_STEPS).0);
         }
         // Continuation: walk the task coordinates from home in equal steps.
-        let mut c = Configuration::home(self);
+        let (mut c, mut r) = (Configuration::home(self), f64::INFINITY);
         for step in 1..=CONTINUATION_STEPS {
             let s = step as f64 / CONTINUATION_STEPS as f64;
             for &k in &self.task {
                 c.pose[k] = self.home[k] + s * (pose[k] - self.home[k]);
             }
-            c = levenberg_marquardt(&problem, c, &settings)?.0;
+            (c, r) = levenberg_marquardt(&problem, c, &settings)?;
         }
-        Ok(c)
+        Ok(polish(&problem, c, r, POLISH_STEPS).0)
     }
 
     /// Inverse kinematics in working mode `mode`: the full configuration (pose, every joint).

@@ -107,6 +107,38 @@ pub(crate) fn levenberg_marquardt<P: LeastSquares>(
     }
 }
 
+/// Up to `steps` Gauss–Newton steps from a converged `state` (residual `residual`), each kept
+/// only while it lowers $\|r\|_\infty$: a solution converged to the tolerance moved down to
+/// rounding. What is solved at it with the same tolerance then closes (a leg's passive joints
+/// at a pose whose dependent coordinates were solved with that leg: left at 1.08e-12 by the
+/// pose, the leg could not reach 1e-12).
+pub(crate) fn polish<P: LeastSquares>(
+    problem: &P,
+    mut state: P::State,
+    mut residual: f64,
+    steps: usize,
+) -> (P::State, f64) {
+    let limits = problem.step_limits();
+    for _ in 0..steps {
+        let Some((r, j)) = problem.evaluate(&state) else {
+            break;
+        };
+        let jt = j.transpose();
+        let Some(delta) = damped_step(&(&jt * &j), &(&jt * &r), 1e-15, &limits) else {
+            break;
+        };
+        let trial = problem.apply(&state, &delta);
+        match problem.evaluate(&trial) {
+            Some((r_new, _)) if r_new.amax() < residual => {
+                residual = r_new.amax();
+                state = trial;
+            }
+            _ => break,
+        }
+    }
+    (state, residual)
+}
+
 /// The damped step, scaled to the step limits; `None` when the system cannot be factored.
 ///
 /// An unknown whose Jacobian column is zero to rounding ($\|J_k\|^2 \le 10^{-24}

@@ -143,6 +143,30 @@ fn five_bar_inverse_margin_vanishes_when_a_leg_stretches_out() {
     assert!(previous < 1e-2, "{previous}");
 }
 
+/// The Exechon's configuration solves at every sample of a slow move from home (z + 2.25 cm,
+/// tilts + 0.0225 rad, 201 samples): its dependent coordinates are solved to rounding, not
+/// just below the closure tolerance of 1e-12, so that the SPR leg's passive joints, solved at
+/// that pose with the same tolerance, can close (before, sample 22 of this move failed with
+/// "did not converge, best |Φ| = 1.077e-12", found by the Pinocchio peer's trajectory).
+#[test]
+fn exechon_configuration_solves_along_a_move() {
+    let model = common::robot("exechon.toml");
+    let mode = model.home_mode();
+    for k in 0..=200 {
+        let s = f64::from(k) / 200.0;
+        let d = 0.0225
+            * if s < 0.5 {
+                2.0 * s * s
+            } else {
+                1.0 - 2.0 * (1.0 - s).powi(2)
+            };
+        let x = [0.8 + d, d, d];
+        if let Err(e) = model.inverse_kinematics_configuration(&x, mode) {
+            panic!("sample {k}: {e}");
+        }
+    }
+}
+
 /// Issue 33: an Exechon-type 2-UPR + SPR head (`exechon.toml`, illustrative dimensions) is
 /// served by today's model, one actuator per leg. At seeded task poses (z, tilt) the solved
 /// full pose satisfies the legs' constraints written independently (each UPR leg's R axis
