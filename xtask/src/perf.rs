@@ -2,7 +2,7 @@
 //!
 //! Runs the criterion benches of the root package (`cargo bench --bench main`), the robot-file and study benches, and the peers of
 //! `../shared/peers` (NumPy's Delta design-index kernel, Pinocchio's inverse and forward
-//! dynamics of the NUWAR) back to back, then writes one table of pkm's figures and one of the
+//! dynamics of the NUWAR and of the Stewart–Gough exported from its robot file) back to back, then writes one table of pkm's figures and one of the
 //! ratios to the peers, each row stamped with the date, the commit and the load average of the
 //! window (`target/perf/perf.md`, `perf.json`; `--update-docs` splices the tables into
 //! `docs/performance.md`). A shared machine's absolute times drift; the ratios measured in the
@@ -281,14 +281,19 @@ struct Peer {
     /// A script of the repository that compares pkm's Python package with the NumPy peer
     /// (it needs `pkm` importable by `--python` and is given the peer's path).
     in_repository: bool,
+    /// Its arguments (a peers-folder script); a robot file of `examples/robots/` is given by its
+    /// path in the repository. A script with a robot file calls the `pkm` command, built in the
+    /// release profile and named in `PKM_COMMAND`.
+    robot_file: Option<&'static str>,
     /// (figure id, JSON pointer to the best value, pointer to the median value, unit)
     figures: &'static [(&'static str, &'static str, &'static str, &'static str)],
 }
 
-const PEERS: [Peer; 3] = [
+const PEERS: [Peer; 4] = [
     Peer {
         script: "numpy_delta_gci.py",
         in_repository: false,
+        robot_file: None,
         figures: &[
             (
                 "numpy_svd",
@@ -307,6 +312,7 @@ const PEERS: [Peer; 3] = [
     Peer {
         script: "pin_bench.py",
         in_repository: false,
+        robot_file: None,
         figures: &[
             (
                 "pinocchio_id_torques_cpu",
@@ -329,8 +335,28 @@ const PEERS: [Peer; 3] = [
         ],
     },
     Peer {
+        script: "pin_robot_file.py",
+        in_repository: false,
+        robot_file: Some("examples/robots/stewart_gough.toml"),
+        figures: &[
+            (
+                "pinocchio_6ups_id_cpu",
+                "/timing_us/inverse_dynamics/cpu_min_us",
+                "/timing_us/inverse_dynamics/cpu_median_us",
+                "µs",
+            ),
+            (
+                "pinocchio_6ups_constraintDynamics_cpu",
+                "/timing_us/constraintDynamics/cpu_min_us",
+                "/timing_us/constraintDynamics/cpu_median_us",
+                "µs",
+            ),
+        ],
+    },
+    Peer {
         script: "benches/python/kernels.py",
         in_repository: true,
+        robot_file: None,
         figures: &[
             (
                 "python_over_rust",
@@ -354,16 +380,27 @@ fn run_peers(root: &Path, args: &PerfArgs) -> (Vec<PeerFigure>, Vec<String>) {
     let numpy_peer = dir.join(PEERS[0].script);
     let (mut figures, mut skipped) = (Vec::new(), Vec::new());
     for peer in &PEERS {
-        let (script, peer_args) = if peer.in_repository {
-            (
+        let robot = peer.robot_file.map(|r| root.join(r));
+        let (script, peer_args) = match (&robot, peer.in_repository) {
+            (_, true) => (
                 root.join(peer.script),
                 vec!["--peer".as_ref(), numpy_peer.as_os_str()],
-            )
-        } else {
-            (dir.join(peer.script), vec![])
+            ),
+            (Some(robot), false) => (
+                dir.join(peer.script),
+                vec!["--moving".as_ref(), "--time".as_ref(), robot.as_os_str()],
+            ),
+            (None, false) => (dir.join(peer.script), vec![]),
+        };
+        let pkm = match robot.as_ref().map(|_| build_pkm_command(root)).transpose() {
+            Ok(pkm) => pkm,
+            Err(reason) => {
+                skipped.push(format!("{}: {reason}", peer.script));
+                continue;
+            }
         };
         let runs: Result<Vec<Value>, String> = (0..args.peer_runs.max(1))
-            .map(|_| run_peer(&args.python, &script, &peer_args))
+            .map(|_| run_peer(&args.python, &script, &peer_args, pkm.as_deref()))
             .collect();
         match runs {
             Ok(runs) => figures.extend(peer.figures.iter().filter_map(|f| summarise(&runs, f))),
@@ -373,15 +410,40 @@ fn run_peers(root: &Path, args: &PerfArgs) -> (Vec<PeerFigure>, Vec<String>) {
     (figures, skipped)
 }
 
-/// One run of a peer script: the JSON object on its last output line.
-fn run_peer(python: &Path, script: &Path, args: &[&std::ffi::OsStr]) -> Result<Value, String> {
+/// Builds the `pkm` command in the release profile for the peers that call it; its path.
+fn build_pkm_command(root: &Path) -> Result<PathBuf, String> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = Command::new(&cargo)
+        .current_dir(root)
+        .args(["build", "--release", "-p", "pkm-cli"])
+        .status()
+        .map_err(|e| format!("cannot run cargo build: {e}"))?;
+    if !status.success() {
+        return Err(format!(
+            "cargo build --release -p pkm-cli failed ({status})"
+        ));
+    }
+    Ok(root.join("target/release/pkm"))
+}
+
+/// One run of a peer script: the JSON object on its last output line (`PKM_COMMAND` set to
+/// `pkm` when given).
+fn run_peer(
+    python: &Path,
+    script: &Path,
+    args: &[&std::ffi::OsStr],
+    pkm: Option<&Path>,
+) -> Result<Value, String> {
     if !script.is_file() {
         return Err(format!("{} not found", script.display()));
     }
     eprintln!("peer: {} {}", python.display(), script.display());
-    let output = Command::new(python)
-        .arg(script)
-        .args(args)
+    let mut command = Command::new(python);
+    command.arg(script).args(args);
+    if let Some(pkm) = pkm {
+        command.env("PKM_COMMAND", pkm);
+    }
+    let output = command
         .output()
         .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
     let stdout = String::from_utf8_lossy(&output.stdout);
@@ -424,7 +486,7 @@ enum Against {
 }
 
 /// The ratios that `docs/performance.md` quotes: (what, pkm bench, what it is compared with).
-const RATIOS: [(&str, &str, Against); 12] = [
+const RATIOS: [(&str, &str, Against); 13] = [
     (
         "Delta design index, 1 thread, vs NumPy SVD",
         "delta_kernel/batch/1_threads",
@@ -479,6 +541,11 @@ const RATIOS: [(&str, &str, Against); 12] = [
         "Forward kinematics from a guess, Tsai: hand-written vs from its file (goal: the file within 3 ×)",
         "robot_file/forward_kinematics/tsai/hand_written",
         Against::Bench("robot_file/forward_kinematics/tsai/general"),
+    ),
+    (
+        "Inverse dynamics, one sample, 6-UPS from its file vs Pinocchio's fastest Python route on the exported model (goal: pkm 10 × faster)",
+        "robot_file/inverse_dynamics/stewart_gough/general",
+        Against::Peer("pinocchio_6ups_id_cpu"),
     ),
     (
         "Inverse dynamics, one sample, Delta: hand-written vs from its file (goal: the file within 2 ×)",
