@@ -264,15 +264,23 @@ impl RobotModel {
             .map(|(b, _, q)| (b, q))
     }
 
-    /// Leg `i`'s joints with its actuator at `motion`, the passive joints by damped Newton from
-    /// home (then from seeded restarts).
+    /// Leg `i`'s joints with its actuator at `motion`: the passive joints in closed form when
+    /// the leg has one ([`crate::passive`]), else by damped Newton from home (then from seeded
+    /// restarts).
     pub(crate) fn passive_joints(
         &self,
         i: usize,
         motion: f64,
         config: &Configuration,
     ) -> Result<Vec<JointValue>, KinematicsError> {
-        self.newton_leg(i, Some(motion), config)
+        let target = platform_pose(self.orientation, &config.pose) * self.home_pose.inverse();
+        let closed = self.passive[i]
+            .as_ref()
+            .and_then(|layout| layout.solve(&self.legs[i], motion, &target, self.size));
+        match closed {
+            Some(values) => Ok(values),
+            None => self.newton_leg(i, Some(motion), config),
+        }
     }
 
     /// Leg `i` solved whole by damped Newton from its home values, then seeded restarts.
@@ -292,7 +300,7 @@ impl RobotModel {
     ///
     /// # Errors
     /// [`KinematicsError::LegNotConverged`] naming the leg, the stage and the best residual.
-    fn newton_leg(
+    pub(crate) fn newton_leg(
         &self,
         i: usize,
         motion: Option<f64>,

@@ -230,7 +230,7 @@ fn group_point(joints: &[Joint], hint: Option<Vector3<f64>>, size: f64) -> Optio
 /// planar or spherical pair), where $|C - E|$ is the only condition between them; when both
 /// are written through one point $O$ (a spherical chain with every joint at its centre), each
 /// takes the point of its axis at distance `size` from $O$ instead.
-fn group_points(
+pub(crate) fn group_points(
     first: &[Joint],
     second: &[Joint],
     size: f64,
@@ -290,12 +290,17 @@ fn distance_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<Le
     })
 }
 
-fn arm_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClass> {
-    if leg.sole_actuator().map(|a| a.joint) != Some(0) {
-        return None;
-    }
-    let rest = &leg.joints[1..];
-    (1..=rest.len()).find_map(|m| {
+/// An arm leg's candidate splits after its actuated first joint, in order: the number `m` of
+/// joints of its elbow group, the elbow point $E$ and the wrist point $C$ (base frame, at
+/// home), for each split whose groups meet in points a rod apart.
+fn arm_splits<'a>(
+    leg: &'a LegChain,
+    home: &'a Isometry3<f64>,
+    size: f64,
+) -> impl Iterator<Item = (usize, Vector3<f64>, Vector3<f64>)> + 'a {
+    let rest = &leg.joints[leg.joints.len().min(1)..];
+    let arm = leg.sole_actuator().map(|a| a.joint) == Some(0);
+    (1..=rest.len()).filter(move |_| arm).filter_map(move |m| {
         let (elbow_group, wrist_group) = rest.split_at(m);
         let (e, c) = if wrist_group.is_empty() {
             let e = group_point(elbow_group, None, size)?;
@@ -303,32 +308,56 @@ fn arm_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClas
         } else {
             group_points(elbow_group, wrist_group, size)?
         };
-        let rod = (c - e).norm();
-        if rod < 1e-9 * size {
-            return None;
-        }
-        let wrist = (home.inverse() * Point3::from(c)).coords;
-        match leg.joints[0] {
-            Joint::Revolute { axis, point } => {
-                let foot = point + axis * (e - point).dot(&axis);
-                let arm = e - foot;
-                (arm.norm() > 1e-9 * size).then_some(LegClass::RevoluteArm {
-                    axis,
-                    foot,
-                    arm,
-                    wrist,
-                    rod,
-                })
-            }
-            Joint::Prismatic { axis } => Some(LegClass::PrismaticArm {
+        ((c - e).norm() >= 1e-9 * size).then_some((m, e, c))
+    })
+}
+
+fn arm_class(leg: &LegChain, home: &Isometry3<f64>, size: f64) -> Option<LegClass> {
+    let (_, e, c) = arm_split(leg, home, size)?;
+    arm_of(leg, home, size, e, c)
+}
+
+/// The split of an arm leg that its class takes: the first of [`arm_splits`] that makes an
+/// arm.
+pub(crate) fn arm_split(
+    leg: &LegChain,
+    home: &Isometry3<f64>,
+    size: f64,
+) -> Option<(usize, Vector3<f64>, Vector3<f64>)> {
+    arm_splits(leg, home, size).find(|&(_, e, c)| arm_of(leg, home, size, e, c).is_some())
+}
+
+/// The arm class of `leg` with elbow point `e` and wrist point `c`, if its first joint makes
+/// one.
+fn arm_of(
+    leg: &LegChain,
+    home: &Isometry3<f64>,
+    size: f64,
+    e: Vector3<f64>,
+    c: Vector3<f64>,
+) -> Option<LegClass> {
+    let rod = (c - e).norm();
+    let wrist = (home.inverse() * Point3::from(c)).coords;
+    match leg.joints[0] {
+        Joint::Revolute { axis, point } => {
+            let foot = point + axis * (e - point).dot(&axis);
+            let arm = e - foot;
+            (arm.norm() > 1e-9 * size).then_some(LegClass::RevoluteArm {
                 axis,
-                elbow: e,
+                foot,
+                arm,
                 wrist,
                 rod,
-            }),
-            Joint::Spherical { .. } => None,
+            })
         }
-    })
+        Joint::Prismatic { axis } => Some(LegClass::PrismaticArm {
+            axis,
+            elbow: e,
+            wrist,
+            rod,
+        }),
+        Joint::Spherical { .. } => None,
+    }
 }
 
 /// With no wrist group the platform is the last link: its origin, moved into the plane of a

@@ -6,6 +6,7 @@ use crate::error::RobotFileError;
 use crate::file::{JointSpec, JointType, LegSpec, MAX_LEGS, RobotFile};
 use crate::leg_ik::LegClass;
 use crate::mass::MassProperties;
+use crate::passive::PassiveLayout;
 use crate::pointing::PointingLeg;
 use crate::pose::{CoordinateRole, OrientationKind, PoseCoordinates, platform_pose};
 use nalgebra::{Isometry3, Rotation3, Unit, Vector3};
@@ -71,6 +72,8 @@ pub struct RobotModel {
     /// closed form, when it is the one constraining leg (the Tricept's).
     pub(crate) pointing: Option<PointingLeg>,
     pub(crate) classes: Vec<LegClass>,
+    /// Per leg, the closed form of its passive joints when it has one ([`PassiveLayout`]).
+    pub(crate) passive: Vec<Option<PassiveLayout>>,
     pub(crate) characteristic_length: f64,
     /// Size of the robot (m): the largest distance of a joint point from the home platform
     /// origin, at least the characteristic length; scales the step limits.
@@ -164,6 +167,11 @@ impl RobotModel {
             .iter()
             .map(|leg| LegClass::classify(leg, &home_pose, size))
             .collect::<Vec<_>>();
+        let passive = legs
+            .iter()
+            .zip(&classes)
+            .map(|(leg, class)| PassiveLayout::new(leg, class, &home_pose, size))
+            .collect();
         let constraining: Vec<usize> = (0..legs.len())
             .filter(|&i| crate::mobility::constrains(&legs[i]))
             .collect();
@@ -189,6 +197,7 @@ impl RobotModel {
             constraining,
             pointing,
             classes,
+            passive,
             characteristic_length,
             size,
             home_mode: WorkingMode::default(),

@@ -9,18 +9,10 @@
 //! $p = A + (r_0 + s)\,R_U a$ with $R_U = e^{[\omega_1]\alpha} e^{[\omega_2]\beta}$, and turns the
 //! platform by $R_U$: $R = R_U R_0$. So $R_U a = v = \operatorname{sign}(r_0)(p - A)/\lvert p -
 //! A\rvert$, $s = \operatorname{sign}(r_0)\lvert p - A\rvert - r_0$, and $(\alpha, \beta)$ is
-//! Paden–Kahan subproblem 2 (Murray, Li & Sastry 1994, §3.3.2): the point
-//! $z = e^{[\omega_2]\beta} a = e^{-[\omega_1]\alpha} v$ is
-//! $$z = \lambda\omega_1 + \mu\omega_2 \pm \gamma\,\omega_1\times\omega_2,\quad
-//! \lambda = \frac{(\omega_1\cdot\omega_2)(\omega_2\cdot a) - \omega_1\cdot v}{(\omega_1\cdot\omega_2)^2 - 1},\
-//! \mu = \frac{(\omega_1\cdot\omega_2)(\omega_1\cdot v) - \omega_2\cdot a}{(\omega_1\cdot\omega_2)^2 - 1},\
-//! \gamma^2 = \frac{1 - \lambda^2 - \mu^2 - 2\lambda\mu\,\omega_1\cdot\omega_2}{\lvert\omega_1\times\omega_2\rvert^2},$$
-//! and each angle turns one vector onto another about its axis (subproblem 1). Of the two
-//! roots, the one nearer home ($\lvert\alpha\rvert + \lvert\beta\rvert$ least) is the branch the
-//! numerical solve from home follows.
+//! Paden–Kahan subproblem 2 (see [`crate::paden_kahan`]), the root nearer home.
 
 use crate::chain::{Joint, LegChain};
-use crate::leg_ik::wrap_angle;
+use crate::paden_kahan::two_axes;
 use nalgebra::{Rotation3, Unit, Vector3};
 
 /// A passive U + P leg whose slider line carries the platform origin.
@@ -98,31 +90,8 @@ impl PointingLeg {
         }
         let sign = self.reach.signum();
         let v = along * (sign / distance);
-        let (w1, w2, a) = (
-            self.first.into_inner(),
-            self.second.into_inner(),
-            self.slide,
-        );
-        let c = w1.dot(&w2);
-        let n = w1.cross(&w2);
-        let den = c * c - 1.0;
-        let lambda = (c * w2.dot(&a) - w1.dot(&v)) / den;
-        let mu = (c * w1.dot(&v) - w2.dot(&a)) / den;
-        let gamma2 = (1.0 - lambda * lambda - mu * mu - 2.0 * lambda * mu * c) / n.norm_squared();
-        if !(gamma2 >= -1e-12) {
-            return None;
-        }
-        let gamma = gamma2.max(0.0).sqrt();
-        let root = |g: f64| {
-            let z = w1 * lambda + w2 * mu + n * g;
-            let beta = turn(&w2, &a, &z);
-            let alpha = turn(&w1, &z, &v);
-            (alpha, beta)
-        };
-        let (alpha, beta) = [root(gamma), root(-gamma)].into_iter().min_by(|x, y| {
-            let size = |(a, b): &(f64, f64)| wrap_angle(*a).abs() + wrap_angle(*b).abs();
-            size(x).total_cmp(&size(y))
-        })?;
+        let a = self.slide;
+        let (alpha, beta) = two_axes(self.first.as_ref(), self.second.as_ref(), &a, &v)?;
         let r_u = Rotation3::from_axis_angle(&self.first, alpha)
             * Rotation3::from_axis_angle(&self.second, beta);
         if !((r_u * a - v).norm() < 1e-9) {
@@ -133,14 +102,6 @@ impl PointingLeg {
             rotation: r_u * home,
         })
     }
-}
-
-/// Subproblem 1: the angle about unit axis `w` that turns `from` onto `to` (0 when `from` is
-/// on the axis).
-fn turn(w: &Vector3<f64>, from: &Vector3<f64>, to: &Vector3<f64>) -> f64 {
-    let x = from - w * w.dot(from);
-    let y = to - w * w.dot(to);
-    w.dot(&x.cross(&y)).atan2(x.dot(&y))
 }
 
 #[cfg(test)]
