@@ -15,7 +15,7 @@ use crate::mobility::{RANK_TOLERANCE, constraint_wrenches};
 use crate::model::RobotModel;
 use crate::pose::{CoordinateRole, hybrid_rates};
 use crate::svd::bounded_svd;
-use nalgebra::{DMatrix, DVector, Vector3, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, Vector3, Vector6};
 use pkm_screw_theory::{reciprocal_product_vectors, reciprocal_screw_system};
 use pkm_traits::KinematicsError;
 
@@ -81,6 +81,35 @@ fn actuation_wrench(actuator: &Vector6<f64>, passive: &[Vector6<f64>]) -> Option
     normalise_wrench(&w)
 }
 
+/// The actuation wrench of a leg of six coordinates (one actuator, five passive twists) whose
+/// twists are independent, from one 6 × 6 solve: with $\Delta$ the swap of a twist's halves
+/// ($w \odot t = w\cdot\Delta t$), the rows $(\Delta\$_k)^\top$ of the passive twists and
+/// of the actuator's, $R\,w = e_6$ gives the wrench reciprocal to every passive twist that
+/// does unit work on the actuator, normalised as [`actuation_wrench`] does (its reciprocal
+/// system is one-dimensional, so both give the same wrench). `None` unless the twists are
+/// clearly independent (LU pivots within 1e-6 of each other; nearer a leg singularity the
+/// SVD of [`actuation_wrench`] decides the rank).
+fn six_twist_actuation(
+    actuated: &[Vector6<f64>],
+    passive: &[Vector6<f64>],
+) -> Option<Vector6<f64>> {
+    let ([actuator], 5) = (actuated, passive.len()) else {
+        return None;
+    };
+    let swap = |t: &Vector6<f64>| Vector6::new(t[3], t[4], t[5], t[0], t[1], t[2]).transpose();
+    let rows = Matrix6::from_fn(|r, c| {
+        let t = passive.get(r).unwrap_or(actuator);
+        swap(t)[c]
+    });
+    let lu = rows.lu();
+    let pivots = lu.u().diagonal().abs();
+    if !(pivots.min() > 1e-6 * pivots.max()) {
+        return None;
+    }
+    let w = lu.solve(&Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, 1.0))?;
+    normalise_wrench(&w)
+}
+
 /// Unit force, or unit couple for a pure couple; `None` for a (numerically) zero wrench.
 fn normalise_wrench(w: &Vector6<f64>) -> Option<Vector6<f64>> {
     let f = w.fixed_rows::<3>(0).norm();
@@ -111,6 +140,16 @@ impl RobotModel {
         let mut row = 0;
         for i in 0..self.actuated {
             let (actuated, passive) = leg_twists(self, config, i);
+            if let ([actuator], Some(w)) = (
+                actuated.as_slice(),
+                six_twist_actuation(&actuated, &passive),
+            ) {
+                // Six independent twists: no constraint wrench.
+                j_a.set_row(row, &w.transpose());
+                d[row] = reciprocal_product_vectors(&w, actuator);
+                row += 1;
+                continue;
+            }
             for (k, actuator) in actuated.iter().enumerate() {
                 let mut others = passive.clone();
                 others.extend(
