@@ -170,6 +170,19 @@ fn inverse_dynamics(c: &mut Criterion) {
                 .efforts
         })
     });
+    group.bench_function("stewart_gough/efforts", |b| {
+        b.iter(|| sg.actuator_efforts(black_box(&x), &v, &a, sg.home_mode()))
+    });
+    group.bench_function("rotary_delta/efforts", |b| {
+        b.iter(|| {
+            file.actuator_efforts(
+                black_box(m.p.as_slice()),
+                m.v.as_slice(),
+                m.a.as_slice(),
+                file.home_mode(),
+            )
+        })
+    });
     group.finish();
 }
 

@@ -36,7 +36,7 @@
 //! \omega\times(v_O + \omega\times c)$, and $M_O = I\dot\omega + \omega\times I\omega +
 //! c\times F$ (Newton–Euler about its centre, moved to O).
 
-use crate::chain::stack;
+use crate::chain::{LegTwists, stack};
 use crate::closure::Configuration;
 use crate::mass::Body;
 use crate::model::{RobotModel, WorkingMode};
@@ -124,15 +124,15 @@ pub struct ForwardDynamics {
     pub potential_energy: f64,
 }
 
-/// A configuration ready for the dynamics: its closure factored, and every body's twist per
-/// unit rate of each task coordinate with $J^\top$ ($J_{ak} = \dot\theta_a^k$), which depend
-/// on the configuration alone.
+/// A configuration ready for the dynamics: its closure factored, and per unit rate of each
+/// task coordinate every joint's rate and the platform's twist, with $J^\top$
+/// ($J_{ak} = \dot\theta_a^k$), which depend on the configuration alone.
 struct Prepared {
     gravity: Vector3<f64>,
     config: Configuration,
     closure: ClosureRates,
-    /// Per task coordinate, per body group, per body.
-    unit_twists: Vec<Vec<Vec<Vector6<f64>>>>,
+    /// Per task coordinate: the joint rates per leg, and the platform twist.
+    unit_rates: Vec<(Vec<Vec<f64>>, Vector6<f64>)>,
     jt: DMatrix<f64>,
 }
 
@@ -140,9 +140,11 @@ struct Prepared {
 struct Balance {
     motion: Motion,
     bodies: Vec<Vec<(usize, BodyState)>>,
-    wrenches: Vec<Vec<Vector6<f64>>>,
+    /// $Q_l$ of eq. D1 per leg, per coordinate.
+    joint_forces: Vec<Vec<f64>>,
+    /// $W_P$: the wrench the platform and the bodies riding on it need.
+    platform_wrench: Vector6<f64>,
     forces: DVector<f64>,
-    jt: DMatrix<f64>,
 }
 
 /// `Err(Motion)` unless `v` has `len` finite entries within ±1e9.
@@ -249,9 +251,9 @@ impl RobotModel {
         check_motion(self.task.len(), "acceleration", acceleration)?;
         let prepared = self.prepare(x, velocity, mode)?;
         let balance = self.balance(&prepared, velocity, acceleration)?;
-        let efforts = least_squares(balance.jt.clone(), &balance.forces, "J^T")?;
+        let efforts = least_squares(prepared.jt.clone(), &balance.forces, "J^T")?;
         let (efforts_multipliers, multipliers) =
-            self.multiplier_efforts(&balance.motion, &balance.bodies, &balance.wrenches)?;
+            self.multiplier_efforts(&balance, &prepared.closure.twists)?;
         let actuator_rates = self.actuator_rates(&balance.motion);
         let (kinetic_energy, potential_energy) =
             self.energies(&balance.motion, &balance.bodies, &prepared.gravity);
@@ -264,6 +266,26 @@ impl RobotModel {
             kinetic_energy,
             potential_energy,
         })
+    }
+
+    /// The actuator efforts alone, by virtual work (eq. D3): what
+    /// [`RobotModel::inverse_dynamics`] returns as `efforts`, to the same bits, without the
+    /// second formulation, the multipliers and the energies (the path of a study's samples and
+    /// effort maps when the check is not asked for).
+    ///
+    /// # Errors
+    /// As [`RobotModel::inverse_dynamics`].
+    pub fn actuator_efforts(
+        &self,
+        x: &[f64],
+        velocity: &[f64],
+        acceleration: &[f64],
+        mode: WorkingMode,
+    ) -> Result<DVector<f64>, DynamicsError> {
+        check_motion(self.task.len(), "acceleration", acceleration)?;
+        let prepared = self.prepare(x, velocity, mode)?;
+        let balance = self.balance(&prepared, velocity, acceleration)?;
+        least_squares(prepared.jt, &balance.forces, "J^T")
     }
 
     /// The task accelerations $\ddot x$ that the actuator efforts `efforts` give at $(x,
@@ -296,7 +318,7 @@ impl RobotModel {
             mass_matrix.set_column(k, &column);
         }
         let symmetric = (&mass_matrix + mass_matrix.transpose()) * 0.5;
-        let forces = &bias.jt * DVector::from_column_slice(efforts) - &bias.forces;
+        let forces = &prepared.jt * DVector::from_column_slice(efforts) - &bias.forces;
         let acceleration = symmetric
             .clone()
             .cholesky()
@@ -373,25 +395,21 @@ impl RobotModel {
         }
         let closure = ClosureRates::new(self, &config)?;
         let n = self.task.len();
-        let mut unit_twists = Vec::with_capacity(n);
+        let mut unit_rates = Vec::with_capacity(n);
         let mut jt = DMatrix::zeros(n, self.actuator_count());
         for k in 0..n {
             let mut e = vec![0.0; n];
             e[k] = 1.0;
             let unit = closure.rates(self, config.clone(), &e)?;
-            unit_twists.push(
-                self.body_states(&unit)
-                    .iter()
-                    .map(|group| group.iter().map(|(_, b)| b.twist).collect())
-                    .collect(),
-            );
             jt.set_row(k, &self.actuator_rates(&unit).transpose());
+            let platform = self.platform_motion(&unit).0;
+            unit_rates.push((unit.joint_rates, platform));
         }
         Ok(Prepared {
             gravity,
             config,
             closure,
-            unit_twists,
+            unit_rates,
             jt,
         })
     }
@@ -406,7 +424,7 @@ impl RobotModel {
     ) -> Result<Balance, DynamicsError> {
         let closure = &prepared.closure;
         let motion = closure.motion(self, prepared.config.clone(), velocity, acceleration)?;
-        let bodies = self.body_states(&motion);
+        let bodies = self.body_states(&motion, &closure.twists);
         let wrenches: Vec<Vec<Vector6<f64>>> = bodies
             .iter()
             .map(|leg| {
@@ -415,14 +433,15 @@ impl RobotModel {
                     .collect()
             })
             .collect();
-        let forces = self.task_forces(&motion, &wrenches, prepared);
-        let jt = prepared.jt.clone();
+        let joint_forces = self.joint_forces(&bodies, &wrenches, &closure.twists);
+        let platform_wrench: Vector6<f64> = wrenches[self.legs.len()].iter().sum();
+        let forces = self.task_forces(&motion, &joint_forces, &platform_wrench, prepared);
         Ok(Balance {
             motion,
             bodies,
-            wrenches,
+            joint_forces,
+            platform_wrench,
             forces,
-            jt,
         })
     }
 
@@ -442,14 +461,13 @@ impl RobotModel {
     /// Every massive body with its state, per leg (the bodies riding on the platform and the
     /// platform itself in a last group), each with the number of its leg's coordinates that
     /// move it (`usize::MAX` for the platform group).
-    fn body_states(&self, motion: &Motion) -> Vec<Vec<(usize, BodyState)>> {
+    fn body_states(&self, motion: &Motion, twists: &[LegTwists]) -> Vec<Vec<(usize, BodyState)>> {
         let mut out = Vec::with_capacity(self.legs.len() + 1);
         let mut riding = Vec::new();
         let (platform_twist, platform_acceleration) = self.platform_motion(motion);
         let pose = platform_pose(self.orientation, &motion.config.pose);
         let platform_move = pose * self.home_pose.inverse();
-        for (i, leg) in self.legs.iter().enumerate() {
-            let lt = leg.twists(&motion.config.joints[i]);
+        for (i, (leg, lt)) in self.legs.iter().zip(twists).enumerate() {
             let (rates, accelerations) = (&motion.joint_rates[i], &motion.joint_accelerations[i]);
             let twist_derivatives = twist_derivatives(&lt.twists, rates);
             let mut group = Vec::new();
@@ -539,19 +557,25 @@ impl RobotModel {
     }
 
     /// Eq. D3's generalised task forces $Q_k = \sum_b W_b\cdot V_b^k + \sum_a
-    /// I_{r,a}\ddot\theta_a\dot\theta_a^k$.
+    /// I_{r,a}\ddot\theta_a\dot\theta_a^k$, with a leg body's unit twist
+    /// $V_b^k = \sum_{l \prec b}\xi_l\dot\theta_l^k$ gathered per joint (eq. D6):
+    /// $$\sum_{b \in \text{leg}} W_b\cdot V_b^k = \sum_l Q_l\,\dot\theta_l^k,\qquad
+    /// Q_l = \sum_{b \succ l}\xi_l\cdot W_b,$$
+    /// the joint forces of eq. D1, and the bodies riding on the platform by its unit twist.
     fn task_forces(
         &self,
         motion: &Motion,
-        wrenches: &[Vec<Vector6<f64>>],
+        joint_forces: &[Vec<f64>],
+        riding: &Vector6<f64>,
         prepared: &Prepared,
     ) -> DVector<f64> {
         DVector::from_fn(self.task.len(), |k, _| {
-            let bodies: f64 = prepared.unit_twists[k]
+            let (rates, platform) = &prepared.unit_rates[k];
+            let legs: f64 = joint_forces
                 .iter()
-                .zip(wrenches)
-                .flat_map(|(twists, wrenches)| twists.iter().zip(wrenches))
-                .map(|(twist, w)| power(w, twist))
+                .zip(rates)
+                .flat_map(|(forces, rates)| forces.iter().zip(rates))
+                .map(|(q, rate)| q * rate)
                 .sum();
             let rotors: f64 = (0..self.actuator_count())
                 .map(|a| {
@@ -562,37 +586,59 @@ impl RobotModel {
                         * prepared.jt[(k, a)]
                 })
                 .sum();
-            bodies + rotors
+            legs + power(riding, platform) + rotors
         })
+    }
+
+    /// $Q_l = \sum_{b \succ l}\xi_l\cdot W_b$ of every joint coordinate of every leg (eq. D1):
+    /// the power of the wrenches its leg's bodies beyond it need, per unit rate.
+    fn joint_forces(
+        &self,
+        bodies: &[Vec<(usize, BodyState)>],
+        wrenches: &[Vec<Vector6<f64>>],
+        twists: &[LegTwists],
+    ) -> Vec<Vec<f64>> {
+        twists
+            .iter()
+            .enumerate()
+            .map(|(i, lt)| {
+                lt.twists
+                    .iter()
+                    .enumerate()
+                    .map(|(coordinate, (_, xi))| {
+                        bodies[i]
+                            .iter()
+                            .zip(&wrenches[i])
+                            .filter(|((moving, _), _)| coordinate < *moving)
+                            .map(|(_, w)| power(w, xi))
+                            .sum()
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// Eqs. D1–D2 in $(\lambda, \tau)$ by least squares.
     fn multiplier_efforts(
         &self,
-        motion: &Motion,
-        bodies: &[Vec<(usize, BodyState)>],
-        wrenches: &[Vec<Vector6<f64>>],
+        balance: &Balance,
+        twists: &[LegTwists],
     ) -> Result<(DVector<f64>, Vec<Vector6<f64>>), DynamicsError> {
+        let motion = &balance.motion;
         let legs = self.legs.len();
         let m = self.actuator_count();
         let rows: usize = self.legs.iter().map(|l| l.dof()).sum::<usize>() + 6;
         let mut a = DMatrix::zeros(rows, 6 * legs + m);
         let mut b = DVector::zeros(rows);
         let mut row = 0;
-        for (i, leg) in self.legs.iter().enumerate() {
-            let lt = leg.twists(&motion.config.joints[i]);
+        for (i, (leg, lt)) in self.legs.iter().zip(twists).enumerate() {
             for (coordinate, (joint, xi)) in lt.twists.iter().enumerate() {
                 // ξ·λ_i − τ = −Q_ij.
                 for r in 0..6 {
                     // power(λ, ξ) = f·v + m·ω: λ = [f; m], ξ = [ω; v].
                     a[(row, 6 * i + r)] = if r < 3 { xi[3 + r] } else { xi[r - 3] };
                 }
-                let mut need: f64 = bodies[i]
-                    .iter()
-                    .zip(&wrenches[i])
-                    .filter(|((moving, _), _)| coordinate < *moving)
-                    .map(|(_, w)| power(w, xi))
-                    .sum();
+                let mut need = balance.joint_forces[i][coordinate];
                 if let Some(actuator) = leg.actuator_at(*joint) {
                     let index = self
                         .actuators
@@ -607,7 +653,7 @@ impl RobotModel {
             }
         }
         // Σ λ_i = W_P.
-        let platform: Vector6<f64> = wrenches[legs].iter().sum();
+        let platform = balance.platform_wrench;
         for r in 0..6 {
             for i in 0..legs {
                 a[(row + r, 6 * i + r)] = 1.0;
@@ -747,14 +793,15 @@ impl Factored {
         // of the Orthoglide left the unit-rate system inconsistent by 6e-8 of its right-hand
         // side at one pose of a smooth motion); a singular configuration leaves O(1).
         let bound = 1e-6 * b.amax().max(1e-300) + 1e-12;
+        let mut r = b - &self.a * &x;
         for _ in 0..3 {
-            let r = b - &self.a * &x;
             if r.amax() <= 1e-14 * b.amax() {
                 break;
             }
             x += self.apply(&r)?;
+            r = b - &self.a * &x;
         }
-        let residual = (&self.a * &x - b).amax();
+        let residual = r.amax();
         if !(x.iter().all(|v| v.is_finite()) && residual <= bound) {
             return Err(self.singular());
         }
@@ -764,11 +811,20 @@ impl Factored {
 
 /// The closure's rate matrix at one configuration: rows of 6 per leg, columns the dependent
 /// pose coordinates and every joint coordinate, factored once for the velocities, the
-/// accelerations and the unit task rates.
+/// accelerations and the unit task rates; with the legs' twists there.
 struct ClosureRates {
-    factored: Factored,
+    factored: ClosureFactor,
     dependent: Vec<usize>,
     offsets: Vec<usize>,
+    twists: Vec<LegTwists>,
+}
+
+/// Without dependent coordinates each leg's rows involve its own joints alone: the matrix is
+/// block diagonal and each leg's 6 × dof block is factored by itself (six 6 × 6 LUs for a
+/// 6-UPS instead of one 36 × 36).
+enum ClosureFactor {
+    Whole(Factored),
+    PerLeg(Vec<Factored>),
 }
 
 impl ClosureRates {
@@ -782,27 +838,52 @@ impl ClosureRates {
             offsets.push(columns);
             columns += leg.dof();
         }
+        let twists: Vec<LegTwists> = model
+            .legs
+            .iter()
+            .zip(&config.joints)
+            .map(|(leg, values)| leg.twists(values))
+            .collect();
         let h = hybrid_rates(model.orientation, &config.pose);
         let p = Vector3::new(config.pose[0], config.pose[1], config.pose[2]);
-        let mut matrix = DMatrix::zeros(6 * model.legs.len(), columns);
-        for (i, leg) in model.legs.iter().enumerate() {
+        // Leg i's block: the dependent columns −H e_k, then its joints' columns.
+        let block = |i: usize| {
+            let lt = &twists[i];
+            let mut m = DMatrix::zeros(6, dependent.len() + lt.twists.len());
             for (c, &k) in dependent.iter().enumerate() {
-                matrix
-                    .fixed_view_mut::<6, 1>(6 * i, c)
-                    .copy_from(&(-h.column(k)));
+                m.fixed_view_mut::<6, 1>(0, c).copy_from(&(-h.column(k)));
             }
-            let lt = leg.twists(&config.joints[i]);
             for (c, (_, xi)) in lt.twists.iter().enumerate() {
                 let (w, v) = split(xi);
-                matrix
-                    .fixed_view_mut::<6, 1>(6 * i, offsets[i] + c)
+                m.fixed_view_mut::<6, 1>(0, dependent.len() + c)
                     .copy_from(&stack(&w, &(v + w.cross(&p))));
             }
-        }
+            m
+        };
+        let factored = if dependent.is_empty() {
+            let blocks = (0..model.legs.len())
+                .map(|i| Factored::new(block(i), "closure rates"))
+                .collect::<Result<_, _>>()?;
+            ClosureFactor::PerLeg(blocks)
+        } else {
+            let mut matrix = DMatrix::zeros(6 * model.legs.len(), columns);
+            for (i, &offset) in offsets.iter().enumerate() {
+                let b = block(i);
+                let d = dependent.len();
+                matrix
+                    .view_mut((6 * i, 0), (6, d))
+                    .copy_from(&b.columns(0, d));
+                matrix
+                    .view_mut((6 * i, offset), (6, b.ncols() - d))
+                    .copy_from(&b.columns(d, b.ncols() - d));
+            }
+            ClosureFactor::Whole(Factored::new(matrix, "closure rates")?)
+        };
         Ok(Self {
-            factored: Factored::new(matrix, "closure rates")?,
+            factored,
             dependent,
             offsets,
+            twists,
         })
     }
 
@@ -824,9 +905,23 @@ impl ClosureRates {
         c
     }
 
-    /// Solves the closure for `rhs` (stacked per leg) into per-leg joint values.
+    /// Solves the closure for `rhs` (stacked per leg): the dependent rates, then every leg's.
     fn solve(&self, rhs: &DVector<f64>) -> Result<DVector<f64>, DynamicsError> {
-        self.factored.solve(rhs)
+        match &self.factored {
+            ClosureFactor::Whole(factored) => factored.solve(rhs),
+            ClosureFactor::PerLeg(blocks) => {
+                let columns = self
+                    .offsets
+                    .last()
+                    .map_or(0, |&o| o + blocks.last().map_or(0, |b| b.a.ncols()));
+                let mut u = DVector::zeros(columns);
+                for (i, (factored, &offset)) in blocks.iter().zip(&self.offsets).enumerate() {
+                    let leg = factored.solve(&rhs.rows(6 * i, 6).into_owned())?;
+                    u.rows_mut(offset, leg.len()).copy_from(&leg);
+                }
+                Ok(u)
+            }
+        }
     }
 
     fn per_leg(&self, model: &RobotModel, u: &DVector<f64>) -> Vec<Vec<f64>> {
@@ -880,8 +975,7 @@ impl ClosureRates {
             h * self.pose_vector(model, acceleration, &DVector::zeros(self.dependent.len()))
                 + model.rates_derivative(&c, &motion.pose_rate);
         let mut rhs = DVector::zeros(6 * model.legs.len());
-        for (i, leg) in model.legs.iter().enumerate() {
-            let lt = leg.twists(&motion.config.joints[i]);
+        for (i, lt) in self.twists.iter().enumerate() {
             let rates = &motion.joint_rates[i];
             let derivatives = twist_derivatives(&lt.twists, rates);
             let mut column_rates = Vector6::zeros();

@@ -99,7 +99,8 @@ fn wobble(model: &pkm_robot_file::RobotModel, t: f64) -> [Vec<f64>; 3] {
 /// The energy balance $\dot E = \tau\cdot\dot q$ (the efforts' power) along a smooth motion
 /// of every robot file with masses, $\dot E$ by the fourth-order central difference of
 /// $T + V$ ($h$ = 1e-4 s), to 1e-6 of the largest actuator power; and the two formulations equal to 1e-9 of the
-/// largest effort where the actuation is not redundant.
+/// largest effort where the actuation is not redundant; `actuator_efforts` gives the
+/// efforts to the bit.
 #[test]
 fn energy_balance_and_both_formulations_on_every_file() {
     let mut checked = 0;
@@ -125,6 +126,12 @@ fn energy_balance_and_both_formulations_on_every_file() {
             (rate - powers.sum()).abs() < 1e-6 * scale,
             "{file}: dE/dt {rate} vs power {}",
             powers.sum()
+        );
+        let [x, v, a] = wobble(&model, t);
+        assert_eq!(
+            model.actuator_efforts(&x, &v, &a, mode).unwrap(),
+            now.efforts,
+            "{file}: the efforts alone differ from inverse_dynamics'"
         );
         if model.actuator_count() == model.dof() {
             let gap = (&now.efforts - &now.efforts_multipliers).amax();
