@@ -544,13 +544,13 @@ const RATIOS: [(&str, &str, Against); 13] = [
     ),
     (
         "Inverse dynamics, one sample, 6-UPS from its file vs Pinocchio's fastest Python route on the exported model (goal: pkm 10 × faster)",
-        "robot_file/inverse_dynamics/stewart_gough/general",
+        "robot_file/inverse_dynamics/stewart_gough/efforts",
         Against::Peer("pinocchio_6ups_id_cpu"),
     ),
     (
         "Inverse dynamics, one sample, Delta: hand-written vs from its file (goal: the file within 2 ×)",
         "robot_file/inverse_dynamics/rotary_delta/hand_written",
-        Against::Bench("robot_file/inverse_dynamics/rotary_delta/general"),
+        Against::Bench("robot_file/inverse_dynamics/rotary_delta/efforts"),
     ),
 ];
 

@@ -220,12 +220,12 @@ fn write_body(out: &mut String, name: &str, carrier: &(String, Vector3<f64>), bo
     write_fixed(out, &carrier.0, name, Vector3::zeros());
 }
 
-fn triple(v: &Vector3<f64>) -> String {
+pub(crate) fn triple(v: &Vector3<f64>) -> String {
     format!("{:e} {:e} {:e}", v.x, v.y, v.z)
 }
 
 /// `text` with XML's special characters escaped.
-fn xml(text: &str) -> String {
+pub(crate) fn xml(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

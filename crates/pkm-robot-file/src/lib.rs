@@ -50,6 +50,7 @@ mod jacobian;
 mod leg_ik;
 mod lm;
 mod mass;
+mod mjcf;
 mod mobility;
 mod model;
 mod name;

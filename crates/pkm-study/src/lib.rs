@@ -52,6 +52,17 @@ pub fn urdf(text: &str) -> Result<UrdfExport, StudyError> {
         .map_err(|e| StudyError::invalid("robot_file", e.to_string()))
 }
 
+/// A robot file's text as MuJoCo's MJCF ([`pkm_robot_file::RobotModel::to_mjcf`]): what
+/// `pkm mjcf` calls.
+///
+/// # Errors
+/// As [`urdf`].
+pub fn mjcf(text: &str) -> Result<String, StudyError> {
+    pkm_robot_file::RobotModel::from_toml(text)
+        .map(|model| model.to_mjcf())
+        .map_err(|e| StudyError::invalid("robot_file", e.to_string()))
+}
+
 /// What the registry macros need from this crate's dependencies, so that a crate which
 /// declares its own mechanisms needs only `pkm-study`.
 #[doc(hidden)]

@@ -31,6 +31,7 @@ pub trait Run {
 
 pub mod dynamics;
 pub mod merge;
+pub mod mjcf;
 pub mod optimize;
 pub mod pareto;
 pub mod sweep;
@@ -89,6 +90,9 @@ subcommands! {
     /// A robot file with its masses as URDF plus its loop closures (closures.yaml), for
     /// tree-and-constraint tools such as Pinocchio.
     Urdf => urdf,
+    /// A robot file with its masses as MuJoCo's MJCF (robot.xml): nested bodies, loops closed
+    /// by connect and weld constraints, a motor per actuator.
+    Mjcf => mjcf,
 }
 
 /// Runs a study of the study layer: reads the file at `path` with its schema (errors at their

@@ -351,3 +351,36 @@ fn a_robot_file_exports_to_urdf_with_its_closures() {
     ]);
     assert!(!run.ok && run.stderr.contains("line"), "{}", run.stderr);
 }
+
+/// `pkm mjcf`: the Stewart–Gough file as MJCF (a slide motor per leg, five legs closed on the
+/// platform by `connect` at their ball centres, the leg carrying the platform keeping its
+/// ball); a file that does not parse is refused with its line and column. (The export's
+/// geometry is checked in `pkm-robot-file`: the loops close at random poses.)
+#[test]
+fn a_robot_file_exports_to_mjcf() {
+    let out = tempfile::tempdir().unwrap();
+    let robot =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/robots/stewart_gough.toml");
+    let dir = out.path().join("mjcf");
+    let run = pkm(&[
+        "mjcf",
+        robot.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(run.ok, "{}", run.stderr);
+    let mjcf = std::fs::read_to_string(dir.join("robot.xml")).unwrap();
+    assert_eq!(mjcf.matches("<motor ").count(), 6, "{mjcf}");
+    assert_eq!(mjcf.matches("type=\"slide\"").count(), 6);
+    assert_eq!(mjcf.matches("<connect ").count(), 5);
+    assert_eq!(mjcf.matches("type=\"ball\"").count(), 1);
+    let bad = out.path().join("bad.toml");
+    std::fs::write(&bad, "name = \"6-UPS\"\ntask = [\"x\"\n").unwrap();
+    let run = pkm(&[
+        "mjcf",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!run.ok && run.stderr.contains("line"), "{}", run.stderr);
+}
