@@ -44,12 +44,13 @@ pub use pkm_robot_file::UrdfExport;
 /// ([`pkm_robot_file::RobotModel::to_urdf`]): what `pkm urdf` calls.
 ///
 /// # Errors
-/// [`StudyError::Invalid`] at `robot_file` with the file's own error (line and column for
-/// text that does not parse, the key path for a value that is refused).
+/// [`StudyError::Invalid`] at the key path of the refused value within the robot file
+/// ([`files::locate`] finds its line), at the root for text that does not parse (its message
+/// has the line and column).
 pub fn urdf(text: &str) -> Result<UrdfExport, StudyError> {
     pkm_robot_file::RobotModel::from_toml(text)
         .map(|model| model.to_urdf())
-        .map_err(|e| StudyError::invalid("robot_file", e.to_string()))
+        .map_err(|e| schema::robot_file::located_under("", e))
 }
 
 /// A robot file's text as MuJoCo's MJCF ([`pkm_robot_file::RobotModel::to_mjcf`]): what
@@ -60,7 +61,7 @@ pub fn urdf(text: &str) -> Result<UrdfExport, StudyError> {
 pub fn mjcf(text: &str) -> Result<String, StudyError> {
     pkm_robot_file::RobotModel::from_toml(text)
         .map(|model| model.to_mjcf())
-        .map_err(|e| StudyError::invalid("robot_file", e.to_string()))
+        .map_err(|e| schema::robot_file::located_under("", e))
 }
 
 /// What the registry macros need from this crate's dependencies, so that a crate which

@@ -15,10 +15,7 @@ pub struct Args {
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let path = &self.robot_file;
-        let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
-        let mjcf = pkm_study::mjcf(&text)
-            .map_err(|e| CliError::Invalid(format!("{}: {}", path.display(), e.message())))?;
+        let mjcf = super::export_robot_file(&self.robot_file, pkm_study::mjcf)?;
         std::fs::create_dir_all(&context.out).map_err(|e| CliError::io(&context.out, e))?;
         let file = context.out.join("robot.xml");
         std::fs::write(&file, mjcf).map_err(|e| CliError::io(&file, e))?;

@@ -123,3 +123,30 @@ pub fn run_library_study<S: DeserializeOwned, R: Serialize>(
     report.line(format!("wrote {}", written.display()));
     Ok(report)
 }
+
+/// Reads the robot file at `path` and converts it with `export` (`pkm urdf`, `pkm mjcf`): a
+/// refused value is reported at its line and column in the file with the line's text, text
+/// that does not parse with its own line and column.
+///
+/// # Errors
+/// [`CliError::Study`] at the refused value, [`CliError::Invalid`] for text that does not
+/// parse, I/O errors.
+pub fn export_robot_file<T>(
+    path: &Path,
+    export: impl FnOnce(&str) -> Result<T, StudyError>,
+) -> Result<T, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
+    export(&text).map_err(|e| match e.path().filter(|key| !key.is_root()) {
+        Some(key) => {
+            let offset = pkm_study::files::locate(&text, key).start;
+            let place = pkm_study::files::Place::at(&path.display().to_string(), &text, offset);
+            CliError::Study {
+                file: place.file,
+                line: place.line,
+                column: place.column,
+                message: format!("{key}: {}\n    | {}", e.message(), place.source_line),
+            }
+        }
+        None => CliError::Invalid(format!("{}: {}", path.display(), e.message())),
+    })
+}

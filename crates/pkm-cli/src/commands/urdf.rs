@@ -15,10 +15,7 @@ pub struct Args {
 
 impl Run for Args {
     fn run(&self, context: &Context) -> Result<Report, CliError> {
-        let path = &self.robot_file;
-        let text = std::fs::read_to_string(path).map_err(|e| CliError::io(path, e))?;
-        let export = pkm_study::urdf(&text)
-            .map_err(|e| CliError::Invalid(format!("{}: {}", path.display(), e.message())))?;
+        let export = super::export_robot_file(&self.robot_file, pkm_study::urdf)?;
         std::fs::create_dir_all(&context.out).map_err(|e| CliError::io(&context.out, e))?;
         let mut report = Report { lines: Vec::new() };
         for (name, text) in [

@@ -383,4 +383,33 @@ fn a_robot_file_exports_to_mjcf() {
         dir.to_str().unwrap(),
     ]);
     assert!(!run.ok && run.stderr.contains("line"), "{}", run.stderr);
+    // A refused value at its line and column, for both exports.
+    let five_bar = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/robots/five_bar.toml"),
+    )
+    .unwrap();
+    let line = five_bar
+        .lines()
+        .position(|l| l.contains("{ mass = 0.3,"))
+        .unwrap()
+        + 1;
+    std::fs::write(
+        &bad,
+        five_bar.replacen("{ mass = 0.3,", "{ mass = -0.3,", 1),
+    )
+    .unwrap();
+    for command in ["mjcf", "urdf"] {
+        let run = pkm(&[
+            command,
+            bad.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        let at = format!("bad.toml:{line}:12: legs[0].links[0].mass: -0.3");
+        assert!(
+            !run.ok && run.stderr.contains(&at),
+            "{command}: {}",
+            run.stderr
+        );
+    }
 }

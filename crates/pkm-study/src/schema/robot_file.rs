@@ -232,6 +232,13 @@ pub(crate) fn position_task(model: &RobotModel) -> Result<(), StudyError> {
 }
 
 fn located(e: RobotFileError) -> StudyError {
+    located_under(KEY_PATH, e)
+}
+
+/// A robot file error at its key path under `prefix` (the robot file's own root for `""`):
+/// the key of an invalid value, `name`, `legs` or `task` for the errors about them, the root
+/// for a parse error (whose message has its line and column).
+pub(crate) fn located_under(prefix: &str, e: RobotFileError) -> StudyError {
     let key = match &e {
         RobotFileError::Schema { key, .. } | RobotFileError::Invalid { key, .. } => key.as_str(),
         RobotFileError::NameMismatch { .. } => "name",
@@ -239,9 +246,10 @@ fn located(e: RobotFileError) -> StudyError {
         RobotFileError::Dimension { .. } | RobotFileError::Redundant { .. } => "task",
         _ => "",
     };
-    let path = match key.trim_start_matches('.') {
-        "" => KEY_PATH.to_owned(),
-        key => format!("{KEY_PATH}.{key}"),
+    let path = match (prefix, key.trim_start_matches('.')) {
+        (prefix, "") => prefix.to_owned(),
+        ("", key) => key.to_owned(),
+        (prefix, key) => format!("{prefix}.{key}"),
     };
     let message = match e {
         RobotFileError::Schema { message, .. } => message,
