@@ -186,5 +186,36 @@ fn inverse_dynamics(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, ik_j_kappa, forward_kinematics, inverse_dynamics);
+/// Every assembly mode of Dietmaier's Stewart–Gough design (40 real) by homotopy: 40 paths from
+/// the cached generic solutions (the monodromy runs once, before the measurement).
+fn assembly_modes(c: &mut Criterion) {
+    let path = format!(
+        "{}/../../examples/robots/dietmaier_40.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let model =
+        pkm_robot_file::RobotModel::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let q = [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071];
+    assert_eq!(model.forward_kinematics_all(&q).unwrap().report.real, 40);
+    let mut group = c.benchmark_group("robot_file/assembly_modes");
+    group.sample_size(10);
+    group.bench_function("dietmaier_40/homotopy", |b| {
+        b.iter(|| {
+            model
+                .forward_kinematics_all(black_box(&q))
+                .unwrap()
+                .report
+                .real
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    ik_j_kappa,
+    forward_kinematics,
+    inverse_dynamics,
+    assembly_modes
+);
 criterion_main!(benches);

@@ -113,7 +113,11 @@ impl RobotModel {
         Ok(c)
     }
 
-    fn set_actuators(&self, c: &mut Configuration, q: &[f64]) -> Result<(), KinematicsError> {
+    pub(crate) fn set_actuators(
+        &self,
+        c: &mut Configuration,
+        q: &[f64],
+    ) -> Result<(), KinematicsError> {
         if q.len() != self.actuator_count() {
             return Err(InvalidInput::new(
                 "q.len()",
@@ -317,7 +321,12 @@ impl RobotModel {
 
 /// Whether two configurations have the same platform pose (rotations compared as matrices, so
 /// two coordinate sets of one rotation are one mode).
-fn same_pose(kind: OrientationKind, a: &Configuration, b: &Configuration, tol: f64) -> bool {
+pub(crate) fn same_pose(
+    kind: OrientationKind,
+    a: &Configuration,
+    b: &Configuration,
+    tol: f64,
+) -> bool {
     let position = (0..3).all(|k| (a.pose[k] - b.pose[k]).abs() < tol);
     let rotation =
         |c: &Configuration| kind.rotation(&Vector3::new(c.pose[3], c.pose[4], c.pose[5]));

@@ -9,6 +9,7 @@ mod common;
 mod conformance;
 mod dynamics;
 mod files;
+mod homotopy;
 mod hostile;
 mod mode_labels;
 mod points;

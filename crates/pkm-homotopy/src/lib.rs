@@ -1,0 +1,673 @@
+//! Parameter homotopy continuation for square polynomial systems (Sommese & Wampler, *The
+//! Numerical Solution of Systems of Polynomials*, 2005, ch. 7; Morgan & Sommese 1989).
+//!
+//! A family $F(z; p) = 0$ of $n$ polynomial equations in $n$ unknowns $z \in \mathbb C^n$
+//! with parameters $p \in \mathbb C^m$ has, for generic $p$, the same number $N$ of isolated
+//! solutions; for any particular $p^*$ every isolated solution is the end of one of the $N$
+//! paths of (eq. H1)
+//! $$H(z, s) = F\big(z;\ p_0 + s\,(p^* - p_0)\big) = 0,\qquad s: 0 \to 1,$$
+//! started at the solutions of a generic complex $p_0$ (the segment misses the discriminant
+//! locus with probability one). The families here are quadratic in $z$ and in $p$
+//! ([`QuadraticFamily`]): their quadratic forms are read once per segment (eq. H2) as
+//! polynomials of degree two in $s$, so $F$, $F_z$ and $\partial_s F$ along the path cost a few
+//! matrix–vector products each and are exact. [`track`] follows one path: along
+//! $\dot z = -F_z^{-1}\partial_s F$ by a fourth-order Runge–Kutta predictor, Newton's corrector at each step,
+//! step halved when the corrector does not contract and doubled after three successes; a path
+//! whose $\lvert z\rvert$ grows past a bound goes to infinity, one whose step underflows has
+//! failed, and the endpoint is refined by Newton and classed regular or singular by the
+//! condition of $F_z$ there. [`monodromy`] finds the $N$ solutions of $p_0$ from one: every
+//! known solution is tracked around loops $p_0 \to p_1 \to p_2 \to p_0$ through random
+//! complex parameters, which permutes the solutions; endpoints not yet known are added, until
+//! a number of consecutive loops adds none (the count is then a lower bound that a trace test
+//! or a known generic count confirms).
+//!
+//! Every loop is bounded (steps per path, loops, solutions) and every random draw comes from a
+//! seeded ChaCha8 stream, so a run is reproducible bit for bit.
+
+use nalgebra::{Complex, DMatrix, DVector};
+use rand::Rng;
+
+/// A complex number.
+pub type C64 = Complex<f64>;
+
+/// A square family $F(z; p)$: $n$ equations in $n$ unknowns, each of degree at most two in
+/// $z$ and at most two in $p$ (a system of higher degree is written so with auxiliary
+/// unknowns, $y = x^2$).
+pub trait QuadraticFamily {
+    /// $n$: unknowns and equations.
+    fn unknowns(&self) -> usize;
+    /// $F(z; p)$ into `f` ($n$ entries).
+    fn residual(&self, z: &[C64], p: &[C64], f: &mut [C64]);
+}
+
+/// The quadratic forms $F_k(z) = z^\top A_k z + b_k\cdot z + c_k$ of a family at one point of
+/// parameter space, read from $1 + 2n + n(n-1)/2$ evaluations (eq. H2):
+/// $c = F(0)$, $A_{jj} = \tfrac12(F(e_j) + F(-e_j)) - c$, $b_j = \tfrac12(F(e_j) - F(-e_j))$,
+/// $2A_{jk} = F(e_j + e_k) - F(e_j) - F(e_k) + c$.
+#[derive(Debug, Clone, PartialEq)]
+struct Forms {
+    /// $A_k$, symmetric, one per equation.
+    a: Vec<DMatrix<C64>>,
+    /// Row $k$: $b_k$.
+    b: DMatrix<C64>,
+    c: DVector<C64>,
+}
+
+impl Forms {
+    fn read<S: QuadraticFamily + ?Sized>(family: &S, p: &[C64]) -> Self {
+        let n = family.unknowns();
+        let mut z = vec![C64::new(0.0, 0.0); n];
+        let mut f = vec![C64::new(0.0, 0.0); n];
+        let mut at = |z: &[C64]| {
+            family.residual(z, p, &mut f);
+            DVector::from_column_slice(&f)
+        };
+        let c = at(&z);
+        let one = C64::new(1.0, 0.0);
+        let (mut plus, mut minus) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        for j in 0..n {
+            z[j] = one;
+            plus.push(at(&z));
+            z[j] = -one;
+            minus.push(at(&z));
+            z[j] = C64::new(0.0, 0.0);
+        }
+        let mut a = vec![DMatrix::zeros(n, n); n];
+        let mut b = DMatrix::zeros(n, n);
+        for j in 0..n {
+            for k in 0..n {
+                a[k][(j, j)] = (plus[j][k] + minus[j][k]) * 0.5 - c[k];
+                b[(k, j)] = (plus[j][k] - minus[j][k]) * 0.5;
+            }
+            for l in j + 1..n {
+                z[j] = one;
+                z[l] = one;
+                let both = at(&z);
+                z[j] = C64::new(0.0, 0.0);
+                z[l] = C64::new(0.0, 0.0);
+                for k in 0..n {
+                    let v = (both[k] - plus[j][k] - plus[l][k] + c[k]) * 0.5;
+                    a[k][(j, l)] = v;
+                    a[k][(l, j)] = v;
+                }
+            }
+        }
+        Self { a, b, c }
+    }
+
+    /// $\alpha X + \beta Y + \gamma Z$ of three forms, entry by entry.
+    fn combine(weights: [f64; 3], forms: [&Self; 3]) -> Self {
+        let w = weights.map(|v| C64::new(v, 0.0));
+        let mix =
+            |x: &DMatrix<C64>, y: &DMatrix<C64>, z: &DMatrix<C64>| x * w[0] + y * w[1] + z * w[2];
+        Self {
+            a: (0..forms[0].a.len())
+                .map(|k| mix(&forms[0].a[k], &forms[1].a[k], &forms[2].a[k]))
+                .collect(),
+            b: mix(&forms[0].b, &forms[1].b, &forms[2].b),
+            c: &forms[0].c * w[0] + &forms[1].c * w[1] + &forms[2].c * w[2],
+        }
+    }
+
+    /// $F(z)$ and $F_z = 2A_k z + b_k$ (rows).
+    fn at(&self, z: &DVector<C64>, f: &mut DVector<C64>, jacobian: &mut DMatrix<C64>) {
+        for (k, a) in self.a.iter().enumerate() {
+            let az = a * z;
+            f[k] = z.dot(&az) + self.b.row(k).transpose().dot(z) + self.c[k];
+            for j in 0..z.len() {
+                jacobian[(k, j)] = az[j] * 2.0 + self.b[(k, j)];
+            }
+        }
+    }
+
+    /// $F(z)$ alone.
+    fn value(&self, z: &DVector<C64>, f: &mut DVector<C64>) {
+        for (k, a) in self.a.iter().enumerate() {
+            f[k] = z.dot(&(a * z)) + self.b.row(k).transpose().dot(z) + self.c[k];
+        }
+    }
+}
+
+/// Settings of [`track`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrackSettings {
+    /// First step in $s$. Default 0.02.
+    pub initial_step: f64,
+    /// Largest step. Default 0.1.
+    pub max_step: f64,
+    /// Smallest step before the path is declared failed. Default 1e-12.
+    pub min_step: f64,
+    /// Steps (accepted or not) before the path is declared failed. Default 20 000.
+    pub max_steps: usize,
+    /// A path whose $\lvert z\rvert_\infty$ passes this goes to infinity. Default 1e8.
+    pub infinity: f64,
+    /// An endpoint with $\sigma_{\min}/\sigma_{\max}(F_z)$ below this is singular. Default 1e-10.
+    pub singular: f64,
+    /// A path that stalls within this of $s = 1$ is finished by Newton at $s = 1$ (a singular
+    /// endpoint). Default 1e-3.
+    pub endgame: f64,
+}
+
+impl Default for TrackSettings {
+    fn default() -> Self {
+        Self {
+            initial_step: 0.02,
+            max_step: 0.1,
+            min_step: 1e-12,
+            max_steps: 20_000,
+            infinity: 1e8,
+            singular: 1e-10,
+            endgame: 1e-3,
+        }
+    }
+}
+
+/// How a path ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Endpoint {
+    /// A nonsingular solution at $s = 1$, refined by Newton.
+    Regular(DVector<C64>),
+    /// A solution at $s = 1$ where $F_z$ is singular (a multiple root, a positive-dimensional
+    /// component): its condition is below [`TrackSettings::singular`].
+    Singular(DVector<C64>),
+    /// $\lvert z\rvert$ passed [`TrackSettings::infinity`] at `s`: no finite solution.
+    Infinity {
+        /// Where.
+        s: f64,
+    },
+    /// The tracker could not follow the path (step underflow near a singularity, too many
+    /// steps, a system that does not evaluate), at `s`.
+    Failed {
+        /// Where.
+        s: f64,
+        /// Why, in words.
+        reason: &'static str,
+    },
+}
+
+/// One path's work: its end and the steps it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Path {
+    /// How it ended.
+    pub end: Endpoint,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected: usize,
+}
+
+/// One path's segment: its forms as polynomials in $s$ (the forms are of degree two in the
+/// parameters, so in $s$: $Q(s) = Q_0 + s\,Q_1 + s^2 Q_2$ from the forms at $s = 0, \tfrac12, 1$)
+/// and the workspace of the tracker.
+struct Segment {
+    terms: [Forms; 3],
+    at_s: Forms,
+    s: f64,
+    f: DVector<C64>,
+    jacobian: DMatrix<C64>,
+}
+
+impl Segment {
+    fn new<S: QuadraticFamily + ?Sized>(system: &S, from: &[C64], to: &[C64]) -> Self {
+        let n = system.unknowns();
+        let mid: Vec<C64> = from.iter().zip(to).map(|(a, b)| (a + b) * 0.5).collect();
+        let (f0, fh, f1) = (
+            Forms::read(system, from),
+            Forms::read(system, &mid),
+            Forms::read(system, to),
+        );
+        let terms = [
+            Forms::combine([1.0, 0.0, 0.0], [&f0, &fh, &f1]),
+            Forms::combine([-3.0, 4.0, -1.0], [&f0, &fh, &f1]),
+            Forms::combine([2.0, -4.0, 2.0], [&f0, &fh, &f1]),
+        ];
+        Self {
+            at_s: f0,
+            terms,
+            s: 0.0,
+            f: DVector::zeros(n),
+            jacobian: DMatrix::zeros(n, n),
+        }
+    }
+
+    /// The forms at `s` (cached for the last `s`).
+    fn move_to(&mut self, s: f64) {
+        if s.to_bits() != self.s.to_bits() {
+            self.at_s = Forms::combine(
+                [1.0, s, s * s],
+                [&self.terms[0], &self.terms[1], &self.terms[2]],
+            );
+            self.s = s;
+        }
+    }
+
+    /// $F$ and $F_z$ at $(z, s)$.
+    fn at(&mut self, z: &DVector<C64>, s: f64) {
+        self.move_to(s);
+        self.at_s.at(z, &mut self.f, &mut self.jacobian);
+    }
+
+    /// $\dot z = -F_z^{-1}\,\partial_s F$ at $(z, s)$, with $\partial_s F = Q_1(z) + 2s\,Q_2(z)$
+    /// (the $z$-free parts included) exactly.
+    fn tangent(&mut self, z: &DVector<C64>, s: f64) -> Option<DVector<C64>> {
+        let n = z.len();
+        let (mut d1, mut d2) = (DVector::zeros(n), DVector::zeros(n));
+        self.terms[1].value(z, &mut d1);
+        self.terms[2].value(z, &mut d2);
+        let ds = d1 + d2 * C64::new(2.0 * s, 0.0);
+        self.at(z, s);
+        let v = self.jacobian.clone().lu().solve(&(-ds))?;
+        v.iter()
+            .all(|c| c.re.is_finite() && c.im.is_finite())
+            .then_some(v)
+    }
+
+    /// One Newton step at $(z, s)$: the correction.
+    fn newton(&mut self, z: &DVector<C64>, s: f64) -> Option<DVector<C64>> {
+        self.at(z, s);
+        let d = self.jacobian.clone().lu().solve(&(-&self.f))?;
+        d.iter()
+            .all(|c| c.re.is_finite() && c.im.is_finite())
+            .then_some(d)
+    }
+}
+
+/// $\lvert z\rvert_\infty$ over real and imaginary parts.
+fn norm(z: &DVector<C64>) -> f64 {
+    z.iter()
+        .map(|c| c.re.abs().max(c.im.abs()))
+        .fold(0.0, f64::max)
+}
+
+/// Newton's corrector at $s$ from the prediction `z`: up to three steps, each at most half the
+/// last, converged when the step is below 1e-9 of $\max(1, \lvert z\rvert)$.
+fn correct(segment: &mut Segment, mut z: DVector<C64>, s: f64) -> Option<DVector<C64>> {
+    let mut last = f64::INFINITY;
+    for _ in 0..3 {
+        let d = segment.newton(&z, s)?;
+        let size = norm(&d);
+        if !(size <= 0.5 * last) {
+            return None;
+        }
+        z += d;
+        if size <= 1e-9 * norm(&z).max(1.0) {
+            return Some(z);
+        }
+        last = size;
+    }
+    None
+}
+
+/// The fourth-order Runge–Kutta prediction of $z$ at $s + h$.
+fn predict(segment: &mut Segment, z: &DVector<C64>, s: f64, h: f64) -> Option<DVector<C64>> {
+    let half = C64::new(h / 2.0, 0.0);
+    let k1 = segment.tangent(z, s)?;
+    let k2 = segment.tangent(&(z + &k1 * half), s + h / 2.0)?;
+    let k3 = segment.tangent(&(z + &k2 * half), s + h / 2.0)?;
+    let k4 = segment.tangent(&(z + &k3 * C64::new(h, 0.0)), s + h)?;
+    Some(z + (k1 + k2 * C64::new(2.0, 0.0) + k3 * C64::new(2.0, 0.0) + k4) * C64::new(h / 6.0, 0.0))
+}
+
+/// Follows the solution `start` of $F(z; p_{\text{from}})$ to $p_{\text{to}}$ along the
+/// segment of eq. H1 (module documentation).
+pub fn track<S: QuadraticFamily + ?Sized>(
+    system: &S,
+    start: &DVector<C64>,
+    from: &[C64],
+    to: &[C64],
+    settings: &TrackSettings,
+) -> Path {
+    let mut segment = Segment::new(system, from, to);
+    let (mut z, mut s, mut h) = (start.clone(), 0.0_f64, settings.initial_step);
+    let (mut steps, mut rejected, mut streak) = (0, 0, 0);
+    let bound = settings.infinity * norm(start).max(1.0);
+    let failed = |s: f64, reason, steps, rejected| Path {
+        end: Endpoint::Failed { s, reason },
+        steps,
+        rejected,
+    };
+    while s < 1.0 {
+        if steps + rejected >= settings.max_steps {
+            return failed(s, "too many steps", steps, rejected);
+        }
+        let last = h >= 1.0 - s;
+        let step = if last { 1.0 - s } else { h };
+        let next = predict(&mut segment, &z, s, step)
+            .and_then(|guess| correct(&mut segment, guess, s + step));
+        match next {
+            Some(corrected) => {
+                z = corrected;
+                s = if last { 1.0 } else { s + step };
+                steps += 1;
+                streak += 1;
+                if streak >= 3 {
+                    h = (2.0 * h).min(settings.max_step);
+                    streak = 0;
+                }
+                if !(norm(&z) <= bound) {
+                    return Path {
+                        end: Endpoint::Infinity { s },
+                        steps,
+                        rejected,
+                    };
+                }
+            }
+            None => {
+                rejected += 1;
+                streak = 0;
+                h *= 0.5;
+                if h < settings.min_step {
+                    if norm(&z) > 1e3 * norm(start).max(1.0) {
+                        return Path {
+                            end: Endpoint::Infinity { s },
+                            steps,
+                            rejected,
+                        };
+                    }
+                    let finished = (s > 1.0 - settings.endgame)
+                        .then(|| endgame(&mut segment, z.clone(), settings))
+                        .flatten();
+                    if let Some(end) = finished {
+                        return Path {
+                            end,
+                            steps,
+                            rejected,
+                        };
+                    }
+                    let reason = "step size underflow (a singularity on the path or at its end)";
+                    return failed(s, reason, steps, rejected);
+                }
+            }
+        }
+    }
+    Path {
+        end: endpoint(&mut segment, z, settings),
+        steps,
+        rejected,
+    }
+}
+
+/// A path that stalls within [`TrackSettings::endgame`] of its end (the solutions meeting
+/// there: a multiple root, a positive-dimensional component): Newton at $s = 1$ from where it
+/// stalled, up to 100 steps (linear convergence to a singular root), and the endpoint if
+/// $\lvert F\rvert$ falls below 1e-10 of the system's scale; `None` otherwise.
+fn endgame(
+    segment: &mut Segment,
+    mut z: DVector<C64>,
+    settings: &TrackSettings,
+) -> Option<Endpoint> {
+    for _ in 0..100 {
+        let d = segment.newton(&z, 1.0)?;
+        z += &d;
+        if norm(&d) <= 1e-12 * norm(&z).max(1.0) {
+            break;
+        }
+    }
+    segment.at(&z, 1.0);
+    let scale = segment.at_s.c.iter().map(|c| c.norm()).fold(1.0, f64::max);
+    (norm(&segment.f) <= 1e-10 * scale).then(|| endpoint(segment, z, settings))
+}
+
+/// The endpoint refined by up to eight Newton steps at $s = 1$ and classed by the condition of
+/// $F_z$ there.
+fn endpoint(segment: &mut Segment, mut z: DVector<C64>, settings: &TrackSettings) -> Endpoint {
+    for _ in 0..8 {
+        let Some(d) = segment.newton(&z, 1.0) else {
+            break;
+        };
+        z += &d;
+        if norm(&d) <= 1e-15 * norm(&z).max(1.0) {
+            break;
+        }
+    }
+    segment.at(&z, 1.0);
+    let sv = segment.jacobian.clone().singular_values();
+    let condition = sv.min() / sv.max().max(1e-300);
+    if !z.iter().all(|c| c.re.is_finite() && c.im.is_finite()) {
+        Endpoint::Failed {
+            s: 1.0,
+            reason: "the endpoint does not evaluate",
+        }
+    } else if condition >= settings.singular {
+        Endpoint::Regular(z)
+    } else {
+        Endpoint::Singular(z)
+    }
+}
+
+/// Settings of [`monodromy`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MonodromySettings {
+    /// Consecutive loops that add no solution before the search stops. Default 5.
+    pub stable_loops: usize,
+    /// Most loops. Default 200.
+    pub max_loops: usize,
+    /// Most solutions kept (a bound on memory). Default 100 000.
+    pub max_solutions: usize,
+    /// Two solutions are one within this of $\max(1, \lvert z\rvert_\infty)$. Default 1e-6.
+    pub distinct: f64,
+    /// The path tracker's settings.
+    pub track: TrackSettings,
+}
+
+impl Default for MonodromySettings {
+    fn default() -> Self {
+        Self {
+            stable_loops: 5,
+            max_loops: 200,
+            max_solutions: 100_000,
+            distinct: 1e-6,
+            track: TrackSettings::default(),
+        }
+    }
+}
+
+/// The solutions of a generic member found by [`monodromy`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Monodromy {
+    /// The parameters $p_0$.
+    pub parameters: Vec<C64>,
+    /// Its solutions found.
+    pub solutions: Vec<DVector<C64>>,
+    /// Loops run.
+    pub loops: usize,
+    /// Whether the search stopped because `stable_loops` consecutive loops added nothing
+    /// (rather than at `max_loops` or `max_solutions`).
+    pub stable: bool,
+}
+
+/// Every solution of $F(z; p_0)$ that loops from the solution `start` reach (module
+/// documentation): loops $p_0 \to p_1 \to p_2 \to p_0$ through parameters drawn by `draw`
+/// (random complex points of the same scale as $p_0$).
+pub fn monodromy<S: QuadraticFamily + ?Sized, R: Rng>(
+    system: &S,
+    parameters: &[C64],
+    start: DVector<C64>,
+    settings: &MonodromySettings,
+    rng: &mut R,
+) -> Monodromy {
+    let mut solutions = vec![start];
+    let (mut loops, mut quiet) = (0, 0);
+    let scale = parameters
+        .iter()
+        .map(|p| p.norm())
+        .fold(0.0, f64::max)
+        .max(1.0);
+    while loops < settings.max_loops
+        && quiet < settings.stable_loops
+        && solutions.len() < settings.max_solutions
+    {
+        loops += 1;
+        let mut draw = || -> Vec<C64> {
+            parameters
+                .iter()
+                .map(|_| C64::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)) * scale)
+                .collect()
+        };
+        let (p1, p2) = (draw(), draw());
+        let before = solutions.len();
+        for k in 0..before {
+            let around = [parameters, &p1, &p2, parameters];
+            let mut z = solutions[k].clone();
+            let mut closed = true;
+            for leg in around.windows(2) {
+                match track(system, &z, leg[0], leg[1], &settings.track).end {
+                    Endpoint::Regular(end) => z = end,
+                    _ => {
+                        closed = false;
+                        break;
+                    }
+                }
+            }
+            if closed && !contains(&solutions, &z, settings.distinct) {
+                solutions.push(z);
+                if solutions.len() >= settings.max_solutions {
+                    break;
+                }
+            }
+        }
+        quiet = if solutions.len() > before {
+            0
+        } else {
+            quiet + 1
+        };
+    }
+    Monodromy {
+        parameters: parameters.to_vec(),
+        stable: quiet >= settings.stable_loops,
+        solutions,
+        loops,
+    }
+}
+
+/// Whether `z` is within `tolerance` (relative) of one of `known`.
+pub fn contains(known: &[DVector<C64>], z: &DVector<C64>, tolerance: f64) -> bool {
+    known
+        .iter()
+        .any(|k| norm(&(k - z)) <= tolerance * norm(z).max(1.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    /// $x^5 = p$ written quadratic: $y_1 = x^2$, $y_2 = y_1^2$, $x y_2 = p$; five roots for
+    /// $p \ne 0$.
+    struct Quintic;
+
+    impl QuadraticFamily for Quintic {
+        fn unknowns(&self) -> usize {
+            3
+        }
+        fn residual(&self, z: &[C64], p: &[C64], f: &mut [C64]) {
+            f[0] = z[1] - z[0] * z[0];
+            f[1] = z[2] - z[1] * z[1];
+            f[2] = z[0] * z[2] - p[0];
+        }
+    }
+
+    /// A circle and a line: $x^2 + y^2 = r^2$, $a x + b y = c$; two solutions.
+    struct CircleLine;
+
+    impl QuadraticFamily for CircleLine {
+        fn unknowns(&self) -> usize {
+            2
+        }
+        fn residual(&self, z: &[C64], p: &[C64], f: &mut [C64]) {
+            let (x, y) = (z[0], z[1]);
+            f[0] = x * x + y * y - p[0] * p[0];
+            f[1] = p[1] * x + p[2] * y - p[3];
+        }
+    }
+
+    /// Monodromy finds the five fifth roots of a complex number from one, and tracking them to
+    /// $p = 32$ gives $2 e^{2\pi i k/5}$ to 1e-12.
+    #[test]
+    fn finds_every_root_of_a_quintic_and_tracks_them() {
+        let p0 = [C64::new(0.3, 0.7)];
+        let x = p0[0].powf(0.2);
+        let start = DVector::from_vec(vec![x, x * x, x * x * x * x]);
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let found = monodromy(
+            &Quintic,
+            &p0,
+            start,
+            &MonodromySettings::default(),
+            &mut rng,
+        );
+        assert_eq!(found.solutions.len(), 5, "{found:?}");
+        assert!(found.stable);
+        let target = [C64::new(32.0, 0.0)];
+        let mut ends: Vec<C64> = found
+            .solutions
+            .iter()
+            .map(
+                |z| match track(&Quintic, z, &p0, &target, &TrackSettings::default()).end {
+                    Endpoint::Regular(e) => e[0],
+                    other => panic!("{other:?}"),
+                },
+            )
+            .collect();
+        ends.sort_by(|a, b| a.arg().total_cmp(&b.arg()));
+        for root in &ends {
+            let k = (root.arg() / (2.0 * std::f64::consts::PI / 5.0)).round();
+            let expected = C64::from_polar(2.0, k * 2.0 * std::f64::consts::PI / 5.0);
+            assert!((root - expected).norm() < 1e-12, "{root} vs {expected}");
+        }
+    }
+
+    /// The circle and the line: two real intersections at a real target, two complex ones
+    /// when the line misses the circle, and a tangent line's double root ends singular.
+    #[test]
+    fn circle_and_line_real_complex_and_tangent() {
+        let p0: Vec<C64> = [0.8, 0.3, -0.6, 0.2]
+            .iter()
+            .zip([0.4, -0.2, 0.5, 0.1])
+            .map(|(&re, im)| C64::new(re, im))
+            .collect();
+        // A solution of p0: pick x, solve the line for y, then the radius.
+        let x = C64::new(0.1, 0.2);
+        let y = (p0[3] - p0[1] * x) / p0[2];
+        let mut p0 = p0;
+        p0[0] = (x * x + y * y).sqrt();
+        let start = DVector::from_vec(vec![x, y]);
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let found = monodromy(
+            &CircleLine,
+            &p0,
+            start,
+            &MonodromySettings::default(),
+            &mut rng,
+        );
+        assert_eq!(found.solutions.len(), 2);
+        let ends = |target: [f64; 4]| -> Vec<Endpoint> {
+            let t: Vec<C64> = target.iter().map(|&v| C64::new(v, 0.0)).collect();
+            found
+                .solutions
+                .iter()
+                .map(|z| track(&CircleLine, z, &p0, &t, &TrackSettings::default()).end)
+                .collect()
+        };
+        // x² + y² = 1, x = 0.6: (0.6, ±0.8).
+        for end in ends([1.0, 1.0, 0.0, 0.6]) {
+            let Endpoint::Regular(z) = end else {
+                panic!("{end:?}")
+            };
+            assert!((z[0] - C64::new(0.6, 0.0)).norm() < 1e-12);
+            assert!((z[1].re.abs() - 0.8).abs() < 1e-12 && z[1].im.abs() < 1e-12);
+        }
+        // x = 2 misses the circle: y = ±i√3.
+        for end in ends([1.0, 1.0, 0.0, 2.0]) {
+            let Endpoint::Regular(z) = end else {
+                panic!("{end:?}")
+            };
+            assert!(z[1].re.abs() < 1e-12 && (z[1].im.abs() - 3f64.sqrt()).abs() < 1e-10);
+        }
+        // x = 1 is tangent: a double root, not regular.
+        for end in ends([1.0, 1.0, 0.0, 1.0]) {
+            assert!(!matches!(end, Endpoint::Regular(_)), "{end:?}");
+        }
+    }
+}

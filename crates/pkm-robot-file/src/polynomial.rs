@@ -1,0 +1,733 @@
+//! The forward kinematics of a robot file as a square polynomial system, for parameter
+//! homotopy ([`pkm_homotopy`], issue 32): every assembly mode at given actuator coordinates,
+//! with a statement of how each path ended.
+//!
+//! With its actuator known, every leg of a closed-form class places a platform point $c_i$
+//! (platform frame) at a known distance $L_i$ from a known base point $B_i$: the base point of
+//! a distance leg with $L_i$ its length, or an arm's elbow moved by its actuator with $L_i$ its
+//! rod. With the platform pose $(R, t)$ each leg is the sphere condition (eq. K1)
+//! $$\lvert R\,c_i + t - B_i\rvert^2 - L_i^2 = 0,$$
+//! written in polynomial unknowns by the robot's free pose coordinates:
+//! - **translational** (orientation constant, $R_0$): $z = t$; eq. K1 with $R_0 c_i$;
+//! - **planar** (orientation about $z$ only, $r_x = r_y = 0$): $z = (t, u, v)$ with
+//!   $R = R_z(u, v)$, $u^2 + v^2 = 1$;
+//! - **spherical** (position constant, $t_0$): $z = e$, a quaternion, $R = \tilde R(e)/\Delta$
+//!   with $\tilde R$ its homogeneous quadratic rotation and $\Delta = e\cdot e$: eq. K1 times
+//!   $\Delta$, $(\lvert c\rvert^2 + \lvert d\rvert^2 - L^2)\,\Delta + 2\,(\tilde R c)\cdot d = 0$,
+//!   $d = t_0 - B$; and a random linear gauge $a\cdot e = 1$ (one quaternion of each pair
+//!   $\pm e$);
+//! - **spatial**: Study's parameters $z = (e, g)$ on his quadric $e\cdot g = 0$, with
+//!   $t = 2\operatorname{vec}(g\bar e)/\Delta$; eq. K1 times $\Delta$ is the quadric (Husty
+//!   1996)
+//!   $$\Delta\,(\lvert c\rvert^2 + \lvert B\rvert^2 - L^2) + 4\,g\cdot g + 4\,c\cdot
+//!   \operatorname{vec}(\bar e g) - 2\,(\tilde R c)\cdot B - 4\,B\cdot\operatorname{vec}(g\bar e)
+//!   = 0,$$
+//!   with the random gauge $a\cdot(e, g) = 1$: for the general Stewart–Gough platform, 40
+//!   solutions.
+//!
+//! A constant position coordinate $k$ adds $t_k - t_{0k} = 0$ (times $\Delta$ in Study's
+//! form). Every equation is quadratic in $z$ and in the parameters $(B_i, c_i, L_i^2, t_0)$,
+//! so the central differences that give $F_z$ and $\partial_s F$ are exact to rounding. More
+//! equations than unknowns (redundant actuation) are squared up by a random complex
+//! combination of the leg equations, whose solutions include the robot's (each is checked on
+//! its own closure). Robots with dependent coordinates, numerical legs or other orientation
+//! patterns are not written here: [`RobotModel::polynomial_form`] says why, and the
+//! multistart serves them.
+
+use crate::closure::Configuration;
+use crate::fk::same_pose;
+use crate::leg_ik::LegClass;
+use crate::model::RobotModel;
+use crate::pose::{CoordinateRole, OrientationKind};
+use nalgebra::{DMatrix, DVector, Rotation3, UnitQuaternion, Vector3};
+use pkm_homotopy::{C64, Endpoint, QuadraticFamily};
+use pkm_traits::{InvalidInput, KinematicsError};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// How the platform pose is written in polynomial unknowns (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum PoseForm {
+    /// $z = t$, the orientation constant.
+    Translational,
+    /// $z = (t, u, v)$, $R = R_z(u, v)$.
+    Planar,
+    /// $z = e$, the position constant.
+    Spherical,
+    /// $z = (e, g)$, Study's parameters.
+    Spatial,
+}
+
+impl PoseForm {
+    fn unknowns(self) -> usize {
+        match self {
+            Self::Translational => 3,
+            Self::Planar => 5,
+            Self::Spherical => 4,
+            Self::Spatial => 8,
+        }
+    }
+}
+
+/// A robot's family of forward-kinematics systems: its pose form, its legs and its constant
+/// position coordinates. Parameters: per leg $B_i$ (3), $c_i$ (3, in the world orientation
+/// for the translational form), $L_i^2$; then $t_0$ (3).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ForwardSystem {
+    pub form: PoseForm,
+    pub legs: usize,
+    /// Position coordinates held constant.
+    pub constant: Vec<usize>,
+    /// The random gauge (spherical and spatial forms) and the random squaring-up matrix of
+    /// the leg equations (rows: leg equations kept; identity when square).
+    gauge: Vec<C64>,
+    squaring: DMatrix<C64>,
+}
+
+/// The architecture key of a cached start system.
+pub(crate) type Architecture = (PoseForm, usize, Vec<usize>);
+
+/// `[x; y; z]` products of complex vectors (bilinear: no conjugation).
+fn dot(a: &[C64; 3], b: &[C64; 3]) -> C64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The quaternion product $(a_0, \vec a)(b_0, \vec b)$.
+fn multiply(a: &[C64; 4], b: &[C64; 4]) -> [C64; 4] {
+    [
+        a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+        a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+        a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+        a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
+    ]
+}
+
+fn conjugate(a: &[C64; 4]) -> [C64; 4] {
+    [a[0], -a[1], -a[2], -a[3]]
+}
+
+/// $\tilde R(e)\,c = e\,c\,\bar e$ (vector part): the rotation times $\Delta$.
+fn rotate(e: &[C64; 4], c: &[C64; 3]) -> [C64; 3] {
+    let r = multiply(
+        &multiply(e, &[C64::new(0.0, 0.0), c[0], c[1], c[2]]),
+        &conjugate(e),
+    );
+    [r[1], r[2], r[3]]
+}
+
+fn vector_part(q: &[C64; 4]) -> [C64; 3] {
+    [q[1], q[2], q[3]]
+}
+
+impl ForwardSystem {
+    /// The family of `form` with `legs` legs and the constant positions `constant`; the gauge
+    /// and squaring-up drawn from a ChaCha8 stream seeded by the architecture, so that one
+    /// architecture always gives the same family.
+    pub(crate) fn new(form: PoseForm, legs: usize, constant: Vec<usize>) -> Option<Self> {
+        let n = form.unknowns();
+        let fixed = match form {
+            PoseForm::Translational => constant.len(),
+            PoseForm::Planar => constant.len() + 1,
+            PoseForm::Spherical => 1,
+            PoseForm::Spatial => constant.len() + 2,
+        };
+        let kept = n.checked_sub(fixed).filter(|&k| k <= legs && k > 0)?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed_of(form, legs, &constant));
+        let mut complex = || C64::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let gauge = (0..n).map(|_| complex()).collect();
+        let squaring = if kept == legs {
+            DMatrix::identity(legs, legs)
+        } else {
+            DMatrix::from_fn(kept, legs, |_, _| complex())
+        };
+        Some(Self {
+            form,
+            legs,
+            constant,
+            gauge,
+            squaring,
+        })
+    }
+
+    /// The number of parameters.
+    pub(crate) fn parameters(&self) -> usize {
+        7 * self.legs + 3
+    }
+
+    /// The leg equations (eq. K1, times $\Delta$ where the form needs it) at `z`.
+    fn leg_equations(&self, z: &[C64], p: &[C64]) -> Vec<C64> {
+        let t0 = [p[7 * self.legs], p[7 * self.legs + 1], p[7 * self.legs + 2]];
+        (0..self.legs)
+            .map(|i| {
+                let q = &p[7 * i..7 * i + 7];
+                let (b, c, l2) = ([q[0], q[1], q[2]], [q[3], q[4], q[5]], q[6]);
+                match self.form {
+                    PoseForm::Spatial => study_leg(z, &b, &c, l2),
+                    PoseForm::Spherical => {
+                        // (|c|² + |d|² − L²) Δ + 2 (R̃c)·d, d = t0 − B.
+                        let e = [z[0], z[1], z[2], z[3]];
+                        let delta = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+                        let d = [t0[0] - b[0], t0[1] - b[1], t0[2] - b[2]];
+                        (dot(&c, &c) + dot(&d, &d) - l2) * delta + dot(&rotate(&e, &c), &d) * 2.0
+                    }
+                    PoseForm::Translational => {
+                        let d = [c[0] + z[0] - b[0], c[1] + z[1] - b[1], c[2] + z[2] - b[2]];
+                        dot(&d, &d) - l2
+                    }
+                    PoseForm::Planar => {
+                        let (u, v) = (z[3], z[4]);
+                        let d = [
+                            u * c[0] - v * c[1] + z[0] - b[0],
+                            v * c[0] + u * c[1] + z[1] - b[1],
+                            c[2] + z[2] - b[2],
+                        ];
+                        dot(&d, &d) - l2
+                    }
+                }
+            })
+            .collect()
+    }
+
+    /// $F(z; p)$: the squared-up leg equations, then the form's own.
+    pub(crate) fn residual(&self, z: &[C64], p: &[C64]) -> Vec<C64> {
+        let legs = DVector::from_vec(self.leg_equations(z, p));
+        let mut f: Vec<C64> = (&self.squaring * legs).iter().copied().collect();
+        let t0 = [p[7 * self.legs], p[7 * self.legs + 1], p[7 * self.legs + 2]];
+        let one = C64::new(1.0, 0.0);
+        match self.form {
+            PoseForm::Translational => f.extend(self.constant.iter().map(|&k| z[k] - t0[k])),
+            PoseForm::Planar => {
+                f.extend(self.constant.iter().map(|&k| z[k] - t0[k]));
+                f.push(z[3] * z[3] + z[4] * z[4] - one);
+            }
+            PoseForm::Spherical => {
+                f.push(self.gauge.iter().zip(z).map(|(a, z)| a * z).sum::<C64>() - one);
+            }
+            PoseForm::Spatial => {
+                let e = [z[0], z[1], z[2], z[3]];
+                let g = [z[4], z[5], z[6], z[7]];
+                let delta = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+                let t = vector_part(&multiply(&g, &conjugate(&e)));
+                f.extend(self.constant.iter().map(|&k| t[k] * 2.0 - t0[k] * delta));
+                f.push(e.iter().zip(&g).map(|(a, b)| a * b).sum());
+                f.push(self.gauge.iter().zip(z).map(|(a, z)| a * z).sum::<C64>() - one);
+            }
+        }
+        f
+    }
+
+    /// The real point of a solution `z`, if it has one: its coordinates when their imaginary
+    /// parts are below 1e-8 of its size; for the homogeneous forms (spherical, spatial), whose
+    /// complex gauge scales a real pose by a complex factor, after dividing by the largest
+    /// quaternion coordinate.
+    pub(crate) fn real(&self, z: &DVector<C64>) -> Option<Vec<f64>> {
+        let scaled = match self.form {
+            PoseForm::Spherical | PoseForm::Spatial => {
+                let pivot = z
+                    .rows(0, 4)
+                    .iter()
+                    .copied()
+                    .max_by(|a, b| a.norm().total_cmp(&b.norm()))?;
+                if !(pivot.norm() > 0.0) {
+                    return None;
+                }
+                z.map(|c| c / pivot)
+            }
+            PoseForm::Translational | PoseForm::Planar => z.clone(),
+        };
+        let size = scaled.iter().map(|c| c.norm()).fold(1.0, f64::max);
+        scaled
+            .iter()
+            .all(|c| c.im.abs() <= 1e-8 * size)
+            .then(|| scaled.iter().map(|c| c.re).collect())
+    }
+
+    /// The pose $(R, t)$ of a real solution `z` (imaginary parts dropped by the caller's check).
+    pub(crate) fn pose(&self, z: &[f64], p: &[f64]) -> Option<(Rotation3<f64>, Vector3<f64>)> {
+        let t0 = Vector3::new(p[7 * self.legs], p[7 * self.legs + 1], p[7 * self.legs + 2]);
+        let quaternion = |e: &[f64]| {
+            let q = nalgebra::Quaternion::new(e[0], e[1], e[2], e[3]);
+            (q.norm() > 1e-12).then(|| UnitQuaternion::from_quaternion(q))
+        };
+        match self.form {
+            PoseForm::Translational => {
+                Some((Rotation3::identity(), Vector3::new(z[0], z[1], z[2])))
+            }
+            PoseForm::Planar => Some((
+                Rotation3::from_axis_angle(&Vector3::z_axis(), z[4].atan2(z[3])),
+                Vector3::new(z[0], z[1], z[2]),
+            )),
+            PoseForm::Spherical => Some((quaternion(&z[..4])?.to_rotation_matrix(), t0)),
+            PoseForm::Spatial => {
+                let e = quaternion(&z[..4])?;
+                let raw = nalgebra::Quaternion::new(z[0], z[1], z[2], z[3]);
+                let g = nalgebra::Quaternion::new(z[4], z[5], z[6], z[7]);
+                let t = (g * raw.conjugate()).imag() * (2.0 / raw.norm_squared());
+                Some((e.to_rotation_matrix(), t))
+            }
+        }
+    }
+}
+
+/// Eq. K1 times $\Delta$ in Study's parameters (module documentation).
+fn study_leg(z: &[C64], b: &[C64; 3], c: &[C64; 3], l2: C64) -> C64 {
+    let e = [z[0], z[1], z[2], z[3]];
+    let g = [z[4], z[5], z[6], z[7]];
+    let delta = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+    let gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2] + g[3] * g[3];
+    let eg = vector_part(&multiply(&conjugate(&e), &g));
+    let ge = vector_part(&multiply(&g, &conjugate(&e)));
+    delta * (dot(c, c) + dot(b, b) - l2) + gg * 4.0 + dot(c, &eg) * 4.0
+        - dot(&rotate(&e, c), b) * 2.0
+        - dot(b, &ge) * 4.0
+}
+
+/// A seed that depends on the architecture alone.
+fn seed_of(form: PoseForm, legs: usize, constant: &[usize]) -> u64 {
+    let mut seed = 0x5eed_u64 ^ (form as u64) << 8 ^ (legs as u64) << 16;
+    for &k in constant {
+        seed ^= 1 << (24 + k);
+    }
+    seed
+}
+
+impl QuadraticFamily for ForwardSystem {
+    fn unknowns(&self) -> usize {
+        self.form.unknowns()
+    }
+
+    fn residual(&self, z: &[C64], p: &[C64], f: &mut [C64]) {
+        for (slot, v) in f.iter_mut().zip(ForwardSystem::residual(self, z, p)) {
+            *slot = v;
+        }
+    }
+}
+
+impl RobotModel {
+    /// The polynomial family of this robot's forward kinematics, or why there is none.
+    pub(crate) fn polynomial_form(&self) -> Result<ForwardSystem, &'static str> {
+        if self.actuated != self.legs.len() || self.actuators.len() != self.legs.len() {
+            return Err("a passive leg or a leg with several actuators");
+        }
+        if self.classes.contains(&LegClass::Numeric) {
+            return Err("a leg without a closed form (a numerical leg)");
+        }
+        if self.roles.contains(&CoordinateRole::Dependent) {
+            return Err("dependent pose coordinates");
+        }
+        let free = |k: usize| self.roles[k] == CoordinateRole::Task;
+        let constant: Vec<usize> = (0..3).filter(|&k| !free(k)).collect();
+        let turning: Vec<usize> = (3..6).filter(|&k| free(k)).collect();
+        let form = match turning.as_slice() {
+            [] => PoseForm::Translational,
+            [5] if self.orientation == OrientationKind::RotationVector
+                && self.home[3] == 0.0
+                && self.home[4] == 0.0 =>
+            {
+                PoseForm::Planar
+            }
+            [3, 4, 5] if constant.len() == 3 => PoseForm::Spherical,
+            [3, 4, 5] => PoseForm::Spatial,
+            _ => return Err("an orientation that is neither constant, about z alone nor free"),
+        };
+        let constant = if form == PoseForm::Spherical {
+            vec![]
+        } else {
+            constant
+        };
+        ForwardSystem::new(form, self.legs.len(), constant).ok_or("fewer equations than unknowns")
+    }
+
+    /// The real parameters of the forward kinematics at actuator coordinates `q` (motions
+    /// from the offsets), or `None` for a distance leg made shorter than zero.
+    pub(crate) fn polynomial_parameters(
+        &self,
+        system: &ForwardSystem,
+        q: &[f64],
+    ) -> Option<Vec<f64>> {
+        let home_rotation = self.home_pose.rotation.to_rotation_matrix();
+        let mut p = Vec::with_capacity(system.parameters());
+        for (i, class) in self.classes.iter().enumerate() {
+            let actuator = self.legs[i].sole_actuator()?;
+            let motion = q[i] - actuator.offset;
+            let (b, c, length) = match *class {
+                LegClass::Distance {
+                    base,
+                    platform,
+                    home_length,
+                    sign,
+                } => (base, platform, home_length + sign * motion),
+                LegClass::RevoluteArm {
+                    axis,
+                    foot,
+                    arm,
+                    wrist,
+                    rod,
+                } => (
+                    foot + Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), motion)
+                        * arm,
+                    wrist,
+                    rod,
+                ),
+                LegClass::PrismaticArm {
+                    axis,
+                    elbow,
+                    wrist,
+                    rod,
+                } => (elbow + axis * motion, wrist, rod),
+                LegClass::Numeric => return None,
+            };
+            if !(length >= 0.0) {
+                return None;
+            }
+            let c = if system.form == PoseForm::Translational {
+                home_rotation * c
+            } else {
+                c
+            };
+            p.extend([b.x, b.y, b.z, c.x, c.y, c.z, length * length]);
+        }
+        p.extend(self.home_pose.translation.vector.iter());
+        Some(p)
+    }
+}
+
+/// What the homotopy guarantees at one set of actuator coordinates (issue 32): the paths
+/// tracked from the generic solutions of the robot's architecture and how each ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HomotopyReport {
+    /// The polynomial form (`"spatial (Study parameters)"`, `"translational"`, ...).
+    pub form: &'static str,
+    /// Isolated solutions of a generic member of the family, found by monodromy: the number of
+    /// paths tracked.
+    pub generic_solutions: usize,
+    /// Whether the monodromy stopped because five consecutive loops added no solution.
+    pub monodromy_stable: bool,
+    /// Finite, nonsingular, real endpoints that close the robot's own closure: its assembly
+    /// modes.
+    pub real: usize,
+    /// Finite, nonsingular endpoints with an imaginary part: no real configuration.
+    pub complex: usize,
+    /// Endpoints where the system's Jacobian is singular (on the discriminant, a self-motion,
+    /// Study's exceptional set $e = 0$ of no pose); the real ones that close the robot's
+    /// closure are among the configurations, on a singularity.
+    pub singular: usize,
+    /// Paths that went to infinity.
+    pub at_infinity: usize,
+    /// Real endpoints that the robot's own closure refused (a root of the squared-up system
+    /// of a redundantly actuated robot that the extra actuator does not allow).
+    pub refused: usize,
+    /// Paths the tracker could not follow: their index and the reason.
+    pub failed: Vec<(usize, String)>,
+}
+
+/// Every assembly mode at one set of actuator coordinates by homotopy, with its report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AllSolutions {
+    /// The real configurations, closed on the robot's closure.
+    pub configurations: Vec<Configuration>,
+    /// How every path ended.
+    pub report: HomotopyReport,
+}
+
+impl PoseForm {
+    fn label(self) -> &'static str {
+        match self {
+            Self::Translational => "translational (position unknowns, orientation constant)",
+            Self::Planar => "planar (position and the cosine and sine of the turn about z)",
+            Self::Spherical => "spherical (a quaternion, the position constant)",
+            Self::Spatial => "spatial (Study parameters)",
+        }
+    }
+}
+
+impl RobotModel {
+    /// Why this robot's forward kinematics has no polynomial form here (`None` when it has
+    /// one: [`RobotModel::forward_kinematics_all`] applies).
+    pub fn homotopy_unsupported(&self) -> Option<&'static str> {
+        self.polynomial_form().err()
+    }
+
+    /// Every assembly mode at actuator coordinates `q` by parameter homotopy (module
+    /// documentation): the generic solutions of the robot's architecture (found once by
+    /// monodromy, cached) tracked to the robot's parameters; every finite, nonsingular, real
+    /// endpoint turned into a configuration (the passive joints solved at its pose) and
+    /// checked on the robot's own closure; the report says how every path ended.
+    ///
+    /// # Errors
+    /// [`KinematicsError::InvalidInput`] for a robot without a polynomial form (the reason:
+    /// [`RobotModel::homotopy_unsupported`]), a `q` of the wrong length or a leg made shorter
+    /// than zero; [`KinematicsError::NonFinite`] for a non-finite `q`.
+    pub fn forward_kinematics_all(&self, q: &[f64]) -> Result<AllSolutions, KinematicsError> {
+        let system = self.polynomial_form().map_err(|reason| {
+            KinematicsError::from(InvalidInput::new("robot", f64::NAN, reason))
+        })?;
+        let mut home = Configuration::home(self);
+        self.set_actuators(&mut home, q)?;
+        let p = self.polynomial_parameters(&system, q).ok_or_else(|| {
+            KinematicsError::from(InvalidInput::new(
+                "q",
+                f64::NAN,
+                "a leg made shorter than zero",
+            ))
+        })?;
+        let start = generic_start(&system);
+        let target: Vec<C64> = p.iter().map(|&v| C64::new(v, 0.0)).collect();
+        let mut report = HomotopyReport {
+            form: system.form.label(),
+            generic_solutions: start.monodromy.solutions.len(),
+            monodromy_stable: start.monodromy.stable,
+            real: 0,
+            complex: 0,
+            singular: 0,
+            at_infinity: 0,
+            refused: 0,
+            failed: Vec::new(),
+        };
+        let mut configurations: Vec<Configuration> = Vec::new();
+        for (k, z0) in start.monodromy.solutions.iter().enumerate() {
+            let path = pkm_homotopy::track(
+                &system,
+                z0,
+                &start.monodromy.parameters,
+                &target,
+                &pkm_homotopy::TrackSettings::default(),
+            );
+            match path.end {
+                Endpoint::Regular(z) => {
+                    let Some(re) = system.real(&z) else {
+                        report.complex += 1;
+                        continue;
+                    };
+                    match self.configuration_at(&system, &re, &p, q, &home) {
+                        Some(c)
+                            if !configurations
+                                .iter()
+                                .any(|f| same_pose(self.orientation, f, &c, 1e-6)) =>
+                        {
+                            report.real += 1;
+                            configurations.push(c);
+                        }
+                        Some(_) => report.real += 1,
+                        None => report.refused += 1,
+                    }
+                }
+                Endpoint::Singular(z) => {
+                    report.singular += 1;
+                    // A real singular endpoint is a configuration on a singularity.
+                    let closed = system
+                        .real(&z)
+                        .and_then(|re| self.configuration_at(&system, &re, &p, q, &home));
+                    let new = closed.filter(|c| {
+                        !configurations
+                            .iter()
+                            .any(|f| same_pose(self.orientation, f, c, 1e-6))
+                    });
+                    configurations.extend(new);
+                }
+                Endpoint::Infinity { .. } => report.at_infinity += 1,
+                Endpoint::Failed { s, reason } => {
+                    report.failed.push((k, format!("{reason} at s = {s:.6}")));
+                }
+            }
+        }
+        Ok(AllSolutions {
+            configurations,
+            report,
+        })
+    }
+
+    /// The configuration of a real solution `z`: its pose, every leg's joints solved there
+    /// with its actuator at `q`, refined on the robot's closure and kept only if the refined
+    /// pose is the solution's (1e-6).
+    fn configuration_at(
+        &self,
+        system: &ForwardSystem,
+        z: &[f64],
+        p: &[f64],
+        q: &[f64],
+        home: &Configuration,
+    ) -> Option<Configuration> {
+        let (rotation, position) = system.pose(z, p)?;
+        let rotation = if system.form == PoseForm::Translational {
+            self.home_pose.rotation.to_rotation_matrix()
+        } else {
+            rotation
+        };
+        let mut c = home.clone();
+        c.pose[..3].copy_from_slice(position.as_slice());
+        c.pose[3..].copy_from_slice(self.orientation.coordinates_of(&rotation).as_slice());
+        for (i, (leg, &q_i)) in self.legs.iter().zip(q).enumerate() {
+            let motion = q_i - leg.sole_actuator()?.offset;
+            c.joints[i] = self.passive_joints(i, motion, &c).ok()?;
+        }
+        let refined = self.forward_kinematics_from(q, &c).ok()?;
+        same_pose(self.orientation, &refined, &c, 1e-6).then_some(refined)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn real(v: &[f64]) -> Vec<C64> {
+        v.iter().map(|&x| C64::new(x, 0.0)).collect()
+    }
+
+    /// At the home configuration of every supported example robot, the home pose written in
+    /// its form's unknowns solves the system to 1e-12 (the equations and the parameters agree
+    /// with the robot's geometry).
+    #[test]
+    fn the_home_pose_solves_the_system_of_every_supported_file() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/robots");
+        let mut supported = Vec::new();
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let model = RobotModel::from_toml(&std::fs::read_to_string(&path).unwrap()).unwrap();
+            let Ok(system) = model.polynomial_form() else {
+                continue;
+            };
+            let p = model
+                .polynomial_parameters(&system, &model.home_actuators())
+                .unwrap();
+            let r = model.home_pose.rotation;
+            let t = model.home_pose.translation.vector;
+            let q = r.quaternion();
+            let z: Vec<f64> = match system.form {
+                PoseForm::Translational => t.iter().copied().collect(),
+                PoseForm::Planar => vec![t.x, t.y, t.z, model.home[5].cos(), model.home[5].sin()],
+                PoseForm::Spherical | PoseForm::Spatial => {
+                    // The gauge a·z = 1 fixes the scale of (e, g).
+                    let e = [q.w, q.i, q.j, q.k];
+                    let tq = nalgebra::Quaternion::new(0.0, t.x, t.y, t.z);
+                    let g = tq * nalgebra::Quaternion::new(q.w, q.i, q.j, q.k) * 0.5;
+                    let mut raw = e.to_vec();
+                    if system.form == PoseForm::Spatial {
+                        raw.extend([g.w, g.i, g.j, g.k]);
+                    }
+                    raw
+                }
+            };
+            let mut z = real(&z);
+            if matches!(system.form, PoseForm::Spherical | PoseForm::Spatial) {
+                let scale: C64 = system.gauge.iter().zip(&z).map(|(a, z)| a * z).sum();
+                z.iter_mut().for_each(|v| *v /= scale);
+            }
+            let f = system.residual(&z, &real(&p));
+            let worst = f.iter().map(|c| c.norm()).fold(0.0, f64::max);
+            let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+            assert!(worst < 1e-12, "{name}: {worst:e} {f:?}");
+            supported.push((name, system.form));
+        }
+        supported.sort_by(|a, b| a.0.cmp(&b.0));
+        let names: Vec<&str> = supported.iter().map(|(n, _)| n.as_str()).collect();
+        for expected in [
+            "stewart_gough",
+            "dietmaier_40",
+            "hexa",
+            "rotary_delta",
+            "three_rpr",
+            "five_bar",
+            "agile_eye",
+            "tsai",
+        ] {
+            assert!(
+                names.contains(&expected),
+                "{expected} not supported: {supported:?}"
+            );
+        }
+    }
+}
+
+impl ForwardSystem {
+    /// A generic member of the family with one solution: a random complex pose `z0` on the
+    /// form's own equations (planar $u^2 + v^2 = 1$, Study's quadric, the gauge), random
+    /// complex points $B_i$, $c_i$, the constant positions of `z0`, and each $L_i^2$ that puts
+    /// `z0` on leg $i$'s equation (which is affine in $L_i^2$). Only the legs' own equations
+    /// are solved by `z0`, so the squared-up combination is too.
+    fn generic_start(&self, rng: &mut ChaCha8Rng) -> (Vec<C64>, DVector<C64>) {
+        let mut complex = || C64::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+        let n = self.form.unknowns();
+        let mut z: Vec<C64> = (0..n).map(|_| complex()).collect();
+        match self.form {
+            PoseForm::Planar => {
+                let theta = complex();
+                (z[3], z[4]) = (theta.cos(), theta.sin());
+            }
+            PoseForm::Spatial => {
+                let eg: C64 = (0..4).map(|k| z[k] * z[4 + k]).sum();
+                let ee: C64 = (0..4).map(|k| z[k] * z[k]).sum();
+                for k in 0..4 {
+                    let shift = z[k] * (eg / ee);
+                    z[4 + k] -= shift;
+                }
+            }
+            PoseForm::Translational | PoseForm::Spherical => {}
+        }
+        if matches!(self.form, PoseForm::Spherical | PoseForm::Spatial) {
+            let scale: C64 = self.gauge.iter().zip(&z).map(|(a, z)| a * z).sum();
+            z.iter_mut().for_each(|v| *v /= scale);
+        }
+        let mut p: Vec<C64> = (0..self.parameters()).map(|_| complex()).collect();
+        // The constant positions of z0 (t0 is the last three parameters).
+        let t = match self.form {
+            PoseForm::Translational | PoseForm::Planar => [z[0], z[1], z[2]],
+            PoseForm::Spherical => [p[7 * self.legs], p[7 * self.legs + 1], p[7 * self.legs + 2]],
+            PoseForm::Spatial => {
+                let e = [z[0], z[1], z[2], z[3]];
+                let delta: C64 = e.iter().map(|v| v * v).sum();
+                let g = [z[4], z[5], z[6], z[7]];
+                let v = vector_part(&multiply(&g, &conjugate(&e)));
+                [v[0] * 2.0 / delta, v[1] * 2.0 / delta, v[2] * 2.0 / delta]
+            }
+        };
+        p[7 * self.legs..].copy_from_slice(&t);
+        for i in 0..self.legs {
+            p[7 * i + 6] = C64::new(0.0, 0.0);
+            let at_zero = self.leg_equations(&z, &p)[i];
+            p[7 * i + 6] = C64::new(1.0, 0.0);
+            let slope = at_zero - self.leg_equations(&z, &p)[i];
+            p[7 * i + 6] = at_zero / slope;
+        }
+        (p, DVector::from_vec(z))
+    }
+}
+
+/// The solutions of a generic member of an architecture, found once by monodromy.
+#[derive(Debug)]
+pub(crate) struct GenericStart {
+    pub monodromy: pkm_homotopy::Monodromy,
+}
+
+/// The start systems found so far, by architecture: what [`generic_start`] would compute,
+/// computed once (the monodromy is seeded by the architecture, so the cache returns the same
+/// bits as a fresh run).
+static STARTS: std::sync::OnceLock<
+    std::sync::Mutex<std::collections::HashMap<Architecture, std::sync::Arc<GenericStart>>>,
+> = std::sync::OnceLock::new();
+
+/// The generic start of `system`'s architecture (module documentation), from the cache.
+pub(crate) fn generic_start(system: &ForwardSystem) -> std::sync::Arc<GenericStart> {
+    let key: Architecture = (system.form, system.legs, system.constant.clone());
+    let cache = STARTS.get_or_init(Default::default);
+    if let Some(found) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
+        return found;
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed_of(system.form, system.legs, &system.constant));
+    let (p0, z0) = system.generic_start(&mut rng);
+    let monodromy = pkm_homotopy::monodromy(
+        system,
+        &p0,
+        z0,
+        &pkm_homotopy::MonodromySettings::default(),
+        &mut rng,
+    );
+    let start = std::sync::Arc::new(GenericStart { monodromy });
+    if let Ok(mut c) = cache.lock() {
+        c.entry(key).or_insert_with(|| start.clone());
+    }
+    start
+}
