@@ -182,6 +182,8 @@ pub enum Endpoint {
         s: f64,
         /// Why, in words.
         reason: &'static str,
+        /// The last point reached.
+        at: DVector<C64>,
     },
 }
 
@@ -321,14 +323,18 @@ pub fn track<S: QuadraticFamily + ?Sized>(
     let (mut z, mut s, mut h) = (start.clone(), 0.0_f64, settings.initial_step);
     let (mut steps, mut rejected, mut streak) = (0, 0, 0);
     let bound = settings.infinity * norm(start).max(1.0);
-    let failed = |s: f64, reason, steps, rejected| Path {
-        end: Endpoint::Failed { s, reason },
+    let failed = |s: f64, reason, at: &DVector<C64>, steps, rejected| Path {
+        end: Endpoint::Failed {
+            s,
+            reason,
+            at: at.clone(),
+        },
         steps,
         rejected,
     };
     while s < 1.0 {
         if steps + rejected >= settings.max_steps {
-            return failed(s, "too many steps", steps, rejected);
+            return failed(s, "too many steps", &z, steps, rejected);
         }
         let last = h >= 1.0 - s;
         let step = if last { 1.0 - s } else { h };
@@ -375,7 +381,7 @@ pub fn track<S: QuadraticFamily + ?Sized>(
                         };
                     }
                     let reason = "step size underflow (a singularity on the path or at its end)";
-                    return failed(s, reason, steps, rejected);
+                    return failed(s, reason, &z, steps, rejected);
                 }
             }
         }
@@ -384,6 +390,43 @@ pub fn track<S: QuadraticFamily + ?Sized>(
         end: endpoint(&mut segment, z, settings),
         steps,
         rejected,
+    }
+}
+
+/// [`track`] from `from` to `to` through the parameters `via` (two segments): the detour that
+/// takes a path around a near-singularity of the straight segment (a random complex `via`
+/// avoids the discriminant with probability one). Steps add up; the first segment's failure
+/// is reported at $s = 0$ of the whole.
+pub fn track_through<S: QuadraticFamily + ?Sized>(
+    system: &S,
+    start: &DVector<C64>,
+    from: &[C64],
+    via: &[C64],
+    to: &[C64],
+    settings: &TrackSettings,
+) -> Path {
+    let first = track(system, start, from, via, settings);
+    let Endpoint::Regular(middle) = &first.end else {
+        return match first.end {
+            Endpoint::Failed { reason, at, .. } => Path {
+                end: Endpoint::Failed { s: 0.0, reason, at },
+                ..first
+            },
+            _ => Path {
+                end: Endpoint::Failed {
+                    s: 0.0,
+                    reason: "the detour's first segment ended singular or at infinity",
+                    at: start.clone(),
+                },
+                ..first
+            },
+        };
+    };
+    let second = track(system, middle, via, to, settings);
+    Path {
+        end: second.end,
+        steps: first.steps + second.steps,
+        rejected: first.rejected + second.rejected,
     }
 }
 
@@ -427,6 +470,7 @@ fn endpoint(segment: &mut Segment, mut z: DVector<C64>, settings: &TrackSettings
         Endpoint::Failed {
             s: 1.0,
             reason: "the endpoint does not evaluate",
+            at: z,
         }
     } else if condition >= settings.singular {
         Endpoint::Regular(z)

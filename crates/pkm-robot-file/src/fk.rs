@@ -7,6 +7,7 @@ use crate::closure::{ClosureProblem, Configuration, LegResidual};
 use crate::jacobian::SingularityMargins;
 use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::RobotModel;
+use crate::polynomial::HomotopyReport;
 use crate::pose::CoordinateRole;
 use crate::pose::OrientationKind;
 use crate::self_motion::{SINGULAR_MARGIN, SelfMotion};
@@ -20,10 +21,24 @@ const CONTINUATION_STEPS: usize = 16;
 /// Most starts of an enumeration.
 const MAX_STARTS: usize = 100_000;
 
+/// How [`RobotModel::assembly_modes`] searches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ModeSearch {
+    /// Parameter homotopy where the robot has a polynomial form
+    /// ([`RobotModel::forward_kinematics_all`]), with the multistart added when its report is
+    /// not complete; the multistart alone otherwise. The default.
+    #[default]
+    Auto,
+    /// The seeded multistart alone.
+    Multistart,
+}
+
 /// Settings of [`RobotModel::assembly_modes`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnumerationSettings {
-    /// Random starts. Default 200.
+    /// How to search.
+    pub method: ModeSearch,
+    /// Random starts of the multistart. Default 200.
     pub starts: usize,
     /// Seed of the ChaCha8 stream of starts. Default 0.
     pub seed: u64,
@@ -35,6 +50,7 @@ pub struct EnumerationSettings {
 impl Default for EnumerationSettings {
     fn default() -> Self {
         Self {
+            method: ModeSearch::Auto,
             starts: 200,
             seed: 0,
             distinct: 1e-6,
@@ -60,6 +76,19 @@ pub struct AssemblyMode {
     /// `Some` when the mode is one point of a continuum of solutions at these actuator
     /// coordinates (a self-motion), reported once for every solution found on it.
     pub self_motion: Option<SelfMotion>,
+}
+
+/// Every assembly mode found at one set of actuator coordinates, with how they were found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AssemblySearch {
+    /// The modes.
+    pub modes: Vec<AssemblyMode>,
+    /// The homotopy's report when it ran: with [`HomotopyReport::complete`], the modes are
+    /// every real assembly mode.
+    pub homotopy: Option<HomotopyReport>,
+    /// Whether the multistart ran (the robot has no polynomial form, the homotopy's report
+    /// was not complete, or it was asked for).
+    pub multistart: bool,
 }
 
 impl AssemblyMode {
@@ -170,17 +199,32 @@ impl RobotModel {
         Ok(c)
     }
 
-    /// Every assembly mode found at actuator coordinates `q`: damped Newton from home and from
-    /// `settings.starts` seeded random configurations, de-duplicated, ordered by their distance
-    /// from the home pose, each labelled by continuation back to home.
+    /// Every assembly mode found at actuator coordinates `q` ([`RobotModel::assembly_search`]
+    /// without the statement of how they were found).
     ///
     /// # Errors
-    /// [`KinematicsError::InvalidInput`] for a bad `q` or too many starts (at most 100 000).
+    /// As [`RobotModel::assembly_search`].
     pub fn assembly_modes(
         &self,
         q: &[f64],
         settings: &EnumerationSettings,
     ) -> Result<Vec<AssemblyMode>, KinematicsError> {
+        Ok(self.assembly_search(q, settings)?.modes)
+    }
+
+    /// Every assembly mode found at actuator coordinates `q`, de-duplicated, ordered by their
+    /// distance from the home pose, each labelled by continuation back to home: by parameter
+    /// homotopy where the robot has a polynomial form ([`ModeSearch::Auto`]: every mode when
+    /// its report is complete), with the damped Newton from home and from `settings.starts`
+    /// seeded random configurations added otherwise; with the report of the homotopy.
+    ///
+    /// # Errors
+    /// [`KinematicsError::InvalidInput`] for a bad `q` or too many starts (at most 100 000).
+    pub fn assembly_search(
+        &self,
+        q: &[f64],
+        settings: &EnumerationSettings,
+    ) -> Result<AssemblySearch, KinematicsError> {
         InvalidInput::require_count_at_most(
             "starts",
             settings.starts,
@@ -188,7 +232,7 @@ impl RobotModel {
             "at most 100000 starts",
         )?;
         InvalidInput::require_positive("distinct", settings.distinct)?;
-        let mut found = self.solutions(q, settings)?;
+        let (mut found, homotopy, multistart) = self.searched(q, settings)?;
         let home = self.home;
         let distance = |c: &Configuration| {
             c.pose
@@ -201,7 +245,9 @@ impl RobotModel {
         let home_modes = if q == self.home_actuators().as_slice() {
             found.clone()
         } else {
-            self.solutions(&self.home_actuators(), settings)?
+            let mut at_home = self.searched(&self.home_actuators(), settings)?.0;
+            at_home.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
+            at_home
         };
         let margins: Vec<SingularityMargins> = found
             .iter()
@@ -227,7 +273,7 @@ impl RobotModel {
             }
             self_motion[group[0]] = Some(Some(motion));
         }
-        Ok(found
+        let modes = found
             .into_iter()
             .zip(margins)
             .zip(self_motion)
@@ -250,7 +296,42 @@ impl RobotModel {
                     self_motion,
                 })
             })
-            .collect())
+            .collect();
+        Ok(AssemblySearch {
+            modes,
+            homotopy,
+            multistart,
+        })
+    }
+
+    /// The distinct solutions at `q` by the method of `settings`, with the homotopy's report
+    /// and whether the multistart ran.
+    fn searched(
+        &self,
+        q: &[f64],
+        settings: &EnumerationSettings,
+    ) -> Result<(Vec<Configuration>, Option<HomotopyReport>, bool), KinematicsError> {
+        let all = match settings.method {
+            ModeSearch::Auto if self.homotopy_unsupported().is_none() => {
+                Some(self.forward_kinematics_all(q)?)
+            }
+            _ => None,
+        };
+        let complete = all.as_ref().is_some_and(|a| a.report.complete());
+        let mut found = all
+            .as_ref()
+            .map_or_else(Vec::new, |a| a.configurations.clone());
+        if !complete {
+            for c in self.solutions(q, settings)? {
+                if !found
+                    .iter()
+                    .any(|f| same_pose(self.orientation, f, &c, settings.distinct))
+                {
+                    found.push(c);
+                }
+            }
+        }
+        Ok((found, all.map(|a| a.report), !complete))
     }
 
     /// The distinct solutions at `q` from home and from the seeded random starts.

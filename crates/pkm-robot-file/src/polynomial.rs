@@ -217,10 +217,10 @@ impl ForwardSystem {
     }
 
     /// The real point of a solution `z`, if it has one: its coordinates when their imaginary
-    /// parts are below 1e-8 of its size; for the homogeneous forms (spherical, spatial), whose
+    /// parts are below `tolerance` of its size; for the homogeneous forms (spherical, spatial), whose
     /// complex gauge scales a real pose by a complex factor, after dividing by the largest
     /// quaternion coordinate.
-    pub(crate) fn real(&self, z: &DVector<C64>) -> Option<Vec<f64>> {
+    pub(crate) fn real(&self, z: &DVector<C64>, tolerance: f64) -> Option<Vec<f64>> {
         let scaled = match self.form {
             PoseForm::Spherical | PoseForm::Spatial => {
                 let pivot = z
@@ -238,8 +238,19 @@ impl ForwardSystem {
         let size = scaled.iter().map(|c| c.norm()).fold(1.0, f64::max);
         scaled
             .iter()
-            .all(|c| c.im.abs() <= 1e-8 * size)
+            .all(|c| c.im.abs() <= tolerance * size)
             .then(|| scaled.iter().map(|c| c.re).collect())
+    }
+
+    /// Whether a path of the spatial form that stalled at `s` near its end with unknowns `z`
+    /// is heading for Study's exceptional generator $e = 0$ (no pose): its quaternion below
+    /// $10\sqrt{1 - s}$ of the unknowns (it shrinks like $\sqrt{1 - s}$ on such a path; a pose's
+    /// quaternion is of the order of the unknowns unless it is tens of metres away).
+    pub(crate) fn exceptional(&self, z: &DVector<C64>, s: f64) -> bool {
+        let size = |v: &[C64]| v.iter().map(|c| c.norm()).fold(0.0, f64::max);
+        self.form == PoseForm::Spatial
+            && s > 0.99
+            && size(&z.as_slice()[..4]) < 10.0 * (1.0 - s).sqrt() * size(z.as_slice())
     }
 
     /// The pose $(R, t)$ of a real solution `z` (imaginary parts dropped by the caller's check).
@@ -280,6 +291,13 @@ fn study_leg(z: &[C64], b: &[C64; 3], c: &[C64; 3], l2: C64) -> C64 {
     delta * (dot(c, c) + dot(b, b) - l2) + gg * 4.0 + dot(c, &eg) * 4.0
         - dot(&rotate(&e, c), b) * 2.0
         - dot(b, &ge) * 4.0
+}
+
+/// Adds `c` to `configurations` unless one of them has its pose (1e-6).
+fn push_new(kind: OrientationKind, configurations: &mut Vec<Configuration>, c: Configuration) {
+    if !configurations.iter().any(|f| same_pose(kind, f, &c, 1e-6)) {
+        configurations.push(c);
+    }
 }
 
 /// A seed that depends on the architecture alone.
@@ -414,11 +432,28 @@ pub struct HomotopyReport {
     pub singular: usize,
     /// Paths that went to infinity.
     pub at_infinity: usize,
+    /// Paths of the spatial form that end on Study's exceptional generator $e = 0$ (its
+    /// quaternion below 1e-4 of the unknowns where the tracker stops): points of no pose, which
+    /// a robot of special geometry (planar base and platform, say) has for every leg length.
+    pub exceptional: usize,
     /// Real endpoints that the robot's own closure refused (a root of the squared-up system
     /// of a redundantly actuated robot that the extra actuator does not allow).
     pub refused: usize,
     /// Paths the tracker could not follow: their index and the reason.
     pub failed: Vec<(usize, String)>,
+}
+
+impl HomotopyReport {
+    /// Whether every path ended at a finite, nonsingular solution (real or complex) with a
+    /// stable monodromy: then the real configurations are every real assembly mode. Paths
+    /// that end singular, at infinity, on Study's exceptional set or failed leave room for a
+    /// real mode near them (the Hexa at home loses one of 16 so: its path passes near the
+    /// exceptional set, where the system is singular, and stalls).
+    pub fn complete(&self) -> bool {
+        self.monodromy_stable
+            && self.failed.is_empty()
+            && self.singular + self.at_infinity + self.exceptional == 0
+    }
 }
 
 /// Every assembly mode at one set of actuator coordinates by homotopy, with its report.
@@ -481,52 +516,48 @@ impl RobotModel {
             complex: 0,
             singular: 0,
             at_infinity: 0,
+            exceptional: 0,
             refused: 0,
             failed: Vec::new(),
         };
         let mut configurations: Vec<Configuration> = Vec::new();
-        for (k, z0) in start.monodromy.solutions.iter().enumerate() {
-            let path = pkm_homotopy::track(
-                &system,
-                z0,
-                &start.monodromy.parameters,
-                &target,
-                &pkm_homotopy::TrackSettings::default(),
-            );
+        for (k, path) in self
+            .track_all(&system, &start.monodromy, &target)
+            .into_iter()
+            .enumerate()
+        {
             match path.end {
                 Endpoint::Regular(z) => {
-                    let Some(re) = system.real(&z) else {
+                    let Some(re) = system.real(&z, 1e-8) else {
                         report.complex += 1;
                         continue;
                     };
-                    match self.configuration_at(&system, &re, &p, q, &home) {
-                        Some(c)
-                            if !configurations
-                                .iter()
-                                .any(|f| same_pose(self.orientation, f, &c, 1e-6)) =>
-                        {
-                            report.real += 1;
-                            configurations.push(c);
+                    report.real += 1;
+                    match self.configuration_at(&system, &re, &p, q, &home, 1e-6) {
+                        Some(c) => push_new(self.orientation, &mut configurations, c),
+                        None => {
+                            report.real -= 1;
+                            report.refused += 1;
                         }
-                        Some(_) => report.real += 1,
-                        None => report.refused += 1,
                     }
                 }
                 Endpoint::Singular(z) => {
                     report.singular += 1;
-                    // A real singular endpoint is a configuration on a singularity.
+                    // A real singular endpoint is a configuration on or near a singularity: Newton
+                    // converges to it slowly, so it is real to 1e-4 and refined on the robot's
+                    // own closure.
                     let closed = system
-                        .real(&z)
-                        .and_then(|re| self.configuration_at(&system, &re, &p, q, &home));
-                    let new = closed.filter(|c| {
-                        !configurations
-                            .iter()
-                            .any(|f| same_pose(self.orientation, f, c, 1e-6))
-                    });
-                    configurations.extend(new);
+                        .real(&z, 1e-4)
+                        .and_then(|re| self.configuration_at(&system, &re, &p, q, &home, 1e-4));
+                    if let Some(c) = closed {
+                        push_new(self.orientation, &mut configurations, c);
+                    }
                 }
                 Endpoint::Infinity { .. } => report.at_infinity += 1,
-                Endpoint::Failed { s, reason } => {
+                Endpoint::Failed { s, at, .. } if system.exceptional(&at, s) => {
+                    report.exceptional += 1;
+                }
+                Endpoint::Failed { s, reason, .. } => {
                     report.failed.push((k, format!("{reason} at s = {s:.6}")));
                 }
             }
@@ -537,9 +568,67 @@ impl RobotModel {
         })
     }
 
+    /// Every generic solution tracked to `target`. A path that fails away from its end met a
+    /// near-singularity of its segment, and two paths that end at one solution mean one of
+    /// them jumped to the other's: each such path is tracked again, up to three times, through
+    /// random complex parameters (seeded by its index) with steps ten times smaller; a path
+    /// that ends singular or at infinity is tracked again once so (a jumped path can end
+    /// there).
+    fn track_all(
+        &self,
+        system: &ForwardSystem,
+        generic: &pkm_homotopy::Monodromy,
+        target: &[C64],
+    ) -> Vec<pkm_homotopy::Path> {
+        let settings = pkm_homotopy::TrackSettings::default();
+        let careful = pkm_homotopy::TrackSettings {
+            initial_step: settings.initial_step / 10.0,
+            max_step: settings.max_step / 10.0,
+            ..settings
+        };
+        let p0 = &generic.parameters;
+        let mut paths: Vec<_> = generic
+            .solutions
+            .iter()
+            .map(|z0| pkm_homotopy::track(system, z0, p0, target, &settings))
+            .collect();
+        let scale = target.iter().map(|v| v.norm()).fold(1.0, f64::max);
+        for round in 0..3u64 {
+            let redo: Vec<usize> = (0..paths.len())
+                .filter(|&k| match &paths[k].end {
+                    Endpoint::Failed { s, .. } => *s < 1.0 - settings.endgame,
+                    Endpoint::Singular(_) | Endpoint::Infinity { .. } => round == 0,
+                    Endpoint::Regular(z) => paths.iter().enumerate().any(|(l, other)| {
+                        l != k
+                            && matches!(&other.end, Endpoint::Regular(w)
+                                if pkm_homotopy::contains(std::slice::from_ref(w), z, 1e-8))
+                    }),
+                })
+                .collect();
+            if redo.is_empty() {
+                break;
+            }
+            for k in redo {
+                let mut rng = ChaCha8Rng::seed_from_u64((k as u64) << 8 | round);
+                let via: Vec<C64> = p0
+                    .iter()
+                    .zip(target)
+                    .map(|(a, b)| {
+                        let shake =
+                            C64::new(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5));
+                        (a + b) * 0.5 + shake * scale
+                    })
+                    .collect();
+                let z0 = &generic.solutions[k];
+                paths[k] = pkm_homotopy::track_through(system, z0, p0, &via, target, &careful);
+            }
+        }
+        paths
+    }
+
     /// The configuration of a real solution `z`: its pose, every leg's joints solved there
     /// with its actuator at `q`, refined on the robot's closure and kept only if the refined
-    /// pose is the solution's (1e-6).
+    /// pose is the solution's (to `tolerance`).
     fn configuration_at(
         &self,
         system: &ForwardSystem,
@@ -547,6 +636,7 @@ impl RobotModel {
         p: &[f64],
         q: &[f64],
         home: &Configuration,
+        tolerance: f64,
     ) -> Option<Configuration> {
         let (rotation, position) = system.pose(z, p)?;
         let rotation = if system.form == PoseForm::Translational {
@@ -562,7 +652,7 @@ impl RobotModel {
             c.joints[i] = self.passive_joints(i, motion, &c).ok()?;
         }
         let refined = self.forward_kinematics_from(q, &c).ok()?;
-        same_pose(self.orientation, &refined, &c, 1e-6).then_some(refined)
+        same_pose(self.orientation, &refined, &c, tolerance).then_some(refined)
     }
 }
 

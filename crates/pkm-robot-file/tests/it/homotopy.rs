@@ -36,7 +36,7 @@ fn assert_closed(model: &RobotModel, q: &[f64], configurations: &[Configuration]
 #[test]
 fn dietmaier_design_has_forty_real_of_forty() {
     let model = common::robot("dietmaier_40.toml");
-    let q = [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071];
+    let q = q_dietmaier();
     let all = model.forward_kinematics_all(&q).unwrap();
     let r = &all.report;
     assert_eq!(r.generic_solutions, 40, "{r:?}");
@@ -93,7 +93,13 @@ fn generic_counts_and_the_multistart_modes_on_every_supported_file() {
             "{file}: {r:?}"
         );
         assert_eq!(
-            r.real + r.complex + r.singular + r.at_infinity + r.refused + r.failed.len(),
+            r.real
+                + r.complex
+                + r.singular
+                + r.at_infinity
+                + r.exceptional
+                + r.refused
+                + r.failed.len(),
             generic,
             "{file}: every path accounted for"
         );
@@ -144,4 +150,66 @@ fn unsupported_robots_and_bad_input() {
     // finite): configurations that close the robot, or none.
     let huge = model.forward_kinematics_all(&[1e300, 0.0]).unwrap();
     assert_closed(&model, &[1e300, 0.0], &huge.configurations);
+}
+
+/// `assembly_search` runs the homotopy by default: Dietmaier's design complete (40 modes, no
+/// multistart); the Hexa's report is not complete (paths stall near Study's exceptional set),
+/// so the multistart runs too and the union holds every mode it finds alone; the 3-PRS has no
+/// polynomial form (multistart only); `ModeSearch::Multistart` skips the homotopy.
+#[test]
+fn assembly_search_uses_the_homotopy_and_says_so() {
+    use pkm_robot_file::ModeSearch;
+    let settings = EnumerationSettings::default();
+    let dietmaier = common::robot("dietmaier_40.toml");
+    let search = dietmaier
+        .assembly_search(&q_dietmaier(), &settings)
+        .unwrap();
+    assert!(search.homotopy.as_ref().is_some_and(|r| r.complete()));
+    assert!(!search.multistart);
+    assert_eq!(search.modes.len(), 40);
+    let hexa = common::robot("hexa.toml");
+    let q = hexa.home_actuators();
+    let search = hexa.assembly_search(&q, &settings).unwrap();
+    assert!(search.homotopy.as_ref().is_some_and(|r| !r.complete()));
+    assert!(search.multistart);
+    let alone = hexa
+        .assembly_modes(
+            &q,
+            &EnumerationSettings {
+                method: ModeSearch::Multistart,
+                ..settings
+            },
+        )
+        .unwrap();
+    for m in &alone {
+        assert!(
+            search
+                .modes
+                .iter()
+                .any(|s| same_pose(&hexa, &s.configuration, &m.configuration)),
+            "{:?}",
+            m.task
+        );
+    }
+    assert!(search.modes.len() >= alone.len() && search.modes.len() >= 16);
+    let three_prs = common::robot("three_prs.toml");
+    let search = three_prs
+        .assembly_search(&three_prs.home_actuators(), &settings)
+        .unwrap();
+    assert!(search.homotopy.is_none() && search.multistart);
+    let only = dietmaier
+        .assembly_search(
+            &q_dietmaier(),
+            &EnumerationSettings {
+                method: ModeSearch::Multistart,
+                ..settings
+            },
+        )
+        .unwrap();
+    assert!(only.homotopy.is_none() && only.multistart);
+}
+
+/// Dietmaier's leg lengths (the data of martyushev/fkSGP, as `acceptance_modes.rs`).
+fn q_dietmaier() -> [f64; 6] {
+    [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071]
 }
