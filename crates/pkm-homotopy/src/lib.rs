@@ -43,24 +43,26 @@ pub trait QuadraticFamily {
 /// The quadratic forms $F_k(z) = z^\top A_k z + b_k\cdot z + c_k$ of a family at one point of
 /// parameter space, read from $1 + 2n + n(n-1)/2$ evaluations (eq. H2):
 /// $c = F(0)$, $A_{jj} = \tfrac12(F(e_j) + F(-e_j)) - c$, $b_j = \tfrac12(F(e_j) - F(-e_j))$,
-/// $2A_{jk} = F(e_j + e_k) - F(e_j) - F(e_k) + c$.
+/// $2A_{jk} = F(e_j + e_k) - F(e_j) - F(e_k) + c$. Stored flat: $A_k$ row-major one after the
+/// other ($A_k$ symmetric), $b_k$ as rows.
 #[derive(Debug, Clone, PartialEq)]
 struct Forms {
-    /// $A_k$, symmetric, one per equation.
-    a: Vec<DMatrix<C64>>,
-    /// Row $k$: $b_k$.
-    b: DMatrix<C64>,
-    c: DVector<C64>,
+    n: usize,
+    a: Vec<C64>,
+    b: Vec<C64>,
+    c: Vec<C64>,
 }
+
+const ZERO: C64 = C64::new(0.0, 0.0);
 
 impl Forms {
     fn read<S: QuadraticFamily + ?Sized>(family: &S, p: &[C64]) -> Self {
         let n = family.unknowns();
-        let mut z = vec![C64::new(0.0, 0.0); n];
-        let mut f = vec![C64::new(0.0, 0.0); n];
-        let mut at = |z: &[C64]| {
+        let mut z = vec![ZERO; n];
+        let at = |z: &[C64]| {
+            let mut f = vec![ZERO; n];
             family.residual(z, p, &mut f);
-            DVector::from_column_slice(&f)
+            f
         };
         let c = at(&z);
         let one = C64::new(1.0, 0.0);
@@ -70,62 +72,113 @@ impl Forms {
             plus.push(at(&z));
             z[j] = -one;
             minus.push(at(&z));
-            z[j] = C64::new(0.0, 0.0);
+            z[j] = ZERO;
         }
-        let mut a = vec![DMatrix::zeros(n, n); n];
-        let mut b = DMatrix::zeros(n, n);
+        let mut forms = Self {
+            n,
+            a: vec![ZERO; n * n * n],
+            b: vec![ZERO; n * n],
+            c,
+        };
         for j in 0..n {
             for k in 0..n {
-                a[k][(j, j)] = (plus[j][k] + minus[j][k]) * 0.5 - c[k];
-                b[(k, j)] = (plus[j][k] - minus[j][k]) * 0.5;
+                forms.a[k * n * n + j * n + j] = (plus[j][k] + minus[j][k]) * 0.5 - forms.c[k];
+                forms.b[k * n + j] = (plus[j][k] - minus[j][k]) * 0.5;
             }
             for l in j + 1..n {
                 z[j] = one;
                 z[l] = one;
                 let both = at(&z);
-                z[j] = C64::new(0.0, 0.0);
-                z[l] = C64::new(0.0, 0.0);
+                z[j] = ZERO;
+                z[l] = ZERO;
                 for k in 0..n {
-                    let v = (both[k] - plus[j][k] - plus[l][k] + c[k]) * 0.5;
-                    a[k][(j, l)] = v;
-                    a[k][(l, j)] = v;
+                    let v = (both[k] - plus[j][k] - plus[l][k] + forms.c[k]) * 0.5;
+                    forms.a[k * n * n + j * n + l] = v;
+                    forms.a[k * n * n + l * n + j] = v;
                 }
             }
         }
-        Self { a, b, c }
+        forms
     }
 
-    /// $\alpha X + \beta Y + \gamma Z$ of three forms, entry by entry.
-    fn combine(weights: [f64; 3], forms: [&Self; 3]) -> Self {
-        let w = weights.map(|v| C64::new(v, 0.0));
-        let mix =
-            |x: &DMatrix<C64>, y: &DMatrix<C64>, z: &DMatrix<C64>| x * w[0] + y * w[1] + z * w[2];
-        Self {
-            a: (0..forms[0].a.len())
-                .map(|k| mix(&forms[0].a[k], &forms[1].a[k], &forms[2].a[k]))
-                .collect(),
-            b: mix(&forms[0].b, &forms[1].b, &forms[2].b),
-            c: &forms[0].c * w[0] + &forms[1].c * w[1] + &forms[2].c * w[2],
-        }
-    }
-
-    /// $F(z)$ and $F_z = 2A_k z + b_k$ (rows).
-    fn at(&self, z: &DVector<C64>, f: &mut DVector<C64>, jacobian: &mut DMatrix<C64>) {
-        for (k, a) in self.a.iter().enumerate() {
-            let az = a * z;
-            f[k] = z.dot(&az) + self.b.row(k).transpose().dot(z) + self.c[k];
-            for j in 0..z.len() {
-                jacobian[(k, j)] = az[j] * 2.0 + self.b[(k, j)];
+    /// `self` set to $\alpha X + \beta Y + \gamma Z$, entry by entry.
+    fn combine(&mut self, weights: [f64; 3], forms: [&Self; 3]) {
+        let [x, y, w] = forms;
+        let mix = |out: &mut [C64], a: &[C64], b: &[C64], c: &[C64]| {
+            for (((o, a), b), c) in out.iter_mut().zip(a).zip(b).zip(c) {
+                *o = a * weights[0] + b * weights[1] + c * weights[2];
             }
-        }
+        };
+        mix(&mut self.a, &x.a, &y.a, &w.a);
+        mix(&mut self.b, &x.b, &y.b, &w.b);
+        mix(&mut self.c, &x.c, &y.c, &w.c);
     }
 
-    /// $F(z)$ alone.
-    fn value(&self, z: &DVector<C64>, f: &mut DVector<C64>) {
-        for (k, a) in self.a.iter().enumerate() {
-            f[k] = z.dot(&(a * z)) + self.b.row(k).transpose().dot(z) + self.c[k];
+    /// $F(z)$ into `f` and, when given, $F_z = 2A_k z + b_k$ (rows, flat) into `jacobian`.
+    fn at(&self, z: &[C64], f: &mut [C64], mut jacobian: Option<&mut [C64]>) {
+        let n = self.n;
+        for k in 0..n {
+            let a = &self.a[k * n * n..(k + 1) * n * n];
+            let b = &self.b[k * n..(k + 1) * n];
+            let mut value = self.c[k];
+            for j in 0..n {
+                let row = &a[j * n..(j + 1) * n];
+                let mut az = ZERO;
+                for (r, zl) in row.iter().zip(z) {
+                    az += r * zl;
+                }
+                value += z[j] * az + b[j] * z[j];
+                if let Some(jac) = jacobian.as_deref_mut() {
+                    jac[k * n + j] = az * 2.0 + b[j];
+                }
+            }
+            f[k] = value;
         }
     }
+}
+
+/// Solves the $n \times n$ system `a x = rhs` (row-major, overwritten) in place by Gaussian
+/// elimination with partial pivoting; `false` for a zero pivot or a non-finite solution.
+fn solve_in_place(a: &mut [C64], rhs: &mut [C64], n: usize) -> bool {
+    for col in 0..n {
+        let pivot = (col..n)
+            .max_by(|&i, &j| {
+                a[i * n + col]
+                    .norm_sqr()
+                    .total_cmp(&a[j * n + col].norm_sqr())
+            })
+            .unwrap_or(col);
+        if !(a[pivot * n + col].norm_sqr() > 0.0) {
+            return false;
+        }
+        if pivot != col {
+            for k in 0..n {
+                a.swap(col * n + k, pivot * n + k);
+            }
+            rhs.swap(col, pivot);
+        }
+        let inverse = C64::new(1.0, 0.0) / a[col * n + col];
+        for row in col + 1..n {
+            let factor = a[row * n + col] * inverse;
+            if factor == ZERO {
+                continue;
+            }
+            for k in col..n {
+                let v = a[col * n + k];
+                a[row * n + k] -= factor * v;
+            }
+            let v = rhs[col];
+            rhs[row] -= factor * v;
+        }
+    }
+    for row in (0..n).rev() {
+        let mut sum = rhs[row];
+        for k in row + 1..n {
+            sum -= a[row * n + k] * rhs[k];
+        }
+        rhs[row] = sum / a[row * n + row];
+    }
+    rhs.iter().all(|c| c.re.is_finite() && c.im.is_finite())
 }
 
 /// Settings of [`track`].
@@ -141,7 +194,9 @@ pub struct TrackSettings {
     pub max_steps: usize,
     /// A path whose $\lvert z\rvert_\infty$ passes this goes to infinity. Default 1e8.
     pub infinity: f64,
-    /// An endpoint with $\sigma_{\min}/\sigma_{\max}(F_z)$ below this is singular. Default 1e-10.
+    /// An endpoint with $\sigma_{\min}/\sigma_{\max}(F_z)$ below this is singular. Default 1e-7:
+    /// a double root is reached only to $\sqrt\varepsilon$, where its condition is about
+    /// $\sqrt\varepsilon \approx 1.5\times 10^{-8}$.
     pub singular: f64,
     /// A path that stalls within this of $s = 1$ is finished by Newton at $s = 1$ (a singular
     /// endpoint). Default 1e-3.
@@ -156,7 +211,7 @@ impl Default for TrackSettings {
             min_step: 1e-12,
             max_steps: 20_000,
             infinity: 1e8,
-            singular: 1e-10,
+            singular: 1e-7,
             endgame: 1e-3,
         }
     }
@@ -206,7 +261,8 @@ struct Segment {
     at_s: Forms,
     s: f64,
     f: DVector<C64>,
-    jacobian: DMatrix<C64>,
+    jacobian: Vec<C64>,
+    scratch: Vec<C64>,
 }
 
 impl Segment {
@@ -218,27 +274,24 @@ impl Segment {
             Forms::read(system, &mid),
             Forms::read(system, to),
         );
-        let terms = [
-            Forms::combine([1.0, 0.0, 0.0], [&f0, &fh, &f1]),
-            Forms::combine([-3.0, 4.0, -1.0], [&f0, &fh, &f1]),
-            Forms::combine([2.0, -4.0, 2.0], [&f0, &fh, &f1]),
-        ];
+        let mut terms = [f0.clone(), f0.clone(), f0.clone()];
+        terms[1].combine([-3.0, 4.0, -1.0], [&f0, &fh, &f1]);
+        terms[2].combine([2.0, -4.0, 2.0], [&f0, &fh, &f1]);
         Self {
             at_s: f0,
             terms,
             s: 0.0,
             f: DVector::zeros(n),
-            jacobian: DMatrix::zeros(n, n),
+            jacobian: vec![ZERO; n * n],
+            scratch: vec![ZERO; n],
         }
     }
 
-    /// The forms at `s` (cached for the last `s`).
+    /// The forms at `s` (kept for the last `s`).
     fn move_to(&mut self, s: f64) {
         if s.to_bits() != self.s.to_bits() {
-            self.at_s = Forms::combine(
-                [1.0, s, s * s],
-                [&self.terms[0], &self.terms[1], &self.terms[2]],
-            );
+            let [q0, q1, q2] = &self.terms;
+            self.at_s.combine([1.0, s, s * s], [q0, q1, q2]);
             self.s = s;
         }
     }
@@ -246,7 +299,19 @@ impl Segment {
     /// $F$ and $F_z$ at $(z, s)$.
     fn at(&mut self, z: &DVector<C64>, s: f64) {
         self.move_to(s);
-        self.at_s.at(z, &mut self.f, &mut self.jacobian);
+        self.at_s.at(
+            z.as_slice(),
+            self.f.as_mut_slice(),
+            Some(&mut self.jacobian),
+        );
+    }
+
+    /// $F_z^{-1} r$ at the last point evaluated; `None` when singular.
+    fn solve(&mut self, mut rhs: DVector<C64>) -> Option<DVector<C64>> {
+        let n = rhs.len();
+        self.scratch.clear();
+        self.scratch.extend_from_slice(&self.jacobian);
+        solve_in_place(&mut self.scratch, rhs.as_mut_slice(), n).then_some(rhs)
     }
 
     /// $\dot z = -F_z^{-1}\,\partial_s F$ at $(z, s)$, with $\partial_s F = Q_1(z) + 2s\,Q_2(z)$
@@ -254,23 +319,25 @@ impl Segment {
     fn tangent(&mut self, z: &DVector<C64>, s: f64) -> Option<DVector<C64>> {
         let n = z.len();
         let (mut d1, mut d2) = (DVector::zeros(n), DVector::zeros(n));
-        self.terms[1].value(z, &mut d1);
-        self.terms[2].value(z, &mut d2);
+        self.terms[1].at(z.as_slice(), d1.as_mut_slice(), None);
+        self.terms[2].at(z.as_slice(), d2.as_mut_slice(), None);
         let ds = d1 + d2 * C64::new(2.0 * s, 0.0);
         self.at(z, s);
-        let v = self.jacobian.clone().lu().solve(&(-ds))?;
-        v.iter()
-            .all(|c| c.re.is_finite() && c.im.is_finite())
-            .then_some(v)
+        self.solve(-ds)
     }
 
     /// One Newton step at $(z, s)$: the correction.
     fn newton(&mut self, z: &DVector<C64>, s: f64) -> Option<DVector<C64>> {
         self.at(z, s);
-        let d = self.jacobian.clone().lu().solve(&(-&self.f))?;
-        d.iter()
-            .all(|c| c.re.is_finite() && c.im.is_finite())
-            .then_some(d)
+        let rhs = -&self.f;
+        self.solve(rhs)
+    }
+
+    /// $\sigma_{\min}/\sigma_{\max}$ of $F_z$ at the last point evaluated.
+    fn condition(&self) -> f64 {
+        let n = self.f.len();
+        let sv = DMatrix::from_row_slice(n, n, &self.jacobian).singular_values();
+        sv.min() / sv.max().max(1e-300)
     }
 }
 
@@ -451,28 +518,34 @@ fn endgame(
     (norm(&segment.f) <= 1e-10 * scale).then(|| endpoint(segment, z, settings))
 }
 
-/// The endpoint refined by up to eight Newton steps at $s = 1$ and classed by the condition of
-/// $F_z$ there.
+/// The endpoint refined by up to eight Newton steps at $s = 1$ and classed: regular when
+/// Newton's last step is below 1e-10 of the endpoint and the condition of $F_z$ there is above
+/// [`TrackSettings::singular`], singular otherwise.
 fn endpoint(segment: &mut Segment, mut z: DVector<C64>, settings: &TrackSettings) -> Endpoint {
+    let mut last = f64::INFINITY;
     for _ in 0..8 {
         let Some(d) = segment.newton(&z, 1.0) else {
             break;
         };
         z += &d;
-        if norm(&d) <= 1e-15 * norm(&z).max(1.0) {
+        last = norm(&d);
+        if last <= 1e-15 * norm(&z).max(1.0) {
             break;
         }
     }
     segment.at(&z, 1.0);
-    let sv = segment.jacobian.clone().singular_values();
-    let condition = sv.min() / sv.max().max(1e-300);
+    // Newton converges quadratically to a nonsingular root (within the eight steps from the
+    // tracker's 1e-9, to the rounding of an ill-conditioned one) and linearly to a multiple
+    // one, whose last step stays far above that.
+    let quadratic = last <= 1e-10 * norm(&z).max(1.0);
+    let condition = segment.condition();
     if !z.iter().all(|c| c.re.is_finite() && c.im.is_finite()) {
         Endpoint::Failed {
             s: 1.0,
             reason: "the endpoint does not evaluate",
             at: z,
         }
-    } else if condition >= settings.singular {
+    } else if condition >= settings.singular && quadratic {
         Endpoint::Regular(z)
     } else {
         Endpoint::Singular(z)
