@@ -239,49 +239,24 @@ impl AlgebraicClosure<'_> {
         let model = self.0;
         let motion = q_i - model.actuator(i).1.offset;
         let at = |p: &Vector3<f64>| (pose * Point3::from(*p)).coords;
-        let (c, e, length, d_elbow, d_length) = match model.classes[i] {
-            LegClass::Distance {
-                base,
-                platform,
-                home_length,
-                sign,
-            } => (
-                at(&platform),
-                base,
-                home_length + sign * motion,
-                Vector3::zeros(),
-                sign,
-            ),
-            LegClass::RevoluteArm {
-                axis,
-                foot,
-                arm,
-                wrist,
-                rod,
-            } => {
-                let arm = Rotation3::from_axis_angle(&Unit::new_unchecked(axis), motion) * arm;
-                (at(&wrist), foot + arm, rod, axis.cross(&arm), 0.0)
+        match model.classes[i].sphere(motion) {
+            Some(sphere) => {
+                let c = at(&sphere.point);
+                AlgebraicLeg {
+                    point: c,
+                    rod: c - sphere.center,
+                    length: sphere.length,
+                    d_elbow: sphere.d_center,
+                    d_length: sphere.d_length,
+                }
             }
-            LegClass::PrismaticArm {
-                axis,
-                elbow,
-                wrist,
-                rod,
-            } => (at(&wrist), elbow + axis * motion, rod, axis, 0.0),
-            LegClass::Numeric => (
-                Vector3::repeat(f64::NAN),
-                Vector3::zeros(),
-                f64::NAN,
-                Vector3::zeros(),
-                f64::NAN,
-            ),
-        };
-        AlgebraicLeg {
-            point: c,
-            rod: c - e,
-            length,
-            d_elbow,
-            d_length,
+            None => AlgebraicLeg {
+                point: Vector3::repeat(f64::NAN),
+                rod: Vector3::repeat(f64::NAN),
+                length: f64::NAN,
+                d_elbow: Vector3::zeros(),
+                d_length: f64::NAN,
+            },
         }
     }
 

@@ -233,7 +233,7 @@ pub(crate) fn xml(text: &str) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use crate::chain::JointValue;
     use crate::model::RobotModel;
     use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
@@ -248,7 +248,8 @@ mod tests {
         axis: Vector3<f64>,
     }
 
-    fn vector(text: &str) -> Vector3<f64> {
+    /// Three numbers of an XML attribute (`xyz="1 2 3"`).
+    pub(crate) fn vector(text: &str) -> Vector3<f64> {
         let v: Vec<f64> = text
             .split_whitespace()
             .map(|t| t.parse().unwrap())

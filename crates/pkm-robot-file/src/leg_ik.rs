@@ -16,7 +16,7 @@
 //! Anything else is solved numerically (damped Newton on the leg's SE(3) closure).
 
 use crate::chain::{Joint, LegChain};
-use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Rotation3, Unit, Vector3};
 
 /// How a leg's actuator is found from the platform pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,6 +48,19 @@ pub(crate) enum LegClass {
     },
     /// No closed form: damped Newton.
     Numeric,
+}
+
+/// With its actuator at a given motion, a closed-form leg holds its platform point `point`
+/// (platform frame) at distance `length` from `center` (base frame): the base point of a
+/// distance leg, or an arm's elbow moved by the actuator; with the derivatives of the centre
+/// and the length in the motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Sphere {
+    pub point: Vector3<f64>,
+    pub center: Vector3<f64>,
+    pub length: f64,
+    pub d_center: Vector3<f64>,
+    pub d_length: f64,
 }
 
 /// Why a closed form has no solution: the discriminant that went negative.
@@ -91,6 +104,53 @@ impl LegClass {
             Self::RevoluteArm { .. } | Self::PrismaticArm { .. } => 2,
             Self::Distance { .. } | Self::Numeric => 1,
         }
+    }
+
+    /// The leg's sphere with its actuator at `motion` (`None` for a numerical leg).
+    pub(crate) fn sphere(&self, motion: f64) -> Option<Sphere> {
+        Some(match *self {
+            Self::Distance {
+                base,
+                platform,
+                home_length,
+                sign,
+            } => Sphere {
+                point: platform,
+                center: base,
+                length: home_length + sign * motion,
+                d_center: Vector3::zeros(),
+                d_length: sign,
+            },
+            Self::RevoluteArm {
+                axis,
+                foot,
+                arm,
+                wrist,
+                rod,
+            } => {
+                let arm = Rotation3::from_axis_angle(&Unit::new_unchecked(axis), motion) * arm;
+                Sphere {
+                    point: wrist,
+                    center: foot + arm,
+                    length: rod,
+                    d_center: axis.cross(&arm),
+                    d_length: 0.0,
+                }
+            }
+            Self::PrismaticArm {
+                axis,
+                elbow,
+                wrist,
+                rod,
+            } => Sphere {
+                point: wrist,
+                center: elbow + axis * motion,
+                length: rod,
+                d_center: axis,
+                d_length: 0.0,
+            },
+            Self::Numeric => return None,
+        })
     }
 
     /// The actuator motion from home (rad or m) at platform pose `pose` on `branch`.

@@ -215,17 +215,10 @@ fn inertial_body(name: &str, carrier: &Vector3<f64>, body: &Body) -> String {
 #[cfg(test)]
 mod tests {
     use crate::chain::JointValue;
+    use crate::export::tests::vector;
     use crate::model::RobotModel;
     use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
     use std::collections::HashMap;
-
-    fn vector(text: &str) -> Vector3<f64> {
-        let v: Vec<f64> = text
-            .split_whitespace()
-            .map(|t| t.parse().unwrap())
-            .collect();
-        Vector3::new(v[0], v[1], v[2])
-    }
 
     /// Every body's world frame for the joint values `values` (hinge and slide by name, ball
     /// joints by rotation; missing: 0), reading the MJCF back with an XML parser and composing

@@ -368,33 +368,8 @@ impl RobotModel {
         for (i, class) in self.classes.iter().enumerate() {
             let actuator = self.legs[i].sole_actuator()?;
             let motion = q[i] - actuator.offset;
-            let (b, c, length) = match *class {
-                LegClass::Distance {
-                    base,
-                    platform,
-                    home_length,
-                    sign,
-                } => (base, platform, home_length + sign * motion),
-                LegClass::RevoluteArm {
-                    axis,
-                    foot,
-                    arm,
-                    wrist,
-                    rod,
-                } => (
-                    foot + Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), motion)
-                        * arm,
-                    wrist,
-                    rod,
-                ),
-                LegClass::PrismaticArm {
-                    axis,
-                    elbow,
-                    wrist,
-                    rod,
-                } => (elbow + axis * motion, wrist, rod),
-                LegClass::Numeric => return None,
-            };
+            let sphere = class.sphere(motion)?;
+            let (b, c, length) = (sphere.center, sphere.point, sphere.length);
             if !(length >= 0.0) {
                 return None;
             }

@@ -16,6 +16,30 @@ fn same_pose(model: &RobotModel, a: &Configuration, b: &Configuration) -> bool {
             < 1e-6
 }
 
+/// Every mode of the multistart alone (`starts` seeded starts) is among `configurations`.
+fn assert_multistart_modes_among(
+    model: &RobotModel,
+    q: &[f64],
+    configurations: &[Configuration],
+    starts: usize,
+) {
+    let settings = EnumerationSettings {
+        starts,
+        method: pkm_robot_file::ModeSearch::Multistart,
+        ..Default::default()
+    };
+    for m in model.assembly_modes(q, &settings).unwrap() {
+        assert!(
+            configurations
+                .iter()
+                .any(|c| same_pose(model, c, &m.configuration)),
+            "{}: the multistart's mode {:?} is not among the homotopy's",
+            model.name(),
+            m.task
+        );
+    }
+}
+
 /// Every configuration closes the robot: its actuators are `q` to 1e-9.
 fn assert_closed(model: &RobotModel, q: &[f64], configurations: &[Configuration]) {
     for c in configurations {
@@ -49,19 +73,7 @@ fn dietmaier_design_has_forty_real_of_forty() {
     assert!(r.failed.is_empty(), "{r:?}");
     assert_eq!(all.configurations.len(), 40);
     assert_closed(&model, &q, &all.configurations);
-    let settings = EnumerationSettings {
-        starts: 300,
-        ..Default::default()
-    };
-    for m in model.assembly_modes(&q, &settings).unwrap() {
-        assert!(
-            all.configurations
-                .iter()
-                .any(|c| same_pose(&model, c, &m.configuration)),
-            "the multistart's mode {:?} is not among the homotopy's",
-            m.task
-        );
-    }
+    assert_multistart_modes_among(&model, &q, &all.configurations, 300);
 }
 
 /// The generic counts of each architecture (five-bar and Deltas 2, 3-RPR 6 (Gosselin,
@@ -104,19 +116,7 @@ fn generic_counts_and_the_multistart_modes_on_every_supported_file() {
             "{file}: every path accounted for"
         );
         assert_closed(&model, &q, &all.configurations);
-        let settings = EnumerationSettings {
-            starts: 200,
-            ..Default::default()
-        };
-        for m in model.assembly_modes(&q, &settings).unwrap() {
-            assert!(
-                all.configurations
-                    .iter()
-                    .any(|c| same_pose(&model, c, &m.configuration)),
-                "{file}: the multistart's mode {:?} is not among the homotopy's",
-                m.task
-            );
-        }
+        assert_multistart_modes_among(&model, &q, &all.configurations, 200);
     }
 }
 
