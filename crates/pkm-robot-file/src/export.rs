@@ -248,6 +248,17 @@ pub(crate) mod tests {
         axis: Vector3<f64>,
     }
 
+    /// The file's masses: every leg body and the platform (kg).
+    pub(crate) fn total_mass(model: &RobotModel) -> f64 {
+        model
+            .legs
+            .iter()
+            .flat_map(|l| &l.bodies)
+            .map(|b| b.mass)
+            .sum::<f64>()
+            + model.mass.platform.map_or(0.0, |p| p.mass)
+    }
+
     /// Three numbers of an XML attribute (`xyz="1 2 3"`).
     pub(crate) fn vector(text: &str) -> Vector3<f64> {
         let v: Vec<f64> = text
@@ -396,13 +407,7 @@ pub(crate) mod tests {
                 .filter(|n| n.has_tag_name("mass"))
                 .map(|n| n.attribute("value").unwrap().parse::<f64>().unwrap())
                 .sum();
-            let file_mass: f64 = model
-                .legs
-                .iter()
-                .flat_map(|l| &l.bodies)
-                .map(|b| b.mass)
-                .sum::<f64>()
-                + model.mass.platform.map_or(0.0, |p| p.mass);
+            let file_mass = total_mass(&model);
             assert!(
                 (urdf_mass - file_mass).abs() < 1e-12 * file_mass,
                 "{}",

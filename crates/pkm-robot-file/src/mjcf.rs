@@ -215,7 +215,7 @@ fn inertial_body(name: &str, carrier: &Vector3<f64>, body: &Body) -> String {
 #[cfg(test)]
 mod tests {
     use crate::chain::JointValue;
-    use crate::export::tests::vector;
+    use crate::export::tests::{total_mass, vector};
     use crate::model::RobotModel;
     use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
     use std::collections::HashMap;
@@ -349,13 +349,7 @@ mod tests {
             let mjcf_mass: f64 = element("inertial")
                 .map(|n| n.attribute("mass").unwrap().parse::<f64>().unwrap())
                 .sum();
-            let file_mass: f64 = model
-                .legs
-                .iter()
-                .flat_map(|l| &l.bodies)
-                .map(|b| b.mass)
-                .sum::<f64>()
-                + model.mass.platform.map_or(0.0, |p| p.mass);
+            let file_mass = total_mass(&model);
             assert!(
                 (mjcf_mass - file_mass).abs() < 1e-12 * file_mass,
                 "{}",
