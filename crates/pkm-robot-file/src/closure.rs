@@ -10,7 +10,7 @@
 use crate::chain::{JointValue, stack};
 use crate::lm::LeastSquares;
 use crate::model::RobotModel;
-use crate::pose::{PoseCoordinates, hybrid_rates, platform_pose};
+use crate::pose::{OrientationKind, PoseCoordinates, hybrid_rates, platform_pose};
 use nalgebra::{DMatrix, DVector, Point3, Rotation3, Vector3};
 use pkm_traits::KinematicsError;
 
@@ -235,4 +235,18 @@ impl LeastSquares for ClosureProblem<'_> {
         }
         next
     }
+}
+
+/// Whether two configurations have the same platform pose (rotations compared as matrices, so
+/// two coordinate sets of one rotation are one mode).
+pub(crate) fn same_pose(
+    kind: OrientationKind,
+    a: &Configuration,
+    b: &Configuration,
+    tol: f64,
+) -> bool {
+    let position = (0..3).all(|k| (a.pose[k] - b.pose[k]).abs() < tol);
+    let rotation =
+        |c: &Configuration| kind.rotation(&Vector3::new(c.pose[3], c.pose[4], c.pose[5]));
+    position && (rotation(a).matrix() - rotation(b).matrix()).amax() < tol
 }

@@ -3,13 +3,12 @@
 //! labelled by continuation back to the home configuration (never by a determinant's sign).
 
 use crate::chain::JointValue;
-use crate::closure::{ClosureProblem, Configuration, LegResidual};
+use crate::closure::{ClosureProblem, Configuration, LegResidual, same_pose};
 use crate::jacobian::SingularityMargins;
 use crate::lm::{SolverSettings, levenberg_marquardt};
 use crate::model::RobotModel;
 use crate::polynomial::HomotopyReport;
 use crate::pose::CoordinateRole;
-use crate::pose::OrientationKind;
 use crate::self_motion::{SINGULAR_MARGIN, SelfMotion};
 use nalgebra::{Rotation3, Vector3};
 use pkm_traits::{InvalidInput, KinematicsError};
@@ -398,18 +397,4 @@ impl RobotModel {
         }
         c
     }
-}
-
-/// Whether two configurations have the same platform pose (rotations compared as matrices, so
-/// two coordinate sets of one rotation are one mode).
-pub(crate) fn same_pose(
-    kind: OrientationKind,
-    a: &Configuration,
-    b: &Configuration,
-    tol: f64,
-) -> bool {
-    let position = (0..3).all(|k| (a.pose[k] - b.pose[k]).abs() < tol);
-    let rotation =
-        |c: &Configuration| kind.rotation(&Vector3::new(c.pose[3], c.pose[4], c.pose[5]));
-    position && (rotation(a).matrix() - rotation(b).matrix()).amax() < tol
 }

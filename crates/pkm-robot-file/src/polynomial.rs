@@ -34,8 +34,7 @@
 //! patterns are not written here: [`RobotModel::polynomial_form`] says why, and the
 //! multistart serves them.
 
-use crate::closure::Configuration;
-use crate::fk::same_pose;
+use crate::closure::{Configuration, same_pose};
 use crate::leg_ik::LegClass;
 use crate::model::RobotModel;
 use crate::pose::{CoordinateRole, OrientationKind};
