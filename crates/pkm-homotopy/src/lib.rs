@@ -26,6 +26,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 use rand::Rng;
+use rayon::prelude::*;
 
 /// A complex number.
 pub type C64 = Complex<f64>;
@@ -460,6 +461,21 @@ pub fn track<S: QuadraticFamily + ?Sized>(
     }
 }
 
+/// [`track`] of every start, in parallel (rayon), in the order of `starts`: the same bits
+/// whatever the number of threads (each path is computed alone).
+pub fn track_many<S: QuadraticFamily + Sync + ?Sized>(
+    system: &S,
+    starts: &[DVector<C64>],
+    from: &[C64],
+    to: &[C64],
+    settings: &TrackSettings,
+) -> Vec<Path> {
+    starts
+        .par_iter()
+        .map(|z0| track(system, z0, from, to, settings))
+        .collect()
+}
+
 /// [`track`] from `from` to `to` through the parameters `via` (two segments): the detour that
 /// takes a path around a near-singularity of the straight segment (a random complex `via`
 /// avoids the discriminant with probability one). Steps add up; the first segment's failure
@@ -596,7 +612,7 @@ pub struct Monodromy {
 /// Every solution of $F(z; p_0)$ that loops from the solution `start` reach (module
 /// documentation): loops $p_0 \to p_1 \to p_2 \to p_0$ through parameters drawn by `draw`
 /// (random complex points of the same scale as $p_0$).
-pub fn monodromy<S: QuadraticFamily + ?Sized, R: Rng>(
+pub fn monodromy<S: QuadraticFamily + Sync + ?Sized, R: Rng>(
     system: &S,
     parameters: &[C64],
     start: DVector<C64>,
@@ -623,24 +639,28 @@ pub fn monodromy<S: QuadraticFamily + ?Sized, R: Rng>(
         };
         let (p1, p2) = (draw(), draw());
         let before = solutions.len();
-        for k in 0..before {
-            let around = [parameters, &p1, &p2, parameters];
-            let mut z = solutions[k].clone();
-            let mut closed = true;
-            for leg in around.windows(2) {
-                match track(system, &z, leg[0], leg[1], &settings.track).end {
-                    Endpoint::Regular(end) => z = end,
-                    _ => {
-                        closed = false;
-                        break;
+        // Every known solution around the loop, in parallel; the new endpoints then added in
+        // order, so the result does not depend on the number of threads.
+        let around = [parameters, &p1, &p2, parameters];
+        let ends: Vec<Option<DVector<C64>>> = solutions
+            .par_iter()
+            .map(|start| {
+                let mut z = start.clone();
+                for leg in around.windows(2) {
+                    match track(system, &z, leg[0], leg[1], &settings.track).end {
+                        Endpoint::Regular(end) => z = end,
+                        _ => return None,
                     }
                 }
+                Some(z)
+            })
+            .collect();
+        for z in ends.into_iter().flatten() {
+            if solutions.len() >= settings.max_solutions {
+                break;
             }
-            if closed && !contains(&solutions, &z, settings.distinct) {
+            if !contains(&solutions, &z, settings.distinct) {
                 solutions.push(z);
-                if solutions.len() >= settings.max_solutions {
-                    break;
-                }
             }
         }
         quiet = if solutions.len() > before {
@@ -733,6 +753,30 @@ mod tests {
             let expected = C64::from_polar(2.0, k * 2.0 * std::f64::consts::PI / 5.0);
             assert!((root - expected).norm() < 1e-12, "{root} vs {expected}");
         }
+    }
+
+    /// The same bits on one thread and on two: the monodromy and `track_many` of the quintic
+    /// run in rayon pools of each size.
+    #[test]
+    fn the_same_bits_whatever_the_thread_count() {
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let p0 = [C64::new(0.3, 0.7)];
+                let x = p0[0].powf(0.2);
+                let start = DVector::from_vec(vec![x, x * x, x * x * x * x]);
+                let mut rng = ChaCha8Rng::seed_from_u64(7);
+                let settings = MonodromySettings::default();
+                let found = monodromy(&Quintic, &p0, start, &settings, &mut rng);
+                let target = [C64::new(32.0, 0.0)];
+                let paths = track_many(&Quintic, &found.solutions, &p0, &target, &settings.track);
+                (found.solutions, paths)
+            })
+        };
+        assert_eq!(run(1), run(2));
     }
 
     /// The circle and the line: two real intersections at a real target, two complex ones

@@ -187,7 +187,8 @@ fn inverse_dynamics(c: &mut Criterion) {
 }
 
 /// Every assembly mode of Dietmaier's Stewart–Gough design (40 real) by homotopy: 40 paths from
-/// the cached generic solutions (the monodromy runs once, before the measurement).
+/// the cached generic solutions (the monodromy runs once, before the measurement), on the
+/// machine's threads and on one.
 fn assembly_modes(c: &mut Criterion) {
     let path = format!(
         "{}/../../examples/robots/dietmaier_40.toml",
@@ -199,14 +200,14 @@ fn assembly_modes(c: &mut Criterion) {
     assert_eq!(model.forward_kinematics_all(&q).unwrap().report.real, 40);
     let mut group = c.benchmark_group("robot_file/assembly_modes");
     group.sample_size(10);
-    group.bench_function("dietmaier_40/homotopy", |b| {
-        b.iter(|| {
-            model
-                .forward_kinematics_all(black_box(&q))
-                .unwrap()
-                .report
-                .real
-        })
+    let all = |q: &[f64]| model.forward_kinematics_all(q).unwrap().report.real;
+    group.bench_function("dietmaier_40/homotopy", |b| b.iter(|| all(black_box(&q))));
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    group.bench_function("dietmaier_40/homotopy_1_thread", |b| {
+        b.iter(|| one.install(|| all(black_box(&q))))
     });
     group.finish();
 }

@@ -561,11 +561,7 @@ impl RobotModel {
             ..settings
         };
         let p0 = &generic.parameters;
-        let mut paths: Vec<_> = generic
-            .solutions
-            .iter()
-            .map(|z0| pkm_homotopy::track(system, z0, p0, target, &settings))
-            .collect();
+        let mut paths = pkm_homotopy::track_many(system, &generic.solutions, p0, target, &settings);
         let scale = target.iter().map(|v| v.norm()).fold(1.0, f64::max);
         for round in 0..3u64 {
             let redo: Vec<usize> = (0..paths.len())
