@@ -248,6 +248,17 @@ pub(crate) mod tests {
         axis: Vector3<f64>,
     }
 
+    /// The six files the exports are checked on: distance, arm and numerical legs, spherical
+    /// joints, a passive leg, two actuators in a leg.
+    pub(crate) const EXPORT_FILES: [&str; 6] = [
+        include_str!("../../../examples/robots/stewart_gough.toml"),
+        include_str!("../../../examples/robots/rotary_delta.toml"),
+        include_str!("../../../examples/robots/three_prs.toml"),
+        include_str!("../../../examples/robots/tricept.toml"),
+        include_str!("../../../examples/robots/three_ppsr.toml"),
+        include_str!("../../../examples/robots/five_bar.toml"),
+    ];
+
     /// The file's masses: every leg body and the platform (kg).
     pub(crate) fn total_mass(model: &RobotModel) -> f64 {
         model
@@ -349,15 +360,7 @@ pub(crate) mod tests {
     /// actuators in a leg); its masses sum to the file's.
     #[test]
     fn the_exported_tree_closes_its_loops_and_keeps_the_masses() {
-        let files = [
-            include_str!("../../../examples/robots/stewart_gough.toml"),
-            include_str!("../../../examples/robots/rotary_delta.toml"),
-            include_str!("../../../examples/robots/three_prs.toml"),
-            include_str!("../../../examples/robots/tricept.toml"),
-            include_str!("../../../examples/robots/three_ppsr.toml"),
-            include_str!("../../../examples/robots/five_bar.toml"),
-        ];
-        for text in files {
+        for text in EXPORT_FILES {
             let model = RobotModel::from_toml(text).unwrap();
             let export = model.to_urdf();
             let legs = model.legs.len();

@@ -215,7 +215,7 @@ fn inertial_body(name: &str, carrier: &Vector3<f64>, body: &Body) -> String {
 #[cfg(test)]
 mod tests {
     use crate::chain::JointValue;
-    use crate::export::tests::{total_mass, vector};
+    use crate::export::tests::{EXPORT_FILES, total_mass, vector};
     use crate::model::RobotModel;
     use nalgebra::{Isometry3, Point3, Translation3, Unit, UnitQuaternion, Vector3};
     use std::collections::HashMap;
@@ -280,15 +280,7 @@ mod tests {
     /// leg).
     #[test]
     fn the_exported_mjcf_closes_its_loops_and_keeps_the_masses() {
-        let files = [
-            include_str!("../../../examples/robots/stewart_gough.toml"),
-            include_str!("../../../examples/robots/rotary_delta.toml"),
-            include_str!("../../../examples/robots/three_prs.toml"),
-            include_str!("../../../examples/robots/tricept.toml"),
-            include_str!("../../../examples/robots/three_ppsr.toml"),
-            include_str!("../../../examples/robots/five_bar.toml"),
-        ];
-        for text in files {
+        for text in EXPORT_FILES {
             let model = RobotModel::from_toml(text).unwrap();
             let mjcf = model.to_mjcf();
             let doc = roxmltree::Document::parse(&mjcf).unwrap();

@@ -480,6 +480,9 @@ fn the_dynamics_take_the_whole_float_range() {
                 if let Ok(d) = model.inverse_dynamics(x, v, a, mode) {
                     assert!(finite(d.efforts.as_slice()), "{file}: {s}");
                 }
+                if let Ok(e) = model.actuator_efforts(x, v, a, mode) {
+                    assert!(finite(e.as_slice()), "{file}: {s}");
+                }
                 if let Ok(d) = model.forward_dynamics(x, v, &vec![0.0; m], mode) {
                     assert!(finite(d.acceleration.as_slice()), "{file}: {s}");
                 }

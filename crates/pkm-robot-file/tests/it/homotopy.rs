@@ -263,3 +263,41 @@ fn every_mode_of_a_20000_start_multistart_is_found() {
         }
     }
 }
+
+/// The whole float range into the homotopy on every supported file (each actuator in turn at
+/// NaN, ±infinity, ±1e300 and ±subnormals, the others at home), and every example file's
+/// MJCF read back as XML: a typed error, or configurations that close the robot, never a
+/// panic or a NaN pose.
+#[test]
+fn the_homotopy_and_the_exports_take_the_whole_float_range() {
+    let specials = [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1e300,
+        -1e300,
+        5e-324,
+        -5e-324,
+    ];
+    for file in common::all_files() {
+        let model = common::robot(&file);
+        assert!(
+            roxmltree::Document::parse(&model.to_mjcf()).is_ok(),
+            "{file}"
+        );
+        if model.homotopy_unsupported().is_some() {
+            continue;
+        }
+        let home = model.home_actuators();
+        for &s in &specials {
+            let mut q = home.clone();
+            q[0] = s;
+            if let Ok(all) = model.forward_kinematics_all(&q) {
+                for c in &all.configurations {
+                    assert!(c.pose().iter().all(|v| v.is_finite()), "{file}: {s}");
+                }
+                assert_closed(&model, &q, &all.configurations);
+            }
+        }
+    }
+}
