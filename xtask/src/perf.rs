@@ -1,8 +1,9 @@
 //! `cargo xtask perf`: the figures of `docs/performance.md`, reproduced in one window.
 //!
-//! Runs the criterion benches of the root package (`cargo bench --bench main`), the robot-file and study benches, and the peers of
-//! `../shared/peers` (NumPy's Delta design-index kernel, Pinocchio's inverse and forward
-//! dynamics of the NUWAR and of the Stewart–Gough exported from its robot file) back to back, then writes one table of pkm's figures and one of the
+//! Runs the criterion benches of the root package (`cargo bench --bench main`), the robot-file
+//! and study benches, and the peers (`../shared/peers`: NumPy's Delta design-index kernel,
+//! Pinocchio's inverse and forward dynamics of the NUWAR; `benches/peers`: Pinocchio's of the
+//! Stewart–Gough exported from its robot file) back to back, then writes one table of pkm's figures and one of the
 //! ratios to the peers, each row stamped with the date, the commit and the load average of the
 //! window (`target/perf/perf.md`, `perf.json`; `--update-docs` splices the tables into
 //! `docs/performance.md`). A shared machine's absolute times drift; the ratios measured in the
@@ -278,12 +279,13 @@ fn median_of(estimates: &Value) -> Option<[f64; 3]> {
 struct Peer {
     /// Its path in the peers folder, or in the repository when `in_repository`.
     script: &'static str,
-    /// A script of the repository that compares pkm's Python package with the NumPy peer
-    /// (it needs `pkm` importable by `--python` and is given the peer's path).
+    /// A script of the repository (`benches/`): without a robot file, one that compares pkm's
+    /// Python package with the NumPy peer (it needs `pkm` importable by `--python` and is given
+    /// the NumPy peer's path).
     in_repository: bool,
-    /// Its arguments (a peers-folder script); a robot file of `examples/robots/` is given by its
-    /// path in the repository. A script with a robot file calls the `pkm` command, built in the
-    /// release profile and named in `PKM_COMMAND`.
+    /// The robot file of `examples/robots/` the script times (given as `--moving --time PATH`).
+    /// A script with a robot file calls the `pkm` command, built in the release profile and
+    /// named in `PKM_COMMAND`.
     robot_file: Option<&'static str>,
     /// (figure id, JSON pointer to the best value, pointer to the median value, unit)
     figures: &'static [(&'static str, &'static str, &'static str, &'static str)],
@@ -335,8 +337,8 @@ const PEERS: [Peer; 4] = [
         ],
     },
     Peer {
-        script: "pin_robot_file.py",
-        in_repository: false,
+        script: "benches/peers/pin_robot_file.py",
+        in_repository: true,
         robot_file: Some("examples/robots/stewart_gough.toml"),
         figures: &[
             (
@@ -381,16 +383,15 @@ fn run_peers(root: &Path, args: &PerfArgs) -> (Vec<PeerFigure>, Vec<String>) {
     let (mut figures, mut skipped) = (Vec::new(), Vec::new());
     for peer in &PEERS {
         let robot = peer.robot_file.map(|r| root.join(r));
-        let (script, peer_args) = match (&robot, peer.in_repository) {
-            (_, true) => (
-                root.join(peer.script),
-                vec!["--peer".as_ref(), numpy_peer.as_os_str()],
-            ),
-            (Some(robot), false) => (
-                dir.join(peer.script),
-                vec!["--moving".as_ref(), "--time".as_ref(), robot.as_os_str()],
-            ),
-            (None, false) => (dir.join(peer.script), vec![]),
+        let script = if peer.in_repository {
+            root.join(peer.script)
+        } else {
+            dir.join(peer.script)
+        };
+        let peer_args = match (&robot, peer.in_repository) {
+            (Some(robot), _) => vec!["--moving".as_ref(), "--time".as_ref(), robot.as_os_str()],
+            (None, true) => vec!["--peer".as_ref(), numpy_peer.as_os_str()],
+            (None, false) => vec![],
         };
         let pkm = match robot.as_ref().map(|_| build_pkm_command(root)).transpose() {
             Ok(pkm) => pkm,
