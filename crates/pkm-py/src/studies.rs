@@ -1,5 +1,5 @@
 //! The studies of the `pkm` command as functions: `workspace`, `sweep`, `pareto`, `merge`,
-//! `optimize` and `dynamics`. Each takes the study as a dict or a TOML/JSON file path
+//! `optimize`, `task`, `dynamics` and `assembly`. Each takes the study as a dict or a TOML/JSON file path
 //! ([`Source`]), runs the study layer's function of the same name off the main thread
 //! ([`bridge`]) and returns the outcome dict of [`convert::outcome`].
 //!
@@ -28,6 +28,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(optimize, m)?)?;
     m.add_function(wrap_pyfunction!(task, m)?)?;
     m.add_function(wrap_pyfunction!(dynamics, m)?)?;
+    m.add_function(wrap_pyfunction!(assembly, m)?)?;
     Ok(())
 }
 
@@ -91,6 +92,13 @@ fn optimize(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> Py
 }
 
 /// The sweep study (`pkm sweep`) of the whole grid, or of the shard `(i, n)` (1 ≤ i ≤ n).
+/// `pkm.assembly`: [`pkm_study::assembly`] on a study dict or TOML path.
+#[pyfunction]
+#[pyo3(signature = (study, progress = None))]
+fn assembly(study: &Bound<'_, PyAny>, progress: Option<&Bound<'_, PyAny>>) -> PyResult<Py<PyAny>> {
+    run(study, progress, pkm_study::assembly)
+}
+
 /// `pkm.task`: [`pkm_study::task`] on a study dict or TOML path.
 #[pyfunction]
 #[pyo3(signature = (study, progress = None))]

@@ -15,7 +15,7 @@ import pkm
 from conftest import EXAMPLES, to_toml
 
 # The command of a study, by the section that names it.
-COMMANDS = ["optimize", "task", "pareto", "sweep", "dynamics"]
+COMMANDS = ["optimize", "task", "pareto", "sweep", "dynamics", "assembly"]
 
 
 def command_of(study):

@@ -120,3 +120,33 @@ def test_the_dynamics_of_a_robot_file_from_python_equals_the_command(tmp_path):
     with pytest.raises(pkm.InvalidInput) as e:
         pkm.dynamics(bare, rows[:, :4], progress=False)
     assert e.value.key_path == "trajectory.positions[0]"
+
+
+def test_every_assembly_mode_of_a_pose_includes_it_and_says_it_is_complete():
+    """pkm.assembly (issue 32): the modes at the actuators of a commanded 3-RPR pose, by
+    homotopy: the report is complete, the pose is one of the modes, and every mode's inverse
+    kinematics gives the actuators back; the table has a row per mode."""
+    pose = [0.02, -0.03, 0.1]
+    study = {
+        "mechanism": {"robot_file": {"file": str(ROBOTS / "three_rpr.toml")}},
+        "assembly": {"poses": [pose], "label": False},
+    }
+    outcome = pkm.assembly(study, progress=False)
+    query = outcome["result"]["queries"][0]
+    assert query["complete"] and query["homotopy"]["paths"] == 6
+    tasks = np.array([m["task"] for m in query["modes"]])
+    assert np.abs(tasks - pose).max(axis=1).min() < 1e-9
+    m = robot("three_rpr.toml")
+    q, inside = m.inverse_kinematics(np.array([pose]))
+    assert np.abs(q[0] - query["actuators"]).max() < 1e-12
+    assert len(outcome["tables"]["modes.csv"]["mode"]) == len(query["modes"])
+
+
+def test_a_refused_assembly_query_names_its_key():
+    study = {
+        "mechanism": {"robot_file": {"file": str(ROBOTS / "three_rpr.toml")}},
+        "assembly": {"actuators": [[0.3, 0.3]]},
+    }
+    with pytest.raises(pkm.InvalidInput) as caught:
+        pkm.assembly(study, progress=False)
+    assert caught.value.key_path == "assembly.actuators[0]", str(caught.value)

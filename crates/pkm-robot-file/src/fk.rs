@@ -18,7 +18,7 @@ use rand_chacha::ChaCha8Rng;
 /// Steps of a continuation in the actuator coordinates.
 const CONTINUATION_STEPS: usize = 16;
 /// Most starts of an enumeration.
-const MAX_STARTS: usize = 100_000;
+pub const MAX_STARTS: usize = 100_000;
 
 /// How [`RobotModel::assembly_modes`] searches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -44,6 +44,10 @@ pub struct EnumerationSettings {
     /// Two solutions are one when their pose coordinates differ by less than this (m, rad).
     /// Default 1e-6: far above the 1e-12 closure tolerance, far below any real separation.
     pub distinct: f64,
+    /// Label every mode by continuation back to the home actuators
+    /// ([`AssemblyMode::home_label`]): a second search at home (unless `q` is home) and a
+    /// continuation per mode. Default true; false leaves every label `None`.
+    pub label: bool,
 }
 
 impl Default for EnumerationSettings {
@@ -53,6 +57,7 @@ impl Default for EnumerationSettings {
             starts: 200,
             seed: 0,
             distinct: 1e-6,
+            label: true,
         }
     }
 }
@@ -66,7 +71,8 @@ pub struct AssemblyMode {
     pub task: Vec<f64>,
     /// Continuation label: `Some(k)` when following the actuators back to home lands on the
     /// home assembly mode enumerated `k`-th at home (0 is the home configuration itself);
-    /// `None` when the path meets a singularity.
+    /// `None` when the path meets a singularity, or when labels were not asked for
+    /// ([`EnumerationSettings::label`]).
     pub home_label: Option<usize>,
     /// The singularity margins there; a mode with a zero margin is a singular solution (an
     /// actuator free at a fixed pose, as the Agile Eye's platform axis on an actuated axis,
@@ -241,7 +247,9 @@ impl RobotModel {
                 .fold(0.0, f64::max)
         };
         found.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
-        let home_modes = if q == self.home_actuators().as_slice() {
+        let home_modes = if !settings.label {
+            Vec::new()
+        } else if q == self.home_actuators().as_slice() {
             found.clone()
         } else {
             let mut at_home = self.searched(&self.home_actuators(), settings)?.0;
@@ -278,9 +286,9 @@ impl RobotModel {
             .zip(self_motion)
             .filter_map(|((c, margins), motion)| {
                 let self_motion = motion?;
-                let home_label = self
-                    .continuation(q, &self.home_actuators(), c.clone())
-                    .ok()
+                let home_label = (settings.label)
+                    .then(|| self.continuation(q, &self.home_actuators(), c.clone()).ok())
+                    .flatten()
                     .and_then(|back| {
                         home_modes
                             .iter()

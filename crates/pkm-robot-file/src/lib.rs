@@ -77,7 +77,7 @@ pub use file::{
     HomeSpec, JointSpec, JointType, LegSpec, MAX_FILE_BYTES, MAX_LEGS, RobotFile, SymmetrySpec,
     check_size,
 };
-pub use fk::{AssemblyMode, AssemblySearch, EnumerationSettings, ModeSearch};
+pub use fk::{AssemblyMode, AssemblySearch, EnumerationSettings, MAX_STARTS, ModeSearch};
 pub use jacobian::{ScrewJacobians, SingularityMargins};
 pub use lm::SolverSettings;
 pub use mass::{Body, MassProperties};

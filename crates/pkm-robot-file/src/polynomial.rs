@@ -457,6 +457,14 @@ impl RobotModel {
         self.polynomial_form().err()
     }
 
+    /// The polynomial form [`RobotModel::forward_kinematics_all`] writes this robot in
+    /// (`HomotopyReport::form`), `None` when it has none.
+    pub fn homotopy_form(&self) -> Option<&'static str> {
+        self.polynomial_form()
+            .ok()
+            .map(|system| system.form.label())
+    }
+
     /// Every assembly mode at actuator coordinates `q` by parameter homotopy (module
     /// documentation): the generic solutions of the robot's architecture (found once by
     /// monodromy, cached) tracked to the robot's parameters; every finite, nonsingular, real

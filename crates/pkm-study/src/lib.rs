@@ -1,5 +1,6 @@
 #![doc = include_str!("../README.md")]
 
+pub mod assembly;
 pub mod dynamics;
 mod error;
 mod estimate;
@@ -22,6 +23,7 @@ pub mod task;
 pub mod task_space;
 pub mod workspace;
 
+pub use assembly::{AssemblyResult, AssemblyStudy, assembly};
 pub use dynamics::{DynamicsResult, DynamicsStudy, dynamics};
 pub use error::{Key, KeyPath, StudyError};
 pub use grid::{GridRun, Shard, ShardResult};

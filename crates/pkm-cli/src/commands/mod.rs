@@ -29,6 +29,7 @@ pub trait Run {
     fn run(&self, context: &Context) -> Result<Report, CliError>;
 }
 
+pub mod assembly;
 pub mod dynamics;
 pub mod merge;
 pub mod mjcf;
@@ -87,6 +88,9 @@ subcommands! {
     /// Inverse dynamics (Hamilton and Lagrange) of a rotary Delta along a trajectory, and the
     /// forward retrace with its constraint drift; or the actuator efforts of a robot file.
     Dynamics => dynamics,
+    /// Every assembly mode of a robot file at given actuator coordinates or poses, by
+    /// parameter homotopy where it has a polynomial form, with what the search guarantees.
+    Assembly => assembly,
     /// A robot file with its masses as URDF plus its loop closures (closures.yaml), for
     /// tree-and-constraint tools such as Pinocchio.
     Urdf => urdf,

@@ -7,7 +7,8 @@ use crate::common;
 use common::example;
 use pkm_cli::study;
 use pkm_study::{
-    DynamicsStudy, GridStudy, OptimizeStudy, Shard, StudyError, TaskStudy, WorkspaceStudy,
+    AssemblyStudy, DynamicsStudy, GridStudy, OptimizeStudy, Shard, StudyError, TaskStudy,
+    WorkspaceStudy,
 };
 
 /// A progress reporter that has already been asked to stop: a study that gets past its checks
@@ -85,6 +86,10 @@ fn the_example_studies_are_valid() {
         let run = pkm_study::dynamics(&study, &Stop);
         assert!(matches!(run, Err(StudyError::Cancelled)), "{name}: {run:?}");
     }
+    let (_, modes): (String, AssemblyStudy) =
+        study::load_study(&example("dietmaier_assembly_modes.toml")).unwrap();
+    let run = pkm_study::assembly(&modes, &Stop);
+    assert!(matches!(run, Err(StudyError::Cancelled)), "{run:?}");
     let (_, dynamics): (String, DynamicsStudy) =
         study::load_study(&example("nuwar_dynamics_csv.toml")).unwrap();
     let csv = dynamics
@@ -99,7 +104,7 @@ fn the_example_studies_are_valid() {
         .collect();
     assert_eq!(
         listed.len(),
-        29,
+        30,
         "a new example study needs a check here: {listed:?}"
     );
 }

@@ -2,6 +2,7 @@
 //! and one build of the shared code instead of one per file).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+mod assembly_studies;
 mod bad_files;
 mod common;
 mod drawings;

@@ -2,7 +2,7 @@
 
 Mechanisms vectorised over NumPy arrays (:class:`Mechanism`) and the design studies of the
 ``pkm`` command as functions taking a dict or a TOML path (:func:`workspace`, :func:`sweep`,
-:func:`pareto`, :func:`optimize`, :func:`task`, :func:`dynamics`; :func:`merge` joins the shards of a split
+:func:`pareto`, :func:`optimize`, :func:`task`, :func:`dynamics`, :func:`assembly`; :func:`merge` joins the shards of a split
 sweep or Pareto study). Every
 error is a :class:`pkm.Error`; study errors carry ``.key_path``.
 """
@@ -66,6 +66,7 @@ __all__ = [
     "Shard",
     "Study",
     "__version__",
+    "assembly",
     "dynamics",
     "merge",
     "optimize",
@@ -155,6 +156,20 @@ def task(study: Study, *, progress: bool = True) -> Outcome:
     ``"starts.csv"``).
     """
     return _study(lambda report: _native.task(study, report), progress)
+
+
+def assembly(study: Study, *, progress: bool = True) -> Outcome:
+    """The assembly-mode study (``pkm assembly``) of ``study``, a dict or a TOML path: every
+    assembly mode (forward-kinematics solution) of a ``[mechanism.robot_file]`` at the
+    actuator coordinates or task poses of ``[assembly]`` (default: home), by parameter homotopy
+    where the robot has a polynomial form, with the multistart added when the homotopy's report
+    is not complete or the robot has no form. ``result["queries"][k]`` holds the modes (task and
+    pose coordinates, home label, singularity margins), the homotopy's report (paths, real,
+    complex, singular, at infinity, exceptional, refused, failed) and ``complete``: true when
+    the modes are every real assembly mode. Returns the outcome dict of :func:`workspace` (the
+    modes as the table ``"modes.csv"``).
+    """
+    return _study(lambda report: _native.assembly(study, report), progress)
 
 
 def dynamics(

@@ -19,6 +19,7 @@ __all__ = [
     "Mechanism",
     "NotConverged",
     "__version__",
+    "assembly",
     "dynamics",
     "merge",
     "optimize",
@@ -117,6 +118,7 @@ def pareto(study: _Study, shard: Optional[Tuple[int, int]] = None, progress: _Re
 def merge(parts: Iterable[Mapping[str, object]], progress: _Report = None) -> _RawOutcome: ...
 def optimize(study: _Study, progress: _Report = None) -> _RawOutcome: ...
 def task(study: _Study, progress: _Report = None) -> _RawOutcome: ...
+def assembly(study: _Study, progress: _Report = None) -> _RawOutcome: ...
 def dynamics(
     study: _Study,
     trajectory: Union[None, npt.ArrayLike, str, "os.PathLike[str]"] = None,

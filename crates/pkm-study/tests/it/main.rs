@@ -3,6 +3,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 mod adding_a_mechanism;
+mod assembly;
 mod dynamics;
 mod grid_studies;
 mod module_graph;
