@@ -25,6 +25,7 @@
 //! seeded ChaCha8 stream, so a run is reproducible bit for bit.
 
 use nalgebra::{Complex, DMatrix, DVector};
+use pkm_traits::{BlockKernel, run_block};
 use rand::Rng;
 use rayon::prelude::*;
 
@@ -45,11 +46,14 @@ pub trait QuadraticFamily {
 /// parameter space, read from $1 + 2n + n(n-1)/2$ evaluations (eq. H2):
 /// $c = F(0)$, $A_{jj} = \tfrac12(F(e_j) + F(-e_j)) - c$, $b_j = \tfrac12(F(e_j) - F(-e_j))$,
 /// $2A_{jk} = F(e_j + e_k) - F(e_j) - F(e_k) + c$. Stored flat: $A_k$ row-major one after the
-/// other ($A_k$ symmetric), $b_k$ as rows.
+/// other ($A_k$ symmetric), its real and imaginary parts apart so that $A_k z$ runs as
+/// independent lanes over the rows (vectorised, each lane summing in the same order: the
+/// same bits at any vector width); $b_k$ as rows.
 #[derive(Debug, Clone, PartialEq)]
 struct Forms {
     n: usize,
-    a: Vec<C64>,
+    a_re: Vec<f64>,
+    a_im: Vec<f64>,
     b: Vec<C64>,
     c: Vec<C64>,
 }
@@ -75,16 +79,12 @@ impl Forms {
             minus.push(at(&z));
             z[j] = ZERO;
         }
-        let mut forms = Self {
-            n,
-            a: vec![ZERO; n * n * n],
-            b: vec![ZERO; n * n],
-            c,
-        };
+        let mut a = vec![ZERO; n * n * n];
+        let mut b = vec![ZERO; n * n];
         for j in 0..n {
             for k in 0..n {
-                forms.a[k * n * n + j * n + j] = (plus[j][k] + minus[j][k]) * 0.5 - forms.c[k];
-                forms.b[k * n + j] = (plus[j][k] - minus[j][k]) * 0.5;
+                a[k * n * n + j * n + j] = (plus[j][k] + minus[j][k]) * 0.5 - c[k];
+                b[k * n + j] = (plus[j][k] - minus[j][k]) * 0.5;
             }
             for l in j + 1..n {
                 z[j] = one;
@@ -93,48 +93,217 @@ impl Forms {
                 z[j] = ZERO;
                 z[l] = ZERO;
                 for k in 0..n {
-                    let v = (both[k] - plus[j][k] - plus[l][k] + forms.c[k]) * 0.5;
-                    forms.a[k * n * n + j * n + l] = v;
-                    forms.a[k * n * n + l * n + j] = v;
+                    let v = (both[k] - plus[j][k] - plus[l][k] + c[k]) * 0.5;
+                    a[k * n * n + j * n + l] = v;
+                    a[k * n * n + l * n + j] = v;
                 }
             }
         }
-        forms
+        Self {
+            n,
+            a_re: a.iter().map(|v| v.re).collect(),
+            a_im: a.iter().map(|v| v.im).collect(),
+            b,
+            c,
+        }
     }
 
     /// `self` set to $\alpha X + \beta Y + \gamma Z$, entry by entry.
     fn combine(&mut self, weights: [f64; 3], forms: [&Self; 3]) {
         let [x, y, w] = forms;
-        let mix = |out: &mut [C64], a: &[C64], b: &[C64], c: &[C64]| {
+        let mix = |out: &mut [f64], a: &[f64], b: &[f64], c: &[f64]| {
             for (((o, a), b), c) in out.iter_mut().zip(a).zip(b).zip(c) {
                 *o = a * weights[0] + b * weights[1] + c * weights[2];
             }
         };
-        mix(&mut self.a, &x.a, &y.a, &w.a);
-        mix(&mut self.b, &x.b, &y.b, &w.b);
-        mix(&mut self.c, &x.c, &y.c, &w.c);
+        let mix_complex = |out: &mut [C64], a: &[C64], b: &[C64], c: &[C64]| {
+            for (((o, a), b), c) in out.iter_mut().zip(a).zip(b).zip(c) {
+                *o = a * weights[0] + b * weights[1] + c * weights[2];
+            }
+        };
+        mix(&mut self.a_re, &x.a_re, &y.a_re, &w.a_re);
+        mix(&mut self.a_im, &x.a_im, &y.a_im, &w.a_im);
+        mix_complex(&mut self.b, &x.b, &y.b, &w.b);
+        mix_complex(&mut self.c, &x.c, &y.c, &w.c);
+    }
+
+    /// The products $A_k v$ of every form with `v`, into `out` ($n \times n$, row $k$ the
+    /// vector $A_k v$), each summed over the columns $l$ in order, row $j$ taking
+    /// $A_{lj} = A_{jl}$.
+    fn products(&self, v: &[C64], out: &mut [C64]) {
+        let n = self.n;
+        out.fill(ZERO);
+        for k in 0..n {
+            let row_out = &mut out[k * n..(k + 1) * n];
+            for (l, vl) in v.iter().enumerate() {
+                let at = k * n * n + l * n;
+                let (row_re, row_im) = (&self.a_re[at..at + n], &self.a_im[at..at + n]);
+                for ((o, r), i) in row_out.iter_mut().zip(row_re).zip(row_im) {
+                    *o = C64::new(
+                        o.re + (r * vl.re - i * vl.im),
+                        o.im + (r * vl.im + i * vl.re),
+                    );
+                }
+            }
+        }
     }
 
     /// $F(z)$ into `f` and, when given, $F_z = 2A_k z + b_k$ (rows, flat) into `jacobian`.
-    fn at(&self, z: &[C64], f: &mut [C64], mut jacobian: Option<&mut [C64]>) {
+    /// Up to eight unknowns the size is a constant, so the sums stay in registers, on the
+    /// widest vector path of the processor (`pkm_traits::run_block`): the same operations in
+    /// the same order, so the same bits as the general size on every path. `az` is the
+    /// workspace of the general size (the products $A_k z$).
+    fn at(&self, z: &[C64], f: &mut [C64], jacobian: Option<&mut [C64]>, az: &mut [C64]) {
+        match self.n {
+            1 => self.at_fixed::<1>(z, f, jacobian),
+            2 => self.at_fixed::<2>(z, f, jacobian),
+            3 => self.at_fixed::<3>(z, f, jacobian),
+            4 => self.at_fixed::<4>(z, f, jacobian),
+            5 => self.at_fixed::<5>(z, f, jacobian),
+            6 => self.at_fixed::<6>(z, f, jacobian),
+            7 => self.at_fixed::<7>(z, f, jacobian),
+            8 => self.at_fixed::<8>(z, f, jacobian),
+            _ => self.at_any(z, f, jacobian, az),
+        }
+    }
+
+    /// [`Forms::at`] for `N` unknowns.
+    fn at_fixed<const N: usize>(&self, z: &[C64], f: &mut [C64], jacobian: Option<&mut [C64]>) {
+        let kernel = FixedAt::<N> {
+            forms: self,
+            z: std::array::from_fn(|j| z[j]),
+        };
+        let (values, rows) = run_block(&kernel);
+        f.copy_from_slice(&values);
+        if let Some(jacobian) = jacobian {
+            for (out, row) in jacobian.chunks_exact_mut(N).zip(rows) {
+                out.copy_from_slice(&row);
+            }
+        }
+    }
+
+    /// [`Forms::at`] for any number of unknowns.
+    fn at_any(&self, z: &[C64], f: &mut [C64], mut jacobian: Option<&mut [C64]>, az: &mut [C64]) {
         let n = self.n;
+        self.products(z, az);
         for k in 0..n {
-            let a = &self.a[k * n * n..(k + 1) * n * n];
             let b = &self.b[k * n..(k + 1) * n];
             let mut value = self.c[k];
             for j in 0..n {
-                let row = &a[j * n..(j + 1) * n];
-                let mut az = ZERO;
-                for (r, zl) in row.iter().zip(z) {
-                    az += r * zl;
-                }
-                value += z[j] * az + b[j] * z[j];
+                let product = az[k * n + j];
+                value += z[j] * product + b[j] * z[j];
                 if let Some(jac) = jacobian.as_deref_mut() {
-                    jac[k * n + j] = az * 2.0 + b[j];
+                    jac[k * n + j] = product * 2.0 + b[j];
                 }
             }
             f[k] = value;
         }
+    }
+}
+
+/// [`Forms::at`] of `N` unknowns as a block kernel: the values $F_k(z)$ and the rows of $F_z$.
+struct FixedAt<'a, const N: usize> {
+    forms: &'a Forms,
+    z: [C64; N],
+}
+
+impl<const N: usize> BlockKernel for FixedAt<'_, N> {
+    type Output = ([C64; N], [[C64; N]; N]);
+
+    #[inline(always)]
+    fn run(&self) -> Self::Output {
+        let (mut values, mut jacobian) = ([ZERO; N], [[ZERO; N]; N]);
+        let forms = self.forms;
+        for (k, (value, jacobian)) in values.iter_mut().zip(&mut jacobian).enumerate() {
+            let (mut re, mut im) = ([0.0; N], [0.0; N]);
+            for (l, zl) in self.z.iter().enumerate() {
+                let at = k * N * N + l * N;
+                let row = forms.a_re[at..at + N].iter().zip(&forms.a_im[at..at + N]);
+                for ((re, im), (r, i)) in re.iter_mut().zip(im.iter_mut()).zip(row) {
+                    *re += r * zl.re - i * zl.im;
+                    *im += r * zl.im + i * zl.re;
+                }
+            }
+            let b = &forms.b[k * N..(k + 1) * N];
+            *value = forms.c[k];
+            for j in 0..N {
+                let product = C64::new(re[j], im[j]);
+                *value += self.z[j] * product + b[j] * self.z[j];
+                jacobian[j] = product * 2.0 + b[j];
+            }
+        }
+        (values, jacobian)
+    }
+}
+
+/// [`solve_in_place`] of `N` unknowns as a block kernel (the same operations in the same order).
+struct FixedSolve<const N: usize> {
+    a: [[C64; N]; N],
+    rhs: [C64; N],
+}
+
+impl<const N: usize> BlockKernel for FixedSolve<N> {
+    type Output = Option<[C64; N]>;
+
+    #[inline(always)]
+    fn run(&self) -> Self::Output {
+        let (mut a, mut rhs) = (self.a, self.rhs);
+        for col in 0..N {
+            let mut pivot = col;
+            for i in col + 1..N {
+                // `max_by` keeps the last of equal maxima.
+                if a[i][col].norm_sqr() >= a[pivot][col].norm_sqr() {
+                    pivot = i;
+                }
+            }
+            if !(a[pivot][col].norm_sqr() > 0.0) {
+                return None;
+            }
+            if pivot != col {
+                a.swap(col, pivot);
+                rhs.swap(col, pivot);
+            }
+            let inverse = C64::new(1.0, 0.0) / a[col][col];
+            let pivot_row = a[col];
+            for row in col + 1..N {
+                let factor = a[row][col] * inverse;
+                if factor == ZERO {
+                    continue;
+                }
+                for k in col..N {
+                    a[row][k] -= factor * pivot_row[k];
+                }
+                rhs[row] -= factor * rhs[col];
+            }
+        }
+        for row in (0..N).rev() {
+            let mut sum = rhs[row];
+            for k in row + 1..N {
+                sum -= a[row][k] * rhs[k];
+            }
+            rhs[row] = sum / a[row][row];
+        }
+        rhs.iter()
+            .all(|c| c.re.is_finite() && c.im.is_finite())
+            .then_some(rhs)
+    }
+}
+
+/// [`solve_in_place`] for `N` unknowns on the widest vector path of the processor.
+fn solve_fixed<const N: usize>(a: &[C64], rhs: &mut [C64]) -> bool {
+    let mut kernel = FixedSolve::<N> {
+        a: [[ZERO; N]; N],
+        rhs: std::array::from_fn(|j| rhs[j]),
+    };
+    for (row, values) in kernel.a.iter_mut().zip(a.chunks_exact(N)) {
+        row.copy_from_slice(values);
+    }
+    match run_block(&kernel) {
+        Some(x) => {
+            rhs.copy_from_slice(&x);
+            true
+        }
+        None => false,
     }
 }
 
@@ -254,21 +423,17 @@ pub struct Path {
     pub rejected: usize,
 }
 
-/// One path's segment: its forms as polynomials in $s$ (the forms are of degree two in the
-/// parameters, so in $s$: $Q(s) = Q_0 + s\,Q_1 + s^2 Q_2$ from the forms at $s = 0, \tfrac12, 1$)
-/// and the workspace of the tracker.
-struct Segment {
+/// A segment's forms as polynomials in $s$: the forms are of degree two in the parameters,
+/// so in $s$, $Q(s) = Q_0 + s\,Q_1 + s^2 Q_2$ from the forms at $s = 0, \tfrac12, 1$. Read
+/// once and shared by every path of the segment.
+#[derive(Debug)]
+pub struct SegmentForms {
     terms: [Forms; 3],
-    at_s: Forms,
-    s: f64,
-    f: DVector<C64>,
-    jacobian: Vec<C64>,
-    scratch: Vec<C64>,
 }
 
-impl Segment {
-    fn new<S: QuadraticFamily + ?Sized>(system: &S, from: &[C64], to: &[C64]) -> Self {
-        let n = system.unknowns();
+impl SegmentForms {
+    /// The forms of `system` along the segment from the parameters `from` to `to`.
+    pub fn new<S: QuadraticFamily + ?Sized>(system: &S, from: &[C64], to: &[C64]) -> Self {
         let mid: Vec<C64> = from.iter().zip(to).map(|(a, b)| (a + b) * 0.5).collect();
         let (f0, fh, f1) = (
             Forms::read(system, from),
@@ -278,20 +443,39 @@ impl Segment {
         let mut terms = [f0.clone(), f0.clone(), f0.clone()];
         terms[1].combine([-3.0, 4.0, -1.0], [&f0, &fh, &f1]);
         terms[2].combine([2.0, -4.0, 2.0], [&f0, &fh, &f1]);
+        Self { terms }
+    }
+}
+
+/// One path's walk along a segment: the forms at its current $s$ and the tracker's workspace.
+struct Segment<'a> {
+    terms: &'a [Forms; 3],
+    at_s: Forms,
+    s: f64,
+    f: DVector<C64>,
+    jacobian: Vec<C64>,
+    scratch: Vec<C64>,
+    products: Vec<C64>,
+}
+
+impl<'a> Segment<'a> {
+    fn new(forms: &'a SegmentForms) -> Self {
+        let n = forms.terms[0].n;
         Self {
-            at_s: f0,
-            terms,
+            at_s: forms.terms[0].clone(),
+            terms: &forms.terms,
             s: 0.0,
             f: DVector::zeros(n),
             jacobian: vec![ZERO; n * n],
             scratch: vec![ZERO; n],
+            products: vec![ZERO; n * n],
         }
     }
 
     /// The forms at `s` (kept for the last `s`).
     fn move_to(&mut self, s: f64) {
         if s.to_bits() != self.s.to_bits() {
-            let [q0, q1, q2] = &self.terms;
+            let [q0, q1, q2] = self.terms;
             self.at_s.combine([1.0, s, s * s], [q0, q1, q2]);
             self.s = s;
         }
@@ -304,15 +488,31 @@ impl Segment {
             z.as_slice(),
             self.f.as_mut_slice(),
             Some(&mut self.jacobian),
+            &mut self.products,
         );
     }
 
-    /// $F_z^{-1} r$ at the last point evaluated; `None` when singular.
+    /// $F_z^{-1} r$ at the last point evaluated; `None` when singular. Up to eight unknowns
+    /// on the widest vector path ([`FixedSolve`]), the same bits.
     fn solve(&mut self, mut rhs: DVector<C64>) -> Option<DVector<C64>> {
         let n = rhs.len();
-        self.scratch.clear();
-        self.scratch.extend_from_slice(&self.jacobian);
-        solve_in_place(&mut self.scratch, rhs.as_mut_slice(), n).then_some(rhs)
+        let (a, x) = (&self.jacobian, rhs.as_mut_slice());
+        let solved = match n {
+            1 => solve_fixed::<1>(a, x),
+            2 => solve_fixed::<2>(a, x),
+            3 => solve_fixed::<3>(a, x),
+            4 => solve_fixed::<4>(a, x),
+            5 => solve_fixed::<5>(a, x),
+            6 => solve_fixed::<6>(a, x),
+            7 => solve_fixed::<7>(a, x),
+            8 => solve_fixed::<8>(a, x),
+            _ => {
+                self.scratch.clear();
+                self.scratch.extend_from_slice(a);
+                solve_in_place(&mut self.scratch, x, n)
+            }
+        };
+        solved.then_some(rhs)
     }
 
     /// $\dot z = -F_z^{-1}\,\partial_s F$ at $(z, s)$, with $\partial_s F = Q_1(z) + 2s\,Q_2(z)$
@@ -320,8 +520,9 @@ impl Segment {
     fn tangent(&mut self, z: &DVector<C64>, s: f64) -> Option<DVector<C64>> {
         let n = z.len();
         let (mut d1, mut d2) = (DVector::zeros(n), DVector::zeros(n));
-        self.terms[1].at(z.as_slice(), d1.as_mut_slice(), None);
-        self.terms[2].at(z.as_slice(), d2.as_mut_slice(), None);
+        let [_, q1, q2] = self.terms;
+        q1.at(z.as_slice(), d1.as_mut_slice(), None, &mut self.products);
+        q2.at(z.as_slice(), d2.as_mut_slice(), None, &mut self.products);
         let ds = d1 + d2 * C64::new(2.0 * s, 0.0);
         self.at(z, s);
         self.solve(-ds)
@@ -387,7 +588,12 @@ pub fn track<S: QuadraticFamily + ?Sized>(
     to: &[C64],
     settings: &TrackSettings,
 ) -> Path {
-    let mut segment = Segment::new(system, from, to);
+    track_on(&SegmentForms::new(system, from, to), start, settings)
+}
+
+/// [`track`] on the forms of a segment read beforehand (shared by the paths of the segment).
+pub fn track_on(forms: &SegmentForms, start: &DVector<C64>, settings: &TrackSettings) -> Path {
+    let mut segment = Segment::new(forms);
     let (mut z, mut s, mut h) = (start.clone(), 0.0_f64, settings.initial_step);
     let (mut steps, mut rejected, mut streak) = (0, 0, 0);
     let bound = settings.infinity * norm(start).max(1.0);
@@ -470,9 +676,10 @@ pub fn track_many<S: QuadraticFamily + Sync + ?Sized>(
     to: &[C64],
     settings: &TrackSettings,
 ) -> Vec<Path> {
+    let forms = SegmentForms::new(system, from, to);
     starts
         .par_iter()
-        .map(|z0| track(system, z0, from, to, settings))
+        .map(|z0| track_on(&forms, z0, settings))
         .collect()
 }
 
@@ -642,12 +849,16 @@ pub fn monodromy<S: QuadraticFamily + Sync + ?Sized, R: Rng>(
         // Every known solution around the loop, in parallel; the new endpoints then added in
         // order, so the result does not depend on the number of threads.
         let around = [parameters, &p1, &p2, parameters];
+        let legs: Vec<SegmentForms> = around
+            .windows(2)
+            .map(|leg| SegmentForms::new(system, leg[0], leg[1]))
+            .collect();
         let ends: Vec<Option<DVector<C64>>> = solutions
             .par_iter()
             .map(|start| {
                 let mut z = start.clone();
-                for leg in around.windows(2) {
-                    match track(system, &z, leg[0], leg[1], &settings.track).end {
+                for leg in &legs {
+                    match track_on(leg, &z, &settings.track).end {
                         Endpoint::Regular(end) => z = end,
                         _ => return None,
                     }
