@@ -277,25 +277,35 @@ fn median_of(estimates: &Value) -> Option<[f64; 3]> {
 
 /// A peer script, the JSON fields it times and the unit of each.
 struct Peer {
-    /// Its path in the peers folder, or in the repository when `in_repository`.
+    /// Its path in the peers folder, or in the repository for a [`PeerKind`] other than
+    /// `Shared`.
     script: &'static str,
-    /// A script of the repository (`benches/`): without a robot file, one that compares pkm's
-    /// Python package with the NumPy peer (it needs `pkm` importable by `--python` and is given
-    /// the NumPy peer's path).
-    in_repository: bool,
-    /// The robot file of `examples/robots/` the script times (given as `--moving --time PATH`).
-    /// A script with a robot file calls the `pkm` command, built in the release profile and
-    /// named in `PKM_COMMAND`.
-    robot_file: Option<&'static str>,
+    /// Where it is and what it is given.
+    kind: PeerKind,
     /// (figure id, JSON pointer to the best value, pointer to the median value, unit)
     figures: &'static [(&'static str, &'static str, &'static str, &'static str)],
 }
 
-const PEERS: [Peer; 4] = [
+/// Where a peer script is and what it is given.
+#[derive(Clone, Copy)]
+enum PeerKind {
+    /// In the peers folder, without arguments.
+    Shared,
+    /// In the repository (`benches/`), without arguments.
+    Repository,
+    /// In the repository: compares pkm's Python package with the NumPy peer (it needs `pkm`
+    /// importable by `--python` and is given the NumPy peer's path as `--peer PATH`).
+    PythonPackage,
+    /// In the repository: times a robot file of `examples/robots/` (given as
+    /// `--moving --time PATH`), calling the `pkm` command, built in the release profile and
+    /// named in `PKM_COMMAND`.
+    RobotFile(&'static str),
+}
+
+const PEERS: [Peer; 5] = [
     Peer {
         script: "numpy_delta_gci.py",
-        in_repository: false,
-        robot_file: None,
+        kind: PeerKind::Shared,
         figures: &[
             (
                 "numpy_svd",
@@ -313,8 +323,7 @@ const PEERS: [Peer; 4] = [
     },
     Peer {
         script: "pin_bench.py",
-        in_repository: false,
-        robot_file: None,
+        kind: PeerKind::Shared,
         figures: &[
             (
                 "pinocchio_id_torques_cpu",
@@ -338,8 +347,7 @@ const PEERS: [Peer; 4] = [
     },
     Peer {
         script: "benches/peers/pin_robot_file.py",
-        in_repository: true,
-        robot_file: Some("examples/robots/stewart_gough.toml"),
+        kind: PeerKind::RobotFile("examples/robots/stewart_gough.toml"),
         figures: &[
             (
                 "pinocchio_6ups_id_cpu",
@@ -356,9 +364,26 @@ const PEERS: [Peer; 4] = [
         ],
     },
     Peer {
+        script: "benches/peers/fksgp_dietmaier.py",
+        kind: PeerKind::Repository,
+        figures: &[
+            (
+                "fksgp_dietmaier_cpu",
+                "/timing_us/solver66/cpu_min_us",
+                "/timing_us/solver66/cpu_median_us",
+                "µs",
+            ),
+            (
+                "fksgp_dietmaier_wall",
+                "/timing_us/solver66/wall_min_us",
+                "/timing_us/solver66/wall_median_us",
+                "µs",
+            ),
+        ],
+    },
+    Peer {
         script: "benches/python/kernels.py",
-        in_repository: true,
-        robot_file: None,
+        kind: PeerKind::PythonPackage,
         figures: &[
             (
                 "python_over_rust",
@@ -382,16 +407,18 @@ fn run_peers(root: &Path, args: &PerfArgs) -> (Vec<PeerFigure>, Vec<String>) {
     let numpy_peer = dir.join(PEERS[0].script);
     let (mut figures, mut skipped) = (Vec::new(), Vec::new());
     for peer in &PEERS {
-        let robot = peer.robot_file.map(|r| root.join(r));
-        let script = if peer.in_repository {
-            root.join(peer.script)
-        } else {
-            dir.join(peer.script)
+        let robot = match peer.kind {
+            PeerKind::RobotFile(file) => Some(root.join(file)),
+            _ => None,
         };
-        let peer_args = match (&robot, peer.in_repository) {
+        let script = match peer.kind {
+            PeerKind::Shared => dir.join(peer.script),
+            _ => root.join(peer.script),
+        };
+        let peer_args = match (&robot, peer.kind) {
             (Some(robot), _) => vec!["--moving".as_ref(), "--time".as_ref(), robot.as_os_str()],
-            (None, true) => vec!["--peer".as_ref(), numpy_peer.as_os_str()],
-            (None, false) => vec![],
+            (None, PeerKind::PythonPackage) => vec!["--peer".as_ref(), numpy_peer.as_os_str()],
+            _ => vec![],
         };
         let pkm = match robot.as_ref().map(|_| build_pkm_command(root)).transpose() {
             Ok(pkm) => pkm,
@@ -487,7 +514,7 @@ enum Against {
 }
 
 /// The ratios that `docs/performance.md` quotes: (what, pkm bench, what it is compared with).
-const RATIOS: [(&str, &str, Against); 13] = [
+const RATIOS: [(&str, &str, Against); 15] = [
     (
         "Delta design index, 1 thread, vs NumPy SVD",
         "delta_kernel/batch/1_threads",
@@ -552,6 +579,16 @@ const RATIOS: [(&str, &str, Against); 13] = [
         "Inverse dynamics, one sample, Delta: hand-written vs from its file (goal: the file within 2 ×)",
         "robot_file/inverse_dynamics/rotary_delta/hand_written",
         Against::Bench("robot_file/inverse_dynamics/rotary_delta/efforts"),
+    ),
+    (
+        "Every assembly mode of Dietmaier's design (40 real), 1 thread, vs fkSGP's elimination template in Python/NumPy (its CPU time, all threads; goal: 10 ms per core)",
+        "robot_file/assembly_modes/dietmaier_40/homotopy_1_thread",
+        Against::Peer("fksgp_dietmaier_cpu"),
+    ),
+    (
+        "Every assembly mode of Dietmaier's design, 2 threads, vs fkSGP (wall time)",
+        "robot_file/assembly_modes/dietmaier_40/homotopy",
+        Against::Peer("fksgp_dietmaier_wall"),
     ),
 ];
 
