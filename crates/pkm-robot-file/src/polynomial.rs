@@ -413,20 +413,25 @@ pub struct HomotopyReport {
     /// Real endpoints that the robot's own closure refused (a root of the squared-up system
     /// of a redundantly actuated robot that the extra actuator does not allow).
     pub refused: usize,
+    /// Nonsingular endpoints that another path had reached already (within 1e-8): two paths
+    /// met, so one of them jumped and a solution may be missing. Counted once per repeat; not
+    /// in `real` or `complex`.
+    pub repeated: usize,
     /// Paths the tracker could not follow: their index and the reason.
     pub failed: Vec<(usize, String)>,
 }
 
 impl HomotopyReport {
-    /// Whether every path ended at a finite, nonsingular solution (real or complex) with a
-    /// stable monodromy: then the real configurations are every real assembly mode. Paths
-    /// that end singular, at infinity, on Study's exceptional set or failed leave room for a
-    /// real mode near them (the Hexa at home loses one of 16 so: its path passes near the
-    /// exceptional set, where the system is singular, and stalls).
+    /// Whether every path ended at its own finite, nonsingular solution (real or complex)
+    /// with a stable monodromy: then the real configurations are every real assembly mode.
+    /// Paths that end singular, at infinity, on Study's exceptional set, on another path's
+    /// solution or failed leave room for a real mode near them (the Hexa at home loses one of
+    /// 16 so: its path passes near the exceptional set, where the system is singular, and
+    /// stalls).
     pub fn complete(&self) -> bool {
         self.monodromy_stable
             && self.failed.is_empty()
-            && self.singular + self.at_infinity + self.exceptional == 0
+            && self.singular + self.at_infinity + self.exceptional + self.repeated == 0
     }
 }
 
@@ -500,8 +505,10 @@ impl RobotModel {
             at_infinity: 0,
             exceptional: 0,
             refused: 0,
+            repeated: 0,
             failed: Vec::new(),
         };
+        let mut reached: Vec<DVector<C64>> = Vec::new();
         let mut configurations: Vec<Configuration> = Vec::new();
         for (k, path) in self
             .track_all(&system, &start.monodromy, &target)
@@ -510,6 +517,11 @@ impl RobotModel {
         {
             match path.end {
                 Endpoint::Regular(z) => {
+                    if pkm_homotopy::contains(&reached, &z, 1e-8) {
+                        report.repeated += 1;
+                        continue;
+                    }
+                    reached.push(z.clone());
                     let Some(re) = system.real(&z, 1e-8) else {
                         report.complex += 1;
                         continue;

@@ -166,6 +166,8 @@ pub struct HomotopyRecord {
     pub exceptional: usize,
     /// Real endpoints the robot's closure refused.
     pub refused: usize,
+    /// Nonsingular endpoints another path had reached (a path jumped).
+    pub repeated: usize,
     /// Paths the tracker could not follow, with the reason.
     pub failed: Vec<(usize, String)>,
 }
@@ -181,6 +183,7 @@ impl From<&HomotopyReport> for HomotopyRecord {
             at_infinity: r.at_infinity,
             exceptional: r.exceptional,
             refused: r.refused,
+            repeated: r.repeated,
             failed: r.failed.clone(),
         }
     }
@@ -375,13 +378,14 @@ fn summary_line(k: usize, q: &AssemblyQuery) -> String {
         ),
         Some(h) => format!(
             "not complete: {} paths, {} real, {} complex, {} singular, {} at infinity, {} \
-             exceptional, {} failed{}",
+             exceptional, {} repeated, {} failed{}",
             h.paths,
             h.real,
             h.complex,
             h.singular,
             h.at_infinity,
             h.exceptional,
+            h.repeated,
             h.failed.len(),
             if q.multistart {
                 "; multistart added"

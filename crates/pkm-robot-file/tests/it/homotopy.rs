@@ -210,6 +210,44 @@ fn assembly_search_uses_the_homotopy_and_says_so() {
 }
 
 /// Dietmaier's leg lengths (the data of martyushev/fkSGP, as `acceptance_modes.rs`).
+/// Every path is accounted for once, the real nonsingular endpoints are distinct
+/// configurations, and a repeated endpoint (a path that jumped onto another's solution) makes
+/// the report incomplete: the example Stewart–Gough at a pose 1 m up has such paths, where
+/// six real endpoints were once reported for four distinct modes.
+#[test]
+fn every_path_is_counted_once_and_a_repeated_end_is_not_complete() {
+    let sg = common::robot("stewart_gough.toml");
+    let up = sg
+        .inverse_kinematics(&[0.05, -0.02, 1.0, 0.1, 0.05, 0.2], sg.home_mode())
+        .unwrap();
+    let dietmaier = common::robot("dietmaier_40.toml");
+    for (model, q) in [
+        (&sg, up.as_slice().to_vec()),
+        (&dietmaier, q_dietmaier().to_vec()),
+    ] {
+        let all = model.forward_kinematics_all(&q).unwrap();
+        let r = &all.report;
+        let ends = r.real
+            + r.complex
+            + r.singular
+            + r.at_infinity
+            + r.exceptional
+            + r.refused
+            + r.repeated
+            + r.failed.len();
+        assert_eq!(ends, r.generic_solutions, "{r:?}");
+        assert!(all.configurations.len() >= r.real, "{r:?}");
+        for (i, a) in all.configurations.iter().enumerate() {
+            for b in &all.configurations[..i] {
+                assert!(!same_pose(model, a, b), "{r:?}");
+            }
+        }
+        assert!(r.repeated == 0 || !r.complete(), "{r:?}");
+    }
+    let r = sg.forward_kinematics_all(up.as_slice()).unwrap().report;
+    assert!(r.repeated > 0 && !r.complete(), "{r:?}");
+}
+
 fn q_dietmaier() -> [f64; 6] {
     [1.0, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071]
 }
