@@ -25,15 +25,29 @@
 //!   with the random gauge $a\cdot(e, g) = 1$: for the general Stewart–Gough platform, 40
 //!   solutions.
 //!
+//! A leg whose elbow is a single revolute joint normal to its rod (a PRS or RRS leg: the arm
+//! leg's elbow point $B_i$, the joint's axis $a_i$ carried by the actuator) also keeps the
+//! platform point in the plane through $B_i$ normal to $a_i$ (eq. K2)
+//! $$a_i\cdot(R\,c_i + t - B_i) = 0,$$
+//! times $\Delta$ in Study's form $a_i\cdot(\tilde R c_i + 2\operatorname{vec}(g\bar e)) -
+//! (a_i\cdot B_i)\,\Delta = 0$, a quadric too; only the spatial form needs it (the planar and
+//! spherical forms hold it already). The plane passes through the sphere's centre for every
+//! parameter, so the generic member keeps the robot's structure: the 3-PRS has 16 generic
+//! solutions (a plane with its own offset would give 40, with the robot on a special locus
+//! where most paths end singular). With it the pose coordinates may be dependent (the 3-PRS's
+//! x, y and torsion): all six are unknowns of the spatial form.
+//!
 //! A constant position coordinate $k$ adds $t_k - t_{0k} = 0$ (times $\Delta$ in Study's
 //! form). Every equation is quadratic in $z$ and in the parameters $(B_i, c_i, L_i^2, t_0)$,
 //! so the central differences that give $F_z$ and $\partial_s F$ are exact to rounding. More
 //! equations than unknowns (redundant actuation) are squared up by a random complex
 //! combination of the leg equations, whose solutions include the robot's (each is checked on
-//! its own closure). Robots with dependent coordinates, numerical legs or other orientation
-//! patterns are not written here: [`RobotModel::polynomial_form`] says why, and the
-//! multistart serves them.
+//! its own closure). Robots with legs that hold the platform otherwise (a single R joint at
+//! the base or the platform, as the Exechon's), passive legs, several actuators in a leg,
+//! numerical legs or other orientation patterns are not written here:
+//! [`RobotModel::polynomial_form`] says why, and the multistart serves them.
 
+use crate::chain::Joint;
 use crate::closure::{Configuration, same_pose};
 use crate::leg_ik::LegClass;
 use crate::model::RobotModel;
@@ -70,13 +84,16 @@ impl PoseForm {
 
 /// A robot's family of forward-kinematics systems: its pose form, its legs and its constant
 /// position coordinates. Parameters: per leg $B_i$ (3), $c_i$ (3, in the world orientation
-/// for the translational form), $L_i^2$; then $t_0$ (3).
+/// for the translational form), $L_i^2$; then $t_0$ (3); then the normal $a_i$ (3) of each
+/// leg with an elbow plane.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ForwardSystem {
     pub form: PoseForm,
     pub legs: usize,
     /// Position coordinates held constant.
     pub constant: Vec<usize>,
+    /// Which legs have an elbow plane (eq. K2).
+    pub planes: Vec<bool>,
     /// The random gauge (spherical and spatial forms) and the random squaring-up matrix of
     /// the leg equations (rows: leg equations kept; identity when square).
     gauge: Vec<C64>,
@@ -84,7 +101,7 @@ pub(crate) struct ForwardSystem {
 }
 
 /// The architecture key of a cached start system.
-pub(crate) type Architecture = (PoseForm, usize, Vec<usize>);
+pub(crate) type Architecture = (PoseForm, usize, Vec<usize>, Vec<bool>);
 
 /// `[x; y; z]` products of complex vectors (bilinear: no conjugation).
 fn dot(a: &[C64; 3], b: &[C64; 3]) -> C64 {
@@ -122,27 +139,34 @@ impl ForwardSystem {
     /// The family of `form` with `legs` legs and the constant positions `constant`; the gauge
     /// and squaring-up drawn from a ChaCha8 stream seeded by the architecture, so that one
     /// architecture always gives the same family.
-    pub(crate) fn new(form: PoseForm, legs: usize, constant: Vec<usize>) -> Option<Self> {
+    pub(crate) fn new(
+        form: PoseForm,
+        legs: usize,
+        constant: Vec<usize>,
+        planes: Vec<bool>,
+    ) -> Option<Self> {
         let n = form.unknowns();
+        let equations = legs + planes.iter().filter(|&&p| p).count();
         let fixed = match form {
             PoseForm::Translational => constant.len(),
             PoseForm::Planar => constant.len() + 1,
             PoseForm::Spherical => 1,
             PoseForm::Spatial => constant.len() + 2,
         };
-        let kept = n.checked_sub(fixed).filter(|&k| k <= legs && k > 0)?;
-        let mut rng = ChaCha8Rng::seed_from_u64(seed_of(form, legs, &constant));
+        let kept = n.checked_sub(fixed).filter(|&k| k <= equations && k > 0)?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed_of(form, legs, &constant, &planes));
         let mut complex = || C64::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
         let gauge = (0..n).map(|_| complex()).collect();
-        let squaring = if kept == legs {
-            DMatrix::identity(legs, legs)
+        let squaring = if kept == equations {
+            DMatrix::identity(equations, equations)
         } else {
-            DMatrix::from_fn(kept, legs, |_, _| complex())
+            DMatrix::from_fn(kept, equations, |_, _| complex())
         };
         Some(Self {
             form,
             legs,
             constant,
+            planes,
             gauge,
             squaring,
         })
@@ -150,14 +174,84 @@ impl ForwardSystem {
 
     /// The number of parameters.
     pub(crate) fn parameters(&self) -> usize {
-        7 * self.legs + 3
+        7 * self.legs + 3 + 3 * self.planes.iter().filter(|&&p| p).count()
     }
 
-    /// The leg equations (eq. K1, times $\Delta$ where the form needs it) at `z`.
+    /// Where leg `i`'s plane normal starts among the parameters, if it has a plane.
+    fn normal_at(&self, i: usize) -> Option<usize> {
+        let before = self.planes[..i].iter().filter(|&&p| p).count();
+        self.planes[i].then_some(7 * self.legs + 3 + 3 * before)
+    }
+
+    /// The leg equations at `z`, each leg's sphere (eq. K1) then its elbow plane (eq. K2)
+    /// when it has one, times $\Delta$ where the form needs it.
     fn leg_equations(&self, z: &[C64], p: &[C64]) -> Vec<C64> {
+        let mut equations = Vec::with_capacity(2 * self.legs);
+        for i in 0..self.legs {
+            equations.push(self.sphere(i, z, p));
+            if let Some(k) = self.normal_at(i) {
+                equations.push(self.plane(i, [p[k], p[k + 1], p[k + 2]], z, p));
+            }
+        }
+        equations
+    }
+
+    /// Leg `i`'s elbow plane (eq. K2) $a\cdot(R\,c + t - B) = 0$ with the normal `a`, times
+    /// $\Delta$ in the spherical and spatial forms (a quadric in Study's parameters).
+    fn plane(&self, i: usize, a: [C64; 3], z: &[C64], p: &[C64]) -> C64 {
         let t0 = [p[7 * self.legs], p[7 * self.legs + 1], p[7 * self.legs + 2]];
-        (0..self.legs)
-            .map(|i| {
+        let q = &p[7 * i..7 * i + 7];
+        let (b, c) = ([q[0], q[1], q[2]], [q[3], q[4], q[5]]);
+        let offset = |v: [C64; 3], scale: C64| dot(&a, &v) - dot(&a, &b) * scale;
+        let one = C64::new(1.0, 0.0);
+        match self.form {
+            PoseForm::Translational => offset([c[0] + z[0], c[1] + z[1], c[2] + z[2]], one),
+            PoseForm::Planar => {
+                let (u, v) = (z[3], z[4]);
+                offset(
+                    [
+                        u * c[0] - v * c[1] + z[0],
+                        v * c[0] + u * c[1] + z[1],
+                        c[2] + z[2],
+                    ],
+                    one,
+                )
+            }
+            PoseForm::Spherical => {
+                let e = [z[0], z[1], z[2], z[3]];
+                let delta = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+                let rc = rotate(&e, &c);
+                offset(
+                    [
+                        rc[0] + t0[0] * delta,
+                        rc[1] + t0[1] * delta,
+                        rc[2] + t0[2] * delta,
+                    ],
+                    delta,
+                )
+            }
+            PoseForm::Spatial => {
+                let e = [z[0], z[1], z[2], z[3]];
+                let g = [z[4], z[5], z[6], z[7]];
+                let delta = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+                let (rc, ge) = (rotate(&e, &c), vector_part(&multiply(&g, &conjugate(&e))));
+                offset(
+                    [
+                        rc[0] + ge[0] * 2.0,
+                        rc[1] + ge[1] * 2.0,
+                        rc[2] + ge[2] * 2.0,
+                    ],
+                    delta,
+                )
+            }
+        }
+    }
+
+    /// Leg `i`'s sphere (eq. K1), times $\Delta$ where the form needs it.
+    fn sphere(&self, i: usize, z: &[C64], p: &[C64]) -> C64 {
+        let t0 = [p[7 * self.legs], p[7 * self.legs + 1], p[7 * self.legs + 2]];
+        {
+            {
                 let q = &p[7 * i..7 * i + 7];
                 let (b, c, l2) = ([q[0], q[1], q[2]], [q[3], q[4], q[5]], q[6]);
                 match self.form {
@@ -183,8 +277,8 @@ impl ForwardSystem {
                         dot(&d, &d) - l2
                     }
                 }
-            })
-            .collect()
+            }
+        }
     }
 
     /// $F(z; p)$: the squared-up leg equations, then the form's own.
@@ -300,10 +394,13 @@ fn push_new(kind: OrientationKind, configurations: &mut Vec<Configuration>, c: C
 }
 
 /// A seed that depends on the architecture alone.
-fn seed_of(form: PoseForm, legs: usize, constant: &[usize]) -> u64 {
+fn seed_of(form: PoseForm, legs: usize, constant: &[usize], planes: &[bool]) -> u64 {
     let mut seed = 0x5eed_u64 ^ (form as u64) << 8 ^ (legs as u64) << 16;
     for &k in constant {
         seed ^= 1 << (24 + k);
+    }
+    for (i, _) in planes.iter().enumerate().filter(|(_, p)| **p) {
+        seed ^= 1 << (32 + i % 32);
     }
     seed
 }
@@ -329,10 +426,12 @@ impl RobotModel {
         if self.classes.contains(&LegClass::Numeric) {
             return Err("a leg without a closed form (a numerical leg)");
         }
-        if self.roles.contains(&CoordinateRole::Dependent) {
-            return Err("dependent pose coordinates");
-        }
-        let free = |k: usize| self.roles[k] == CoordinateRole::Task;
+        let free = |k: usize| {
+            matches!(
+                self.roles[k],
+                CoordinateRole::Task | CoordinateRole::Dependent
+            )
+        };
         let constant: Vec<usize> = (0..3).filter(|&k| !free(k)).collect();
         let turning: Vec<usize> = (3..6).filter(|&k| free(k)).collect();
         let form = match turning.as_slice() {
@@ -352,7 +451,15 @@ impl RobotModel {
         } else {
             constant
         };
-        ForwardSystem::new(form, self.legs.len(), constant).ok_or("fewer equations than unknowns")
+        // The planar and spherical forms hold the elbow planes already (every axis normal to
+        // the plane of motion, or through the centre).
+        let planes = (0..self.legs.len())
+            .map(|i| form == PoseForm::Spatial && self.elbow_plane(i, 0.0).is_some())
+            .collect();
+        ForwardSystem::new(form, self.legs.len(), constant, planes).ok_or(
+            "fewer equations than unknowns (a leg that holds the platform beyond its sphere and \
+             an elbow plane, as a single R joint at the base or the platform)",
+        )
     }
 
     /// The real parameters of the forward kinematics at actuator coordinates `q` (motions
@@ -380,7 +487,39 @@ impl RobotModel {
             p.extend([b.x, b.y, b.z, c.x, c.y, c.z, length * length]);
         }
         p.extend(self.home_pose.translation.vector.iter());
+        for (i, leg) in self.legs.iter().enumerate() {
+            if let Some(a) = self.elbow_plane(i, q[i] - leg.sole_actuator()?.offset) {
+                p.extend(a.iter());
+            }
+        }
         Some(p)
+    }
+
+    /// The normal of leg `i`'s elbow plane with its actuator at `motion` (base frame), when
+    /// its elbow is a single revolute joint normal to the rod (a PRS or RRS leg): the rod
+    /// turns in the plane through the elbow normal to the joint's axis (eq. K2), which the
+    /// actuator carries (a revolute actuator turns it with the arm).
+    pub(crate) fn elbow_plane(&self, i: usize, motion: f64) -> Option<Vector3<f64>> {
+        let leg = &self.legs[i];
+        if !matches!(
+            self.classes[i],
+            LegClass::RevoluteArm { .. } | LegClass::PrismaticArm { .. }
+        ) {
+            return None;
+        }
+        let (m, elbow, wrist) = crate::leg_ik::arm_split(leg, &self.home_pose, self.size)?;
+        let (1, Joint::Revolute { axis, .. }) = (m, &leg.joints[1]) else {
+            return None;
+        };
+        if (wrist - elbow).dot(axis).abs() > 1e-9 * self.size {
+            return None;
+        }
+        Some(match leg.joints[0] {
+            Joint::Revolute { axis: turn, .. } => {
+                Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(turn), motion) * axis
+            }
+            _ => *axis,
+        })
     }
 }
 
@@ -764,13 +903,29 @@ impl ForwardSystem {
                 [v[0] * 2.0 / delta, v[1] * 2.0 / delta, v[2] * 2.0 / delta]
             }
         };
-        p[7 * self.legs..].copy_from_slice(&t);
+        p[7 * self.legs..7 * self.legs + 3].copy_from_slice(&t);
         for i in 0..self.legs {
             p[7 * i + 6] = C64::new(0.0, 0.0);
-            let at_zero = self.leg_equations(&z, &p)[i];
+            let at_zero = self.sphere(i, &z, &p);
             p[7 * i + 6] = C64::new(1.0, 0.0);
-            let slope = at_zero - self.leg_equations(&z, &p)[i];
+            let slope = at_zero - self.sphere(i, &z, &p);
             p[7 * i + 6] = at_zero / slope;
+            // The plane is linear in its normal a: a·w = 0 with w_k the plane at a = e_k;
+            // project the random normal off w (bilinearly), so the plane holds at z0 and
+            // still passes through the leg's sphere centre B.
+            if let Some(k) = self.normal_at(i) {
+                let unit = |j: usize| {
+                    let mut a = [C64::new(0.0, 0.0); 3];
+                    a[j] = C64::new(1.0, 0.0);
+                    self.plane(i, a, &z, &p)
+                };
+                let w = [unit(0), unit(1), unit(2)];
+                let a = [p[k], p[k + 1], p[k + 2]];
+                let shift = dot(&a, &w) / dot(&w, &w);
+                for j in 0..3 {
+                    p[k + j] = a[j] - w[j] * shift;
+                }
+            }
         }
         (p, DVector::from_vec(z))
     }
@@ -791,12 +946,22 @@ static STARTS: std::sync::OnceLock<
 
 /// The generic start of `system`'s architecture (module documentation), from the cache.
 pub(crate) fn generic_start(system: &ForwardSystem) -> std::sync::Arc<GenericStart> {
-    let key: Architecture = (system.form, system.legs, system.constant.clone());
+    let key: Architecture = (
+        system.form,
+        system.legs,
+        system.constant.clone(),
+        system.planes.clone(),
+    );
     let cache = STARTS.get_or_init(Default::default);
     if let Some(found) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
         return found;
     }
-    let mut rng = ChaCha8Rng::seed_from_u64(seed_of(system.form, system.legs, &system.constant));
+    let mut rng = ChaCha8Rng::seed_from_u64(seed_of(
+        system.form,
+        system.legs,
+        &system.constant,
+        &system.planes,
+    ));
     let (p0, z0) = system.generic_start(&mut rng);
     let monodromy = pkm_homotopy::monodromy(
         system,

@@ -92,6 +92,8 @@ fn generic_counts_and_the_multistart_modes_on_every_supported_file() {
         ("three_rpr.toml", 6, 4),
         ("agile_eye.toml", 8, 8),
         ("stewart_gough.toml", 40, 16),
+        // Each PRS leg a sphere and the plane of its elbow joint (eq. K2) in Study's form.
+        ("three_prs.toml", 16, 8),
     ];
     for (file, generic, real) in expected {
         let model = common::robot(file);
@@ -111,6 +113,7 @@ fn generic_counts_and_the_multistart_modes_on_every_supported_file() {
                 + r.at_infinity
                 + r.exceptional
                 + r.refused
+                + r.repeated
                 + r.failed.len(),
             generic,
             "{file}: every path accounted for"
@@ -125,7 +128,11 @@ fn generic_counts_and_the_multistart_modes_on_every_supported_file() {
 #[test]
 fn unsupported_robots_and_bad_input() {
     for (file, reason) in [
-        ("three_prs.toml", "dependent pose coordinates"),
+        (
+            "exechon.toml",
+            "fewer equations than unknowns (a leg that holds the platform beyond its sphere and \
+             an elbow plane, as a single R joint at the base or the platform)",
+        ),
         (
             "tricept.toml",
             "a passive leg or a leg with several actuators",
@@ -154,7 +161,7 @@ fn unsupported_robots_and_bad_input() {
 
 /// `assembly_search` runs the homotopy by default: Dietmaier's design complete (40 modes, no
 /// multistart); the Hexa's report is not complete (paths stall near Study's exceptional set),
-/// so the multistart runs too and the union holds every mode it finds alone; the 3-PRS has no
+/// so the multistart runs too and the union holds every mode it finds alone; the Tricept has no
 /// polynomial form (multistart only); `ModeSearch::Multistart` skips the homotopy.
 #[test]
 fn assembly_search_uses_the_homotopy_and_says_so() {
@@ -192,9 +199,9 @@ fn assembly_search_uses_the_homotopy_and_says_so() {
         );
     }
     assert!(search.modes.len() >= alone.len() && search.modes.len() >= 16);
-    let three_prs = common::robot("three_prs.toml");
-    let search = three_prs
-        .assembly_search(&three_prs.home_actuators(), &settings)
+    let tricept = common::robot("tricept.toml");
+    let search = tricept
+        .assembly_search(&tricept.home_actuators(), &settings)
         .unwrap();
     assert!(search.homotopy.is_none() && search.multistart);
     let only = dietmaier
@@ -246,6 +253,19 @@ fn every_path_is_counted_once_and_a_repeated_end_is_not_complete() {
     }
     let r = sg.forward_kinematics_all(up.as_slice()).unwrap().report;
     assert!(r.repeated > 0 && !r.complete(), "{r:?}");
+}
+
+/// The 3-PRS away from home (its sliders at different heights, the platform tilted): the
+/// homotopy's report is complete and holds every mode of a 400-start multistart.
+#[test]
+fn three_prs_away_from_home_is_complete() {
+    let model = common::robot("three_prs.toml");
+    let q = [0.33, 0.37, 0.35];
+    let all = model.forward_kinematics_all(&q).unwrap();
+    assert!(all.report.complete(), "{:?}", all.report);
+    assert_eq!(all.report.generic_solutions, 16);
+    assert_closed(&model, &q, &all.configurations);
+    assert_multistart_modes_among(&model, &q, &all.configurations, 400);
 }
 
 fn q_dietmaier() -> [f64; 6] {
