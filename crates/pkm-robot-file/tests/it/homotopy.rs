@@ -359,3 +359,52 @@ fn the_homotopy_and_the_exports_take_the_whole_float_range() {
         }
     }
 }
+
+/// A 3-RRS (revolute actuators at the base, elbows normal to their rods but not parallel to
+/// the actuated axes, so each leg's elbow plane turns with its arm, eq. K2) written inline
+/// like the 3-PRS: at home and at the actuators of a tilted pose (its inverse kinematics) the
+/// report is complete, the pose is among the modes (a round trip), and a 200-start
+/// multistart's modes are among the homotopy's.
+#[test]
+fn a_three_rrs_has_elbow_planes_that_turn_with_its_arms() {
+    let text = r#"
+name = "3-RRS"
+orientation = "tilt_torsion"
+task = ["z", "tilt_x", "tilt_y"]
+dependent = ["x", "y", "torsion"]
+characteristic_length = 0.1
+
+[home]
+position = [0.0, 0.0, 0.5]
+
+[symmetry]
+count = 3
+axis = [0.0, 0.0, 1.0]
+
+[[legs]]
+joints = [
+  { type = "R", axis = [0.0, 1.0, 0.0], point = [0.3, 0.0, 0.3], actuated = true, offset = 0.0, limits = [-1.5, 1.5] },
+  { type = "R", axis = [0.05, 1.0, 0.2], point = [0.3, 0.0, 0.45] },
+  { type = "S", point = [0.1, 0.0, 0.5] },
+]
+"#;
+    let model = RobotModel::from_toml(text).unwrap();
+    assert_eq!(model.homotopy_form(), Some("spatial (Study parameters)"));
+    for task in [[0.5, 0.0, 0.0], [0.47, 0.06, -0.04]] {
+        let pose = model
+            .inverse_kinematics_configuration(&task, model.home_mode())
+            .unwrap();
+        let q = model.actuators_of(&pose);
+        let all = model.forward_kinematics_all(q.as_slice()).unwrap();
+        assert!(all.report.complete(), "{:?}", all.report);
+        assert!(
+            all.configurations
+                .iter()
+                .any(|c| same_pose(&model, c, &pose)),
+            "{task:?}: {:?}",
+            all.report
+        );
+        assert_closed(&model, q.as_slice(), &all.configurations);
+        assert_multistart_modes_among(&model, q.as_slice(), &all.configurations, 200);
+    }
+}
