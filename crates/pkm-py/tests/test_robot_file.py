@@ -133,7 +133,7 @@ def test_every_assembly_mode_of_a_pose_includes_it_and_says_it_is_complete():
     }
     outcome = pkm.assembly(study, progress=False)
     query = outcome["result"]["queries"][0]
-    assert query["complete"] and query["homotopy"]["paths"] == 6
+    assert query["complete"] and query["homotopy"]["generic_solutions"] == 6
     tasks = np.array([m["task"] for m in query["modes"]])
     assert np.abs(tasks - pose).max(axis=1).min() < 1e-9
     m = robot("three_rpr.toml")

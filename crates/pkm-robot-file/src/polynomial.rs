@@ -525,10 +525,10 @@ impl RobotModel {
 
 /// What the homotopy guarantees at one set of actuator coordinates (issue 32): the paths
 /// tracked from the generic solutions of the robot's architecture and how each ended.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HomotopyReport {
     /// The polynomial form (`"spatial (Study parameters)"`, `"translational"`, ...).
-    pub form: &'static str,
+    pub form: String,
     /// Isolated solutions of a generic member of the family, found by monodromy: the number of
     /// paths tracked.
     pub generic_solutions: usize,
@@ -635,7 +635,7 @@ impl RobotModel {
         let start = generic_start(&system);
         let target: Vec<C64> = p.iter().map(|&v| C64::new(v, 0.0)).collect();
         let mut report = HomotopyReport {
-            form: system.form.label(),
+            form: system.form.label().to_owned(),
             generic_solutions: start.monodromy.solutions.len(),
             monodromy_stable: start.monodromy.stable,
             real: 0,

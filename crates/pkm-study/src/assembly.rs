@@ -121,7 +121,7 @@ pub struct AssemblyQuery {
     /// The modes, nearest the home pose first.
     pub modes: Vec<ModeRecord>,
     /// How the homotopy's paths ended, when it ran.
-    pub homotopy: Option<HomotopyRecord>,
+    pub homotopy: Option<HomotopyReport>,
     /// Whether the multistart ran.
     pub multistart: bool,
     /// Whether `modes` are every real assembly mode: the homotopy ran and its report is
@@ -145,48 +145,6 @@ pub struct ModeRecord {
     pub direct_margin: f64,
     /// Samples and extent (m or rad) of the self-motion this mode is one point of.
     pub self_motion: Option<(usize, f64)>,
-}
-
-/// [`HomotopyReport`] in a result.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct HomotopyRecord {
-    /// Paths tracked: the architecture's generic number of complex solutions.
-    pub paths: usize,
-    /// Whether the monodromy that found them stopped growing.
-    pub monodromy_stable: bool,
-    /// Finite, nonsingular, real endpoints that closed the robot.
-    pub real: usize,
-    /// Finite, nonsingular endpoints with an imaginary part.
-    pub complex: usize,
-    /// Endpoints where the system is singular.
-    pub singular: usize,
-    /// Paths that went to infinity.
-    pub at_infinity: usize,
-    /// Paths ending on Study's exceptional set (no pose).
-    pub exceptional: usize,
-    /// Real endpoints the robot's closure refused.
-    pub refused: usize,
-    /// Nonsingular endpoints another path had reached (a path jumped).
-    pub repeated: usize,
-    /// Paths the tracker could not follow, with the reason.
-    pub failed: Vec<(usize, String)>,
-}
-
-impl From<&HomotopyReport> for HomotopyRecord {
-    fn from(r: &HomotopyReport) -> Self {
-        Self {
-            paths: r.generic_solutions,
-            monodromy_stable: r.monodromy_stable,
-            real: r.real,
-            complex: r.complex,
-            singular: r.singular,
-            at_infinity: r.at_infinity,
-            exceptional: r.exceptional,
-            refused: r.refused,
-            repeated: r.repeated,
-            failed: r.failed.clone(),
-        }
-    }
 }
 
 /// Runs the assembly-mode study.
@@ -312,7 +270,7 @@ fn query_record(q: &[f64], search: &AssemblySearch, label: bool) -> AssemblyQuer
     AssemblyQuery {
         actuators: q.to_vec(),
         modes: search.modes.iter().map(|m| mode_record(m, label)).collect(),
-        homotopy: search.homotopy.as_ref().map(HomotopyRecord::from),
+        homotopy: search.homotopy.clone(),
         multistart: search.multistart,
         complete: search
             .homotopy
@@ -374,12 +332,12 @@ fn summary_line(k: usize, q: &AssemblyQuery) -> String {
     let statement = match &q.homotopy {
         Some(h) if q.complete => format!(
             "complete: {} paths, {} real, {} complex",
-            h.paths, h.real, h.complex
+            h.generic_solutions, h.real, h.complex
         ),
         Some(h) => format!(
             "not complete: {} paths, {} real, {} complex, {} singular, {} at infinity, {} \
              exceptional, {} repeated, {} failed{}",
-            h.paths,
+            h.generic_solutions,
             h.real,
             h.complex,
             h.singular,

@@ -53,7 +53,7 @@ fn the_command_writes_the_modes_and_the_robot() {
     let query = &results.result.queries[0];
     let csv = std::fs::read_to_string(out.join("modes.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + query.modes.len());
-    assert_eq!(query.homotopy.as_ref().unwrap().paths, 8);
+    assert_eq!(query.homotopy.as_ref().unwrap().generic_solutions, 8);
 }
 
 #[test]

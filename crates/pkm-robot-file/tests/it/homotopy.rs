@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use crate::common;
-use pkm_robot_file::{Configuration, EnumerationSettings, RobotModel};
+use pkm_robot_file::{Configuration, EnumerationSettings, HomotopyReport, RobotModel};
 
 /// Two configurations with the same platform pose (1e-6 m, 1e-6 in the rotation matrix).
 fn same_pose(model: &RobotModel, a: &Configuration, b: &Configuration) -> bool {
@@ -14,6 +14,18 @@ fn same_pose(model: &RobotModel, a: &Configuration, b: &Configuration) -> bool {
             - y.rotation.to_rotation_matrix().into_inner())
         .amax()
             < 1e-6
+}
+
+/// The paths the report accounts for, by how they ended (each once).
+fn ended(r: &HomotopyReport) -> usize {
+    r.real
+        + r.complex
+        + r.singular
+        + r.at_infinity
+        + r.exceptional
+        + r.refused
+        + r.repeated
+        + r.failed.len()
 }
 
 /// Every mode of the multistart alone (`starts` seeded starts) is among `configurations`.
@@ -106,18 +118,7 @@ fn generic_counts_and_the_multistart_modes_on_every_supported_file() {
             (generic, real),
             "{file}: {r:?}"
         );
-        assert_eq!(
-            r.real
-                + r.complex
-                + r.singular
-                + r.at_infinity
-                + r.exceptional
-                + r.refused
-                + r.repeated
-                + r.failed.len(),
-            generic,
-            "{file}: every path accounted for"
-        );
+        assert_eq!(ended(r), generic, "{file}: every path accounted for");
         assert_closed(&model, &q, &all.configurations);
         assert_multistart_modes_among(&model, &q, &all.configurations, 200);
     }
@@ -234,15 +235,7 @@ fn every_path_is_counted_once_and_a_repeated_end_is_not_complete() {
     ] {
         let all = model.forward_kinematics_all(&q).unwrap();
         let r = &all.report;
-        let ends = r.real
-            + r.complex
-            + r.singular
-            + r.at_infinity
-            + r.exceptional
-            + r.refused
-            + r.repeated
-            + r.failed.len();
-        assert_eq!(ends, r.generic_solutions, "{r:?}");
+        assert_eq!(ended(r), r.generic_solutions, "{r:?}");
         assert!(all.configurations.len() >= r.real, "{r:?}");
         for (i, a) in all.configurations.iter().enumerate() {
             for b in &all.configurations[..i] {
