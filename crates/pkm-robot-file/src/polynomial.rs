@@ -172,6 +172,11 @@ impl ForwardSystem {
         })
     }
 
+    /// Whether the leg equations are combined at random into fewer.
+    pub(crate) fn squared_up(&self) -> bool {
+        self.squaring.nrows() < self.squaring.ncols()
+    }
+
     /// The number of parameters.
     pub(crate) fn parameters(&self) -> usize {
         7 * self.legs + 3 + 3 * self.planes.iter().filter(|&&p| p).count()
@@ -549,9 +554,14 @@ pub struct HomotopyReport {
     /// quaternion below 1e-4 of the unknowns where the tracker stops): points of no pose, which
     /// a robot of special geometry (planar base and platform, say) has for every leg length.
     pub exceptional: usize,
-    /// Real endpoints that the robot's own closure refused (a root of the squared-up system
-    /// of a redundantly actuated robot that the extra actuator does not allow).
+    /// Real endpoints that the robot's own closure refused: a root of the squared-up system of
+    /// a redundantly actuated robot that the extra actuator does not allow, or, in a square
+    /// system, a disagreement between the polynomial form and the robot (then the report is
+    /// not complete).
     pub refused: usize,
+    /// Whether the leg equations were combined at random into fewer (redundant actuation), so
+    /// that refused real roots are expected.
+    pub squared_up: bool,
     /// Nonsingular endpoints that another path had reached already (within 1e-8): two paths
     /// met, so one of them jumped and a solution may be missing. Counted once per repeat; not
     /// in `real` or `complex`.
@@ -562,7 +572,8 @@ pub struct HomotopyReport {
 
 impl HomotopyReport {
     /// Whether every path ended at its own finite, nonsingular solution (real or complex)
-    /// with a stable monodromy: then the real configurations are every real assembly mode.
+    /// with a stable monodromy, and every real one closed the robot (unless squared up): then
+    /// the real configurations are every real assembly mode.
     /// Paths that end singular, at infinity, on Study's exceptional set, on another path's
     /// solution or failed leave room for a real mode near them (the Hexa at home loses one of
     /// 16 so: its path passes near the exceptional set, where the system is singular, and
@@ -571,6 +582,7 @@ impl HomotopyReport {
         self.monodromy_stable
             && self.failed.is_empty()
             && self.singular + self.at_infinity + self.exceptional + self.repeated == 0
+            && (self.refused == 0 || self.squared_up)
     }
 }
 
@@ -644,6 +656,7 @@ impl RobotModel {
             at_infinity: 0,
             exceptional: 0,
             refused: 0,
+            squared_up: system.squared_up(),
             repeated: 0,
             failed: Vec::new(),
         };
