@@ -8,7 +8,7 @@
 //! the conformance tests check).
 
 use crate::chain::stack;
-use crate::leg_ik::LegClass;
+use crate::leg_ik::{LegClass, Sphere};
 use crate::model::{RobotModel, WorkingMode};
 use crate::pose::CoordinateRole;
 use crate::pose::{hybrid_rates, platform_pose};
@@ -220,7 +220,17 @@ impl RobotModel {
 /// \pm q_i$ or the rod. Unlike the reduced closure $q_i - \mathrm{IK}_i(x)$ it is defined at
 /// every $x$, out of reach too, as the hand-written models' closures are: Newton on it steps
 /// as theirs do, and stays on the guess's assembly mode where theirs does.
-pub(crate) struct AlgebraicClosure<'a>(pub &'a RobotModel);
+///
+/// The forward kinematics holds the actuators fixed, so [`AlgebraicClosure::at_actuators`]
+/// computes each leg's sphere once (an arm's elbow: a sine and a cosine) and uses it wherever
+/// the closure is asked at exactly those coordinates; a robot whose orientation is not among its
+/// task coordinates keeps its home rotation without recomputing it. Both give the bits of the
+/// full computation.
+pub(crate) struct AlgebraicClosure<'a> {
+    model: &'a RobotModel,
+    /// The actuator coordinates held and each leg's sphere there.
+    fixed: Vec<(f64, Option<Sphere>)>,
+}
 
 /// One leg of [`AlgebraicClosure`]: $C - E$, $L$, $\partial E / \partial q$ and
 /// $\partial L / \partial q$.
@@ -233,13 +243,49 @@ struct AlgebraicLeg {
     d_length: f64,
 }
 
-impl AlgebraicClosure<'_> {
+impl<'a> AlgebraicClosure<'a> {
+    /// The closure of `model`.
+    pub(crate) fn new(model: &'a RobotModel) -> Self {
+        Self {
+            model,
+            fixed: Vec::new(),
+        }
+    }
+
+    /// The closure of `model` with the legs' spheres at the actuator coordinates `q` computed
+    /// once.
+    pub(crate) fn at_actuators(model: &'a RobotModel, q: &[f64]) -> Self {
+        let fixed = q
+            .iter()
+            .enumerate()
+            .map(|(i, &q_i)| (q_i, Self::new(model).sphere(i, q_i)))
+            .collect();
+        Self { model, fixed }
+    }
+
+    /// Leg `i`'s sphere with its actuator at `q_i`.
+    fn sphere(&self, i: usize, q_i: f64) -> Option<Sphere> {
+        match self.fixed.get(i) {
+            Some(&(held, sphere)) if held.to_bits() == q_i.to_bits() => sphere,
+            _ => self.model.classes[i].sphere(q_i - self.model.actuator(i).1.offset),
+        }
+    }
+
+    /// The platform pose of the task coordinates `x` (NaN where they are not valid).
+    fn pose(&self, x: &[f64]) -> Isometry3<f64> {
+        let coordinates = self.coordinates(x);
+        if self.model.task.iter().all(|&k| k < 3) {
+            // The orientation is held at home: the home rotation, computed once.
+            let t = nalgebra::Translation3::new(coordinates[0], coordinates[1], coordinates[2]);
+            return Isometry3::from_parts(t, self.model.home_pose.rotation);
+        }
+        platform_pose(self.model.orientation, &coordinates)
+    }
+
     /// Leg `i` at platform pose `pose` with actuator coordinate `q_i`.
     fn leg(&self, i: usize, pose: &Isometry3<f64>, q_i: f64) -> AlgebraicLeg {
-        let model = self.0;
-        let motion = q_i - model.actuator(i).1.offset;
         let at = |p: &Vector3<f64>| (pose * Point3::from(*p)).coords;
-        match model.classes[i].sphere(motion) {
+        match self.sphere(i, q_i) {
             Some(sphere) => {
                 let c = at(&sphere.point);
                 AlgebraicLeg {
@@ -262,13 +308,13 @@ impl AlgebraicClosure<'_> {
 
     /// The full pose coordinates of `x` (NaN where they are not valid).
     fn coordinates(&self, x: &[f64]) -> crate::pose::PoseCoordinates {
-        self.0.pose_with_task(x).unwrap_or([f64::NAN; 6])
+        self.model.pose_with_task(x).unwrap_or([f64::NAN; 6])
     }
 }
 
 impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
     fn closure(&self, x: &pkm_traits::Task<N>, q: &pkm_traits::Joints<N>) -> pkm_traits::Joints<N> {
-        let pose = platform_pose(self.0.orientation, &self.coordinates(x.as_slice()));
+        let pose = self.pose(x.as_slice());
         pkm_traits::Joints::<N>::from_fn(|i, _| {
             let leg = self.leg(i, &pose, q[i]);
             0.5 * (leg.rod.norm_squared() - leg.length * leg.length)
@@ -283,23 +329,23 @@ impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
         q: &pkm_traits::Joints<N>,
     ) -> nalgebra::SMatrix<f64, N, N> {
         let coordinates = self.coordinates(x.as_slice());
-        let pose = platform_pose(self.0.orientation, &coordinates);
+        let pose = self.pose(x.as_slice());
         let mut j = nalgebra::SMatrix::<f64, N, N>::zeros();
-        if self.0.task.iter().all(|&k| k < 3) {
+        if self.model.task.iter().all(|&k| k < 3) {
             // A translation: C moves with the platform origin.
             for i in 0..N {
                 let rod = self.leg(i, &pose, q[i]).rod;
-                for (k, &coordinate) in self.0.task.iter().enumerate().take(N) {
+                for (k, &coordinate) in self.model.task.iter().enumerate().take(N) {
                     j[(i, k)] = rod[coordinate];
                 }
             }
             return j;
         }
-        let h = hybrid_rates(self.0.orientation, &coordinates);
+        let h = hybrid_rates(self.model.orientation, &coordinates);
         let origin = Vector3::new(coordinates[0], coordinates[1], coordinates[2]);
         for i in 0..N {
             let leg = self.leg(i, &pose, q[i]);
-            for (k, &coordinate) in self.0.task.iter().enumerate().take(N) {
+            for (k, &coordinate) in self.model.task.iter().enumerate().take(N) {
                 let w: Vector3<f64> = h.fixed_view::<3, 1>(0, coordinate).into();
                 let v: Vector3<f64> = h.fixed_view::<3, 1>(3, coordinate).into();
                 j[(i, k)] = leg.rod.dot(&(v + w.cross(&(leg.point - origin))));
@@ -315,7 +361,7 @@ impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
         x: &pkm_traits::Task<N>,
         q: &pkm_traits::Joints<N>,
     ) -> nalgebra::SMatrix<f64, N, N> {
-        let pose = platform_pose(self.0.orientation, &self.coordinates(x.as_slice()));
+        let pose = self.pose(x.as_slice());
         nalgebra::SMatrix::<f64, N, N>::from_fn(|i, k| {
             if i != k {
                 return 0.0;
@@ -343,7 +389,7 @@ mod tests {
     /// relative, and $-J_q^{-1}J_x$ is the velocity Jacobian of the screws to 1e-9 relative.
     fn check<const N: usize>(file: &str, x: Task<N>) {
         let robot = crate::Robot::<N>::new(model(file)).unwrap();
-        let closure = AlgebraicClosure(robot.model());
+        let closure = AlgebraicClosure::new(robot.model());
         let mode = robot.model().home_mode();
         let q = robot.inverse_kinematics(&x, mode).unwrap();
         let phi = closure.closure(&x, &q);
@@ -383,5 +429,48 @@ mod tests {
         check("three_rpr.toml", Task::<3>::new(0.02, -0.03, 0.05));
         let x = Task::<6>::from_column_slice(&[0.01, -0.02, 0.31, 0.05, -0.03, 0.04]);
         check("stewart_gough.toml", x);
+    }
+
+    /// The closure with its spheres held at `q` gives the bits of the one that computes them
+    /// each time, at `q` and (falling back) at another `q`, away from `x` too.
+    fn held_equals_computed<const N: usize>(file: &str, x: Task<N>) {
+        let robot = crate::Robot::<N>::new(model(file)).unwrap();
+        let q = robot
+            .inverse_kinematics(&x, robot.model().home_mode())
+            .unwrap();
+        let (computed, held) = (
+            AlgebraicClosure::new(robot.model()),
+            AlgebraicClosure::at_actuators(robot.model(), q.as_slice()),
+        );
+        let bits = |m: &[f64]| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        for (dx, dq) in [(0.0, 0.0), (0.01, 0.0), (-0.02, 0.003)] {
+            let (x, q) = (x.add_scalar(dx), q.add_scalar(dq));
+            let pairs = [
+                (
+                    computed.closure(&x, &q).as_slice().to_vec(),
+                    held.closure(&x, &q).as_slice().to_vec(),
+                ),
+                (
+                    computed.jacobian_x(&x, &q).as_slice().to_vec(),
+                    held.jacobian_x(&x, &q).as_slice().to_vec(),
+                ),
+                (
+                    computed.jacobian_q(&x, &q).as_slice().to_vec(),
+                    held.jacobian_q(&x, &q).as_slice().to_vec(),
+                ),
+            ];
+            for (a, b) in pairs {
+                assert_eq!(bits(&a), bits(&b), "{file} {dx} {dq}");
+            }
+        }
+    }
+
+    #[test]
+    fn holding_the_actuators_gives_the_same_bits() {
+        held_equals_computed("tsai.toml", Task::<3>::new(0.05, -0.04, 0.45));
+        held_equals_computed("rotary_delta.toml", Task::<3>::new(0.05, -0.04, -0.7));
+        held_equals_computed("three_rpr.toml", Task::<3>::new(0.02, -0.03, 0.05));
+        let x = Task::<6>::from_column_slice(&[0.01, -0.02, 0.31, 0.05, -0.03, 0.04]);
+        held_equals_computed("stewart_gough.toml", x);
     }
 }

@@ -230,7 +230,8 @@ impl<const N: usize> ForwardKinematics<N> for Robot<N> {
     ) -> Result<Task<N>, KinematicsError> {
         InvalidInput::require_positive("tolerance", settings.tolerance)?;
         if self.model.has_closed_form() {
-            let closure = crate::closed_form::AlgebraicClosure(&self.model);
+            let closure =
+                crate::closed_form::AlgebraicClosure::at_actuators(&self.model, q.as_slice());
             if let Ok(x) = pkm_traits::newton_forward_kinematics(&closure, q, guess, settings) {
                 return Ok(x);
             }
