@@ -37,13 +37,17 @@
 //! where most paths end singular). With it the pose coordinates may be dependent (the 3-PRS's
 //! x, y and torsion): all six are unknowns of the spatial form.
 //!
+//! A passive leg made of a universal joint at $O$ and a slide that carries the platform (the
+//! Tricept's) keeps the platform's origin on the slide's line and the joint's angle (eq. K3,
+//! [`line_leg`]): three more quadrics in Study's form.
+//!
 //! A constant position coordinate $k$ adds $t_k - t_{0k} = 0$ (times $\Delta$ in Study's
 //! form). Every equation is quadratic in $z$ and in the parameters $(B_i, c_i, L_i^2, t_0)$,
 //! so the central differences that give $F_z$ and $\partial_s F$ are exact to rounding. More
 //! equations than unknowns (redundant actuation) are squared up by a random complex
 //! combination of the leg equations, whose solutions include the robot's (each is checked on
 //! its own closure). Robots with legs that hold the platform otherwise (a single R joint at
-//! the base or the platform, as the Exechon's), passive legs, several actuators in a leg,
+//! the base or the platform, as the Exechon's), other passive legs, several actuators in a leg,
 //! numerical legs or other orientation patterns are not written here:
 //! [`RobotModel::polynomial_form`] says why, and the multistart serves them.
 
@@ -94,6 +98,8 @@ pub(crate) struct ForwardSystem {
     pub constant: Vec<usize>,
     /// Which legs have an elbow plane (eq. K2).
     pub planes: Vec<bool>,
+    /// Passive line legs (eq. K3; spatial form).
+    pub lines: usize,
     /// The random gauge (spherical and spatial forms) and the random squaring-up matrix of
     /// the leg equations (rows: leg equations kept; identity when square).
     gauge: Vec<C64>,
@@ -101,7 +107,7 @@ pub(crate) struct ForwardSystem {
 }
 
 /// The architecture key of a cached start system.
-pub(crate) type Architecture = (PoseForm, usize, Vec<usize>, Vec<bool>);
+pub(crate) type Architecture = (PoseForm, usize, Vec<usize>, Vec<bool>, usize);
 
 /// `[x; y; z]` products of complex vectors (bilinear: no conjugation).
 fn dot(a: &[C64; 3], b: &[C64; 3]) -> C64 {
@@ -144,9 +150,10 @@ impl ForwardSystem {
         legs: usize,
         constant: Vec<usize>,
         planes: Vec<bool>,
+        lines: usize,
     ) -> Option<Self> {
         let n = form.unknowns();
-        let equations = legs + planes.iter().filter(|&&p| p).count();
+        let equations = legs + planes.iter().filter(|&&p| p).count() + 3 * lines;
         let fixed = match form {
             PoseForm::Translational => constant.len(),
             PoseForm::Planar => constant.len() + 1,
@@ -154,7 +161,7 @@ impl ForwardSystem {
             PoseForm::Spatial => constant.len() + 2,
         };
         let kept = n.checked_sub(fixed).filter(|&k| k <= equations && k > 0)?;
-        let mut rng = ChaCha8Rng::seed_from_u64(seed_of(form, legs, &constant, &planes));
+        let mut rng = ChaCha8Rng::seed_from_u64(seed_of(form, legs, &constant, &planes, lines));
         let mut complex = || C64::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
         let gauge = (0..n).map(|_| complex()).collect();
         let squaring = if kept == equations {
@@ -167,6 +174,7 @@ impl ForwardSystem {
             legs,
             constant,
             planes,
+            lines,
             gauge,
             squaring,
         })
@@ -179,6 +187,11 @@ impl ForwardSystem {
 
     /// The number of parameters.
     pub(crate) fn parameters(&self) -> usize {
+        self.lines_at() + LINE_PARAMETERS * self.lines
+    }
+
+    /// Where the passive line legs' parameters start.
+    fn lines_at(&self) -> usize {
         7 * self.legs + 3 + 3 * self.planes.iter().filter(|&&p| p).count()
     }
 
@@ -197,6 +210,10 @@ impl ForwardSystem {
             if let Some(k) = self.normal_at(i) {
                 equations.push(self.plane(i, [p[k], p[k + 1], p[k + 2]], z, p));
             }
+        }
+        for j in 0..self.lines {
+            let at = self.lines_at() + LINE_PARAMETERS * j;
+            equations.extend(line_leg(z, &p[at..at + LINE_PARAMETERS]));
         }
         equations
     }
@@ -391,6 +408,40 @@ fn study_leg(z: &[C64], b: &[C64; 3], c: &[C64; 3], l2: C64) -> C64 {
         - dot(b, &ge) * 4.0
 }
 
+/// Parameters of a passive line leg: $O$, $a_1$, $a_2$ (platform frame), $u$, $w$ (platform
+/// frame, normal to the slide), $u\cdot r_0$, $w\cdot r_0$, $k$.
+const LINE_PARAMETERS: usize = 18;
+
+/// A passive line leg (eq. K3): a universal joint at $O$ (axes $a_1$ fixed, $a_2$ carried)
+/// then a passive slide, the platform on the slider: in the platform frame its origin stays on
+/// the slide's line, $u\cdot(R^\top(t - O) - r_0) = w\cdot(R^\top(t - O) - r_0) = 0$, and
+/// the joint keeps its angle, $a_1\cdot R a_2 = k$. With $R^\top(t - O)\Delta = 2\operatorname{vec}(\bar e g) -
+/// \operatorname{vec}(\bar e O e)$ and $R a_2 \Delta = \operatorname{vec}(e a_2 \bar e)$, three
+/// quadrics in Study's parameters.
+fn line_leg(z: &[C64], q: &[C64]) -> [C64; 3] {
+    let e = [z[0], z[1], z[2], z[3]];
+    let g = [z[4], z[5], z[6], z[7]];
+    let delta = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+    let v3 = |k: usize| [q[k], q[k + 1], q[k + 2]];
+    let (o, a1, a2, u, w) = (v3(0), v3(3), v3(6), v3(9), v3(12));
+    let (ur0, wr0, k) = (q[15], q[16], q[17]);
+    let eg = vector_part(&multiply(&conjugate(&e), &g));
+    let eoe = vector_part(&multiply(
+        &multiply(&conjugate(&e), &[C64::new(0.0, 0.0), o[0], o[1], o[2]]),
+        &e,
+    ));
+    let body = [
+        eg[0] * 2.0 - eoe[0],
+        eg[1] * 2.0 - eoe[1],
+        eg[2] * 2.0 - eoe[2],
+    ];
+    [
+        dot(&u, &body) - ur0 * delta,
+        dot(&w, &body) - wr0 * delta,
+        dot(&a1, &rotate(&e, &a2)) - k * delta,
+    ]
+}
+
 /// Adds `c` to `configurations` unless one of them has its pose (1e-6).
 fn push_new(kind: OrientationKind, configurations: &mut Vec<Configuration>, c: Configuration) {
     if !configurations.iter().any(|f| same_pose(kind, f, &c, 1e-6)) {
@@ -399,7 +450,7 @@ fn push_new(kind: OrientationKind, configurations: &mut Vec<Configuration>, c: C
 }
 
 /// A seed that depends on the architecture alone.
-fn seed_of(form: PoseForm, legs: usize, constant: &[usize], planes: &[bool]) -> u64 {
+fn seed_of(form: PoseForm, legs: usize, constant: &[usize], planes: &[bool], lines: usize) -> u64 {
     let mut seed = 0x5eed_u64 ^ (form as u64) << 8 ^ (legs as u64) << 16;
     for &k in constant {
         seed ^= 1 << (24 + k);
@@ -407,7 +458,7 @@ fn seed_of(form: PoseForm, legs: usize, constant: &[usize], planes: &[bool]) -> 
     for (i, _) in planes.iter().enumerate().filter(|(_, p)| **p) {
         seed ^= 1 << (32 + i % 32);
     }
-    seed
+    seed ^ (lines as u64) << 60
 }
 
 impl QuadraticFamily for ForwardSystem {
@@ -425,10 +476,16 @@ impl QuadraticFamily for ForwardSystem {
 impl RobotModel {
     /// The polynomial family of this robot's forward kinematics, or why there is none.
     pub(crate) fn polynomial_form(&self) -> Result<ForwardSystem, &'static str> {
-        if self.actuated != self.legs.len() || self.actuators.len() != self.legs.len() {
-            return Err("a passive leg or a leg with several actuators");
+        if self.actuators.len() != self.actuated {
+            return Err("a leg with several actuators");
         }
-        if self.classes.contains(&LegClass::Numeric) {
+        let lines = self.legs.len() - self.actuated;
+        if (self.actuated..self.legs.len()).any(|i| self.line_leg(i).is_none()) {
+            return Err(
+                "a passive leg other than a universal joint and a slide carrying the platform",
+            );
+        }
+        if self.classes[..self.actuated].contains(&LegClass::Numeric) {
             return Err("a leg without a closed form (a numerical leg)");
         }
         let free = |k: usize| {
@@ -458,10 +515,13 @@ impl RobotModel {
         };
         // The planar and spherical forms hold the elbow planes already (every axis normal to
         // the plane of motion, or through the centre).
-        let planes = (0..self.legs.len())
+        let planes = (0..self.actuated)
             .map(|i| form == PoseForm::Spatial && self.elbow_plane(i, 0.0).is_some())
             .collect();
-        ForwardSystem::new(form, self.legs.len(), constant, planes).ok_or(
+        if lines > 0 && form != PoseForm::Spatial {
+            return Err("a passive leg on a robot whose orientation is not free");
+        }
+        ForwardSystem::new(form, self.actuated, constant, planes, lines).ok_or(
             "fewer equations than unknowns (a leg that holds the platform beyond its sphere and \
              an elbow plane, as a single R joint at the base or the platform)",
         )
@@ -476,7 +536,7 @@ impl RobotModel {
     ) -> Option<Vec<f64>> {
         let home_rotation = self.home_pose.rotation.to_rotation_matrix();
         let mut p = Vec::with_capacity(system.parameters());
-        for (i, class) in self.classes.iter().enumerate() {
+        for (i, class) in self.classes.iter().enumerate().take(self.actuated) {
             let actuator = self.legs[i].sole_actuator()?;
             let motion = q[i] - actuator.offset;
             let sphere = class.sphere(motion)?;
@@ -492,12 +552,81 @@ impl RobotModel {
             p.extend([b.x, b.y, b.z, c.x, c.y, c.z, length * length]);
         }
         p.extend(self.home_pose.translation.vector.iter());
-        for (i, leg) in self.legs.iter().enumerate() {
+        for (i, leg) in self.legs.iter().enumerate().take(self.actuated) {
             if let Some(a) = self.elbow_plane(i, q[i] - leg.sole_actuator()?.offset) {
                 p.extend(a.iter());
             }
         }
+        for i in self.actuated..self.legs.len() {
+            p.extend(self.line_leg(i)?);
+        }
         Some(p)
+    }
+
+    /// The parameters of passive leg `i` as a line leg (eq. K3), when it is one: a universal
+    /// joint (two revolute axes that meet at $O$) then a passive slide, the platform on the
+    /// slider (home frame: $a_2$, the slide and $r_0$ in the platform's frame at home).
+    pub(crate) fn line_leg(&self, i: usize) -> Option<[f64; LINE_PARAMETERS]> {
+        let leg = &self.legs[i];
+        let [
+            Joint::Revolute {
+                axis: a1,
+                point: p1,
+            },
+            Joint::Revolute {
+                axis: a2,
+                point: p2,
+            },
+            Joint::Prismatic { axis: slide },
+        ] = leg.joints.as_slice()
+        else {
+            return None;
+        };
+        if !leg.actuators.is_empty() {
+            return None;
+        }
+        // The axes meet: p1 + s a1 = p2 + t a2 in the least-squares sense, within 1e-9 size.
+        let n = a1.cross(a2);
+        if n.norm() < 1e-9 {
+            return None;
+        }
+        let d = p2 - p1;
+        if d.dot(&n).abs() > 1e-9 * self.size * n.norm() {
+            return None;
+        }
+        let s = d.cross(a2).dot(&n) / n.norm_squared();
+        let o = p1 + a1 * s;
+        let home = self.home_pose.rotation.to_rotation_matrix();
+        let to_body = |v: &Vector3<f64>| home.inverse() * v;
+        let (a2b, slide_b) = (to_body(a2), to_body(slide).normalize());
+        let r = to_body(&(self.home_pose.translation.vector - o));
+        let r0 = r - slide_b * r.dot(&slide_b);
+        let u = slide_b
+            .cross(&Vector3::x())
+            .try_normalize(1e-6)
+            .unwrap_or_else(|| slide_b.cross(&Vector3::y()).normalize());
+        let w = slide_b.cross(&u);
+        let k = a1.dot(a2);
+        Some([
+            o.x,
+            o.y,
+            o.z,
+            a1.x,
+            a1.y,
+            a1.z,
+            a2b.x,
+            a2b.y,
+            a2b.z,
+            u.x,
+            u.y,
+            u.z,
+            w.x,
+            w.y,
+            w.z,
+            u.dot(&r0),
+            w.dot(&r0),
+            k,
+        ])
     }
 
     /// The normal of leg `i`'s elbow plane with its actuator at `motion` (base frame), when
@@ -793,6 +922,9 @@ impl RobotModel {
             let motion = q_i - leg.sole_actuator()?.offset;
             c.joints[i] = self.passive_joints(i, motion, &c).ok()?;
         }
+        for i in self.actuated..self.legs.len() {
+            c.joints[i] = self.numeric_leg(i, &c).ok()?;
+        }
         let refined = self.forward_kinematics_from(q, &c).ok()?;
         same_pose(self.orientation, &refined, &c, tolerance).then_some(refined)
     }
@@ -940,6 +1072,16 @@ impl ForwardSystem {
                 }
             }
         }
+        // A line leg's equations (spatial form) are affine in u·r0, w·r0 and k, each times -Δ.
+        for j in 0..self.lines {
+            let delta: C64 = z[..4].iter().map(|v| v * v).sum();
+            let at = self.lines_at() + LINE_PARAMETERS * j;
+            p[at + 15..at + 18].fill(C64::new(0.0, 0.0));
+            let values = line_leg(&z, &p[at..at + LINE_PARAMETERS]);
+            for (k, v) in values.iter().enumerate() {
+                p[at + 15 + k] = v / delta;
+            }
+        }
         (p, DVector::from_vec(z))
     }
 }
@@ -964,6 +1106,7 @@ pub(crate) fn generic_start(system: &ForwardSystem) -> std::sync::Arc<GenericSta
         system.legs,
         system.constant.clone(),
         system.planes.clone(),
+        system.lines,
     );
     let cache = STARTS.get_or_init(Default::default);
     if let Some(found) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
@@ -974,6 +1117,7 @@ pub(crate) fn generic_start(system: &ForwardSystem) -> std::sync::Arc<GenericSta
         system.legs,
         &system.constant,
         &system.planes,
+        system.lines,
     ));
     let (p0, z0) = system.generic_start(&mut rng);
     let monodromy = pkm_homotopy::monodromy(

@@ -134,22 +134,22 @@ fn home_is_the_first_mode_labelled_zero_and_the_multistart_alone_says_nothing_mo
 
 #[test]
 fn a_robot_without_a_polynomial_form_runs_the_multistart_and_says_why() {
-    let outcome = assembly(&study("tricept.toml", "starts = 40"), &Silent).unwrap();
+    let outcome = assembly(&study("three_ppsr.toml", "starts = 40"), &Silent).unwrap();
     let result = &outcome.result;
     assert_eq!(result.form, None);
     assert_eq!(
         result.unsupported.as_deref(),
-        Some("a passive leg or a leg with several actuators")
+        Some("a leg with several actuators")
     );
     let q = &result.queries[0];
     assert!(q.multistart && !q.complete && q.homotopy.is_none());
-    // Its orientation is dependent: the inverse kinematics from the task coordinates gives
-    // the orientation near home, so only the mode nearest home is checked by it.
+    // Its legs are solved numerically from home: the inverse kinematics from the task
+    // coordinates finds the legs near home, so only the mode nearest home is checked by it.
     let home_mode = AssemblyQuery {
         modes: q.modes[..1].to_vec(),
         ..q.clone()
     };
-    assert_every_mode_closes(&model("tricept.toml"), &home_mode, 1e-9);
+    assert_every_mode_closes(&model("three_ppsr.toml"), &home_mode, 1e-9);
     assert!(outcome.summary[0].contains("no statement of completeness"));
 }
 
