@@ -271,15 +271,14 @@ impl<'a> AlgebraicClosure<'a> {
         }
     }
 
-    /// The platform pose of the task coordinates `x` (NaN where they are not valid).
-    fn pose(&self, x: &[f64]) -> Isometry3<f64> {
-        let coordinates = self.coordinates(x);
+    /// The platform pose of the pose coordinates `coordinates`.
+    fn pose(&self, coordinates: &crate::pose::PoseCoordinates) -> Isometry3<f64> {
         if self.model.task.iter().all(|&k| k < 3) {
             // The orientation is held at home: the home rotation, computed once.
             let t = nalgebra::Translation3::new(coordinates[0], coordinates[1], coordinates[2]);
             return Isometry3::from_parts(t, self.model.home_pose.rotation);
         }
-        platform_pose(self.model.orientation, &coordinates)
+        platform_pose(self.model.orientation, coordinates)
     }
 
     /// Leg `i` at platform pose `pose` with actuator coordinate `q_i`.
@@ -314,7 +313,7 @@ impl<'a> AlgebraicClosure<'a> {
 
 impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
     fn closure(&self, x: &pkm_traits::Task<N>, q: &pkm_traits::Joints<N>) -> pkm_traits::Joints<N> {
-        let pose = self.pose(x.as_slice());
+        let pose = self.pose(&self.coordinates(x.as_slice()));
         pkm_traits::Joints::<N>::from_fn(|i, _| {
             let leg = self.leg(i, &pose, q[i]);
             0.5 * (leg.rod.norm_squared() - leg.length * leg.length)
@@ -329,7 +328,7 @@ impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
         q: &pkm_traits::Joints<N>,
     ) -> nalgebra::SMatrix<f64, N, N> {
         let coordinates = self.coordinates(x.as_slice());
-        let pose = self.pose(x.as_slice());
+        let pose = self.pose(&coordinates);
         let mut j = nalgebra::SMatrix::<f64, N, N>::zeros();
         if self.model.task.iter().all(|&k| k < 3) {
             // A translation: C moves with the platform origin.
@@ -361,7 +360,7 @@ impl<const N: usize> pkm_traits::ClosedChain<N, N> for AlgebraicClosure<'_> {
         x: &pkm_traits::Task<N>,
         q: &pkm_traits::Joints<N>,
     ) -> nalgebra::SMatrix<f64, N, N> {
-        let pose = self.pose(x.as_slice());
+        let pose = self.pose(&self.coordinates(x.as_slice()));
         nalgebra::SMatrix::<f64, N, N>::from_fn(|i, k| {
             if i != k {
                 return 0.0;

@@ -37,16 +37,17 @@ pub(crate) struct Pointing {
     pub rotation: Rotation3<f64>,
 }
 
-impl PointingLeg {
-    /// Leg `index` as a pointing leg, if it is one: revolute, revolute through the same point
-    /// $A$ on non-parallel axes, then prismatic, no actuator, and the home platform origin `p0`
-    /// on the slider line through $A$, away from $A$ (tolerances relative to `size`).
-    pub(crate) fn detect(
-        index: usize,
-        leg: &LegChain,
-        p0: &Vector3<f64>,
-        size: f64,
-    ) -> Option<Self> {
+/// A leg of a revolute, a revolute and a prismatic joint, without actuator: the two revolute
+/// joints' axes and points, and the slide, as the file gives them at home.
+pub(crate) struct UniversalSlide {
+    pub first: (Vector3<f64>, Vector3<f64>),
+    pub second: (Vector3<f64>, Vector3<f64>),
+    pub slide: Vector3<f64>,
+}
+
+impl UniversalSlide {
+    /// `leg` as a passive R + R + P chain, if it is one.
+    pub(crate) fn of(leg: &LegChain) -> Option<Self> {
         let [
             Joint::Revolute {
                 axis: a1,
@@ -61,11 +62,34 @@ impl PointingLeg {
         else {
             return None;
         };
+        leg.actuators.is_empty().then_some(Self {
+            first: (*a1, *p1),
+            second: (*a2, *p2),
+            slide: *slide,
+        })
+    }
+}
+
+impl PointingLeg {
+    /// Leg `index` as a pointing leg, if it is one: revolute, revolute through the same point
+    /// $A$ on non-parallel axes, then prismatic, no actuator, and the home platform origin `p0`
+    /// on the slider line through $A$, away from $A$ (tolerances relative to `size`).
+    pub(crate) fn detect(
+        index: usize,
+        leg: &LegChain,
+        p0: &Vector3<f64>,
+        size: f64,
+    ) -> Option<Self> {
+        let UniversalSlide {
+            first: (a1, p1),
+            second: (a2, p2),
+            slide,
+        } = UniversalSlide::of(leg)?;
+        let (a1, p1, a2, p2, slide) = (&a1, &p1, &a2, &p2, &slide);
         let tolerance = 1e-9 * size;
         let reach = (p0 - p1).dot(slide);
         let on_line = (p0 - p1 - slide * reach).norm() <= tolerance;
-        let usable = leg.actuators.is_empty()
-            && (p1 - p2).norm() <= tolerance
+        let usable = (p1 - p2).norm() <= tolerance
             && a1.cross(a2).norm() > 1e-6
             && on_line
             && reach.abs() > 1e-6 * size;

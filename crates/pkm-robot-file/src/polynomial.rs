@@ -567,24 +567,12 @@ impl RobotModel {
     /// joint (two revolute axes that meet at $O$) then a passive slide, the platform on the
     /// slider (home frame: $a_2$, the slide and $r_0$ in the platform's frame at home).
     pub(crate) fn line_leg(&self, i: usize) -> Option<[f64; LINE_PARAMETERS]> {
-        let leg = &self.legs[i];
-        let [
-            Joint::Revolute {
-                axis: a1,
-                point: p1,
-            },
-            Joint::Revolute {
-                axis: a2,
-                point: p2,
-            },
-            Joint::Prismatic { axis: slide },
-        ] = leg.joints.as_slice()
-        else {
-            return None;
-        };
-        if !leg.actuators.is_empty() {
-            return None;
-        }
+        let crate::pointing::UniversalSlide {
+            first: (a1, p1),
+            second: (a2, p2),
+            slide,
+        } = crate::pointing::UniversalSlide::of(&self.legs[i])?;
+        let (a1, p1, a2, p2, slide) = (&a1, &p1, &a2, &p2, &slide);
         // The axes meet: p1 + s a1 = p2 + t a2 in the least-squares sense, within 1e-9 size.
         let n = a1.cross(a2);
         if n.norm() < 1e-9 {
